@@ -1,0 +1,90 @@
+"""Verify a method: run the analyses that apply to its kind and check its claims.
+
+>>> from tableau_lab.exact.tableau_json import loads
+>>> m = loads('{"name": "Euler", "kind": "rk", "A": [[0]], "b": [1], "claims": {"symplectic": true}}')
+>>> v = verify(m)
+>>> v.failed
+('symplectic',)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..exact.methods import Method
+from .results import Result
+from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
+
+__all__ = ["verify", "VerifyResult"]
+
+#: claim name -> function of the VerifyResult giving the value found
+CHECKS = {
+    "symplectic": lambda v: v.rk_symplectic.holds,
+    "g_symplectic": lambda v: v.g_symplectic.holds,
+}
+
+
+@dataclass(frozen=True)
+class VerifyResult(Result):
+    name: str
+    kind: str
+    stages: int
+    values: int
+    parameters: tuple
+    g_symplectic: GSymplecticResult | None
+    rk_symplectic: RKSymplecticResult | None
+    claims: dict
+    found: dict
+    failed: tuple
+
+    @property
+    def ok(self) -> bool:
+        return not self.failed
+
+    def __str__(self):
+        kinds = {"rk": "Runge-Kutta", "prk": "partitioned Runge-Kutta", "glm": "general linear method"}
+        head = f"{self.name}: {kinds[self.kind]}, s = {self.stages} stages, r = {self.values} values"
+        if self.parameters:
+            head += ", parameters " + ", ".join(map(str, self.parameters))
+        parts = [head]
+        if self.rk_symplectic is not None:
+            parts.append(str(self.rk_symplectic))
+        if self.g_symplectic is not None:
+            parts.append(str(self.g_symplectic))
+        if self.claims:
+            marks = [f"{k} = {_show(self.claims[k])} ({'holds' if k not in self.failed else f'FAILS: found {_show(self.found[k])}'})"
+                     for k in self.claims]
+            parts.append("claims: " + "; ".join(marks))
+        return "\n".join(parts)
+
+    def to_json(self):
+        return {
+            "name": self.name, "kind": self.kind, "stages": self.stages, "values": self.values,
+            "parameters": [str(p) for p in self.parameters],
+            "g_symplectic": None if self.g_symplectic is None else self.g_symplectic.to_json(),
+            "rk_symplectic": None if self.rk_symplectic is None else self.rk_symplectic.to_json(),
+            "claims": {"checked": list(self.claims), "failed": list(self.failed),
+                       "claimed": dict(self.claims), "found": dict(self.found)},
+        }
+
+    def to_latex(self):
+        parts = []
+        if self.rk_symplectic is not None:
+            parts.append(self.rk_symplectic.to_latex())
+        if self.g_symplectic is not None:
+            parts.append(self.g_symplectic.to_latex())
+        return "\n\n".join(parts)
+
+
+def _show(v):
+    return str(v).lower() if isinstance(v, bool) else str(v)
+
+
+def verify(m: Method) -> VerifyResult:
+    """All applicable analyses of ``m`` and the verdict on each of its claims."""
+    rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
+    gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
+    partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, {}, {}, ())
+    claims = m.claims_dict
+    found = {k: CHECKS[k](partial) for k in claims}
+    failed = tuple(k for k in claims if found[k] != claims[k])
+    return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, claims, found, failed)

@@ -1,0 +1,146 @@
+"""Exact fast arithmetic: the one place that knows about number fields.
+
+Every exact computation on a method runs over the smallest convenient field
+that holds its entries: ``QQ`` for rational tableaux, an algebraic number field
+``QQ<theta>`` (sympy's primitive-element construction) for radicals, and the
+rational function field ``K(p1, ..., pk)`` over it when a tableau has named
+free parameters.  Matrices are sympy ``DomainMatrix`` objects over that field,
+so zero tests are exact normal-form tests, never ``simplify``.
+
+>>> import sympy as sp
+>>> K = field_of([sp.sqrt(3) / 6, sp.Rational(1, 2)])
+>>> K
+QQ<sqrt(3)>
+>>> normal_form((2 + sp.sqrt(3)) * (2 - sp.sqrt(3)))
+1
+>>> is_zero(sp.sqrt(2) * sp.sqrt(8) - 4)
+True
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Iterable, Sequence
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.matrices import DomainMatrix
+
+__all__ = [
+    "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
+    "solve_linear", "nullspace", "lift", "exprs_of",
+]
+
+
+class FieldError(ValueError):
+    """Entries that have no exact field arithmetic here (e.g. a radical of a parameter)."""
+
+
+def exprs_of(objs) -> list[sp.Expr]:
+    """Flatten matrices / expressions / iterables of them to a list of expressions."""
+    out: list[sp.Expr] = []
+    for o in objs:
+        if o is None:
+            continue
+        if isinstance(o, sp.MatrixBase):
+            out.extend(o)
+        elif isinstance(o, (list, tuple)):
+            out.extend(exprs_of(o))
+        else:
+            out.append(sp.sympify(o))
+    return out
+
+
+def _generators(exprs: Iterable[sp.Expr]):
+    gens, syms = set(), set()
+    for e in exprs:
+        if e.has(sp.Float):
+            raise FieldError(f"{e} contains a floating-point number; exact entries only")
+        syms |= e.free_symbols
+        for p in e.atoms(sp.Pow):
+            if p.exp.is_Rational and not p.exp.is_Integer:
+                if p.base.free_symbols:
+                    raise FieldError(f"{p} is a radical of a free parameter: no exact field arithmetic for it")
+                gens.add(sp.Pow(p.base, sp.Rational(1, p.exp.q)))
+        for a in e.atoms(sp.Function, sp.NumberSymbol, sp.core.numbers.ImaginaryUnit):
+            raise FieldError(f"{a} is not an algebraic number")
+    return gens, syms
+
+
+@lru_cache(maxsize=256)
+def _field(gens: tuple, syms: tuple):
+    K = QQ.algebraic_field(*gens) if gens else QQ
+    if syms:
+        K = K.frac_field(*syms)
+    return K
+
+
+def field_of(exprs: Iterable) -> "sp.polys.domains.Domain":
+    """The exact field holding all the given expressions (matrices are flattened)."""
+    gens, syms = _generators(exprs_of(list(exprs)))
+    return _field(tuple(sorted(gens, key=sp.default_sort_key)),
+                  tuple(sorted(syms, key=lambda s: s.name)))
+
+
+def to_dm(M: sp.MatrixBase, K) -> DomainMatrix:
+    """A sympy matrix as a DomainMatrix over K."""
+    rows = [[K.from_sympy(sp.sympify(x)) for x in M.row(i)] for i in range(M.rows)]
+    return DomainMatrix(rows, M.shape, K)
+
+
+def from_dm(M: DomainMatrix) -> sp.ImmutableMatrix:
+    """A DomainMatrix as an exact sympy matrix, entries in the field's normal form."""
+    K = M.domain
+    return sp.ImmutableMatrix(M.shape[0], M.shape[1],
+                              [K.to_sympy(x) for row in M.to_list() for x in row])
+
+
+def lift(K, x) -> sp.Expr:
+    return K.to_sympy(x)
+
+
+def normal_form(e, K=None) -> sp.Expr:
+    """The canonical form of an exact expression in its field (a polynomial in the
+    primitive element over QQ, or a reduced fraction in the parameters)."""
+    e = sp.sympify(e)
+    K = K or field_of([e])
+    return K.to_sympy(K.from_sympy(e))
+
+
+def is_zero(e, K=None) -> bool:
+    """Exact zero test in the field of ``e``."""
+    e = sp.sympify(e)
+    K = K or field_of([e])
+    return K.is_zero(K.from_sympy(e))
+
+
+def nullspace(M: DomainMatrix) -> list[list]:
+    """A basis of {x : M x = 0} as lists of field elements, each normalised so that
+    its last pivot-free coordinate (the free variable) is 1."""
+    K = M.domain
+    n = M.shape[1]
+    R, pivots = M.rref()
+    rows = R.to_list()
+    free = [j for j in range(n) if j not in pivots]
+    basis = []
+    for f in free:
+        x = [K.zero] * n
+        x[f] = K.one
+        for i, p in enumerate(pivots):
+            x[p] = -rows[i][f] / rows[i][p]
+        basis.append(x)
+    return basis
+
+
+def solve_linear(M: DomainMatrix, rhs: Sequence) -> list | None:
+    """One solution of M x = rhs (free variables set to zero), or None if inconsistent."""
+    K = M.domain
+    m, n = M.shape
+    aug = M.hstack(DomainMatrix([[K.convert(v)] for v in rhs], (m, 1), K))
+    R, pivots = aug.rref()
+    if n in pivots:
+        return None
+    rows = R.to_list()
+    x = [K.zero] * n
+    for i, p in enumerate(pivots):
+        x[p] = rows[i][n] / rows[i][p]
+    return x

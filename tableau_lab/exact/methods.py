@@ -1,0 +1,322 @@
+"""Exact method objects: Runge-Kutta, partitioned Runge-Kutta, general linear.
+
+Each method is a frozen dataclass of exact sympy matrices, validated once on
+construction.  Properties of a method are functions in ``tableau_lab.analysis``.
+
+A general linear method (GLM) with s stages and r values ([B16] ch. 5)::
+
+    Y     = h (A ⊗ I) F + (U ⊗ I) y^[n-1],     F_i = f(Y_i)
+    y^[n] = h (B ⊗ I) F + (V ⊗ I) y^[n-1]
+
+and every Runge-Kutta method is the GLM with r = 1, U = 1, B = bᵀ, V = [1]:
+
+>>> euler = RungeKutta.from_lists([[0]], [1], name="explicit Euler")
+>>> g = euler.as_glm()
+>>> (g.s, g.r, g.U.tolist(), g.B.tolist(), g.V.tolist())
+(1, 1, [[1]], [[1]], [[1]])
+
+A partitioned RK method integrates y' = f(y, z) with (A, b, c) and
+z' = g(y, z) with (Ahat, bhat, chat); for a Hamiltonian H(p, q) the first
+partition is q (q' = ∂H/∂p), the second p (p' = -∂H/∂q) ([HLW06] II.2, VI.4).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import sympy as sp
+
+from .field import FieldError, field_of, from_dm, solve_linear, to_dm
+
+__all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency"]
+
+
+class MethodError(ValueError):
+    """A tableau whose matrices do not form a method (shapes, nodes, entries)."""
+
+
+def _matrix(x, what: str) -> sp.ImmutableMatrix:
+    try:
+        M = sp.ImmutableMatrix(x)
+    except (TypeError, ValueError) as exc:
+        raise MethodError(f"{what} is not a matrix: {exc}") from None
+    for e in M:
+        if not isinstance(e, sp.Expr) or e.has(sp.Float):
+            raise MethodError(f"{what} has a non-exact entry {e!r}: entries must be exact (rationals, radicals, parameters)")
+        if e.has(sp.zoo, sp.nan, sp.oo, -sp.oo, sp.I):
+            raise MethodError(f"{what} has an entry that is not a finite real number: {e}")
+    return M
+
+
+def _column(x, what: str) -> sp.ImmutableMatrix:
+    M = _matrix(x, what)
+    if M.cols != 1:
+        if M.rows == 1:
+            return M.T
+        raise MethodError(f"{what} must be a vector, got shape {M.shape}")
+    return M
+
+
+def _shape(M, shape, what, hint=""):
+    if M.shape != shape:
+        raise MethodError(f"{what} has shape {M.shape[0]}x{M.shape[1]}, expected {shape[0]}x{shape[1]}{hint}")
+
+
+def _frozen_claims(claims) -> tuple:
+    return tuple(sorted((claims or {}).items()))
+
+
+@dataclass(frozen=True)
+class Method:
+    """Fields shared by all kinds: name and provenance (not part of the mathematics)."""
+
+    name: str = field(default="", kw_only=True)
+    source: str = field(default="", kw_only=True)
+    notes: tuple = field(default=(), kw_only=True)
+    claims: tuple = field(default=(), kw_only=True)
+
+    kind = "method"
+
+    @property
+    def claims_dict(self) -> dict:
+        return dict(self.claims)
+
+    @property
+    def parameters(self) -> tuple:
+        """The named free parameters of the tableau, sorted by name."""
+        syms = set()
+        for M in self.matrices().values():
+            syms |= M.free_symbols
+        return tuple(sorted(syms, key=lambda s: s.name))
+
+    def matrices(self) -> dict:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def field(self):
+        """The exact field of the tableau's entries."""
+        return field_of(self.matrices().values())
+
+    def _check_field(self):
+        try:
+            self.field()
+        except FieldError as exc:
+            raise MethodError(str(exc)) from None
+
+
+def _meta(kw: Mapping[str, Any]) -> dict:
+    out = dict(kw)
+    if "claims" in out and isinstance(out["claims"], Mapping):
+        out["claims"] = _frozen_claims(out["claims"])
+    if "notes" in out and isinstance(out["notes"], str):
+        out["notes"] = (out["notes"],)
+    elif "notes" in out:
+        out["notes"] = tuple(out["notes"])
+    return out
+
+
+def _tableau(A, b, c, hat=""):
+    """Validate one Butcher tableau; c = A·1 exactly (derived when c is None).
+    ``hat`` suffixes the names in messages (the second tableau of a PRK method)."""
+    nA, nb, nc = f"A{hat}", f"b{hat}", f"c{hat}"
+    A = _matrix(A, nA)
+    if A.rows != A.cols or A.rows == 0:
+        raise MethodError(f"{nA} must be square and non-empty, got shape {A.rows}x{A.cols}")
+    b = _column(b, nb)
+    _shape(b, (A.rows, 1), nb, f" (s = {A.rows} stages)")
+    rowsum = sp.ImmutableMatrix([sum(A.row(i)) for i in range(A.rows)])
+    if c is None:
+        return A, b, rowsum
+    c = _column(c, nc)
+    _shape(c, (A.rows, 1), nc, f" (s = {A.rows} stages)")
+    K = field_of([A, c])
+    diff = to_dm(c - rowsum, K).to_list()
+    bad = [str(i + 1) for i in range(A.rows) if not K.is_zero(diff[i][0])]
+    if bad:
+        raise MethodError(f"{nc} is not consistent with {nA}: {nc}_i must equal the row sum of {nA} "
+                          f"(fails at stage {', '.join(bad)})")
+    return A, b, c
+
+
+@dataclass(frozen=True)
+class RungeKutta(Method):
+    """An s-stage Runge-Kutta method (A, b, c) with c = A·1."""
+
+    A: sp.ImmutableMatrix
+    b: sp.ImmutableMatrix
+    c: sp.ImmutableMatrix = None
+
+    kind = "rk"
+
+    def __post_init__(self):
+        for k, v in zip("Abc", _tableau(self.A, self.b, self.c)):
+            object.__setattr__(self, k, v)
+        self._check_field()
+
+    @classmethod
+    def from_lists(cls, A, b, c=None, **meta):
+        return cls(A=sp.ImmutableMatrix(A), b=sp.ImmutableMatrix(b),
+                   c=None if c is None else sp.ImmutableMatrix(c), **_meta(meta))
+
+    @property
+    def s(self) -> int:
+        return self.A.rows
+
+    def matrices(self) -> dict:
+        return {"A": self.A, "b": self.b, "c": self.c}
+
+    def as_glm(self) -> "GeneralLinearMethod":
+        """The same method as a GLM with r = 1: U = 1, B = bᵀ, V = [1]."""
+        return GeneralLinearMethod(A=self.A, U=sp.ones(self.s, 1), B=self.b.T, V=sp.ImmutableMatrix([[1]]),
+                                   c=self.c, name=self.name, source=self.source, notes=self.notes,
+                                   claims=self.claims)
+
+
+@dataclass(frozen=True)
+class PartitionedRungeKutta(Method):
+    """A partitioned RK method: (A, b, c) for the first partition (q), (Ahat, bhat, chat)
+    for the second (p).  Both tableaux have the same number of stages."""
+
+    A: sp.ImmutableMatrix
+    b: sp.ImmutableMatrix
+    Ahat: sp.ImmutableMatrix
+    bhat: sp.ImmutableMatrix
+    c: sp.ImmutableMatrix = None
+    chat: sp.ImmutableMatrix = None
+
+    kind = "prk"
+
+    def __post_init__(self):
+        first = _tableau(self.A, self.b, self.c)
+        second = _tableau(self.Ahat, self.bhat, self.chat, hat="hat")
+        if first[0].rows != second[0].rows:
+            raise MethodError(f"the two tableaux of a partitioned method need the same number of stages "
+                              f"(A has {first[0].rows}, Ahat has {second[0].rows})")
+        for k, v in zip(("A", "b", "c", "Ahat", "bhat", "chat"), first + second):
+            object.__setattr__(self, k, v)
+        self._check_field()
+
+    @classmethod
+    def from_lists(cls, A, b, Ahat, bhat, c=None, chat=None, **meta):
+        M = sp.ImmutableMatrix
+        return cls(A=M(A), b=M(b), Ahat=M(Ahat), bhat=M(bhat), c=None if c is None else M(c),
+                   chat=None if chat is None else M(chat), **_meta(meta))
+
+    @property
+    def s(self) -> int:
+        return self.A.rows
+
+    def matrices(self) -> dict:
+        return {"A": self.A, "b": self.b, "c": self.c, "Ahat": self.Ahat, "bhat": self.bhat, "chat": self.chat}
+
+    def tableaux(self) -> tuple[RungeKutta, RungeKutta]:
+        return (RungeKutta(A=self.A, b=self.b, c=self.c, name=f"{self.name} (first partition)"),
+                RungeKutta(A=self.Ahat, b=self.bhat, c=self.chat, name=f"{self.name} (second partition)"))
+
+
+def preconsistency(U, V) -> sp.ImmutableMatrix | None:
+    """The preconsistency vector u with V u = u and U u = 1 ([B16] Sec. 51), or None.
+
+    >>> preconsistency(sp.Matrix([[1, -2], [1, 2]]), sp.Matrix([[1, 0], [0, -1]])).T
+    Matrix([[1, 0]])
+    """
+    r, s = V.rows, U.rows
+    K = field_of([U, V])
+    M = to_dm(sp.Matrix.vstack(V - sp.eye(r), U), K)
+    x = solve_linear(M, [0] * r + [1] * s)
+    return None if x is None else sp.ImmutableMatrix([K.to_sympy(v) for v in x])
+
+
+@dataclass(frozen=True)
+class GeneralLinearMethod(Method):
+    """A GLM [A U; B V] with s stages and r values, and stage abscissae c.
+
+    ``c`` may be omitted: it is derived from the order-1 conditions as
+    c = A·1 + U v, where (I − V) v = B·1 − u and v has no component along u
+    (the first starting-method coefficient with θ(τ) = 0).  A given c must be
+    consistent with some such v.
+    """
+
+    A: sp.ImmutableMatrix
+    U: sp.ImmutableMatrix
+    B: sp.ImmutableMatrix
+    V: sp.ImmutableMatrix
+    c: sp.ImmutableMatrix = None
+
+    kind = "glm"
+
+    def __post_init__(self):
+        A = _matrix(self.A, "A")
+        if A.rows != A.cols or A.rows == 0:
+            raise MethodError(f"A must be square and non-empty, got shape {A.rows}x{A.cols}")
+        s = A.rows
+        V = _matrix(self.V, "V")
+        if V.rows != V.cols or V.rows == 0:
+            raise MethodError(f"V must be square and non-empty, got shape {V.rows}x{V.cols}")
+        r = V.rows
+        U = _matrix(self.U, "U")
+        _shape(U, (s, r), "U", f" (s = {s} stages from A, r = {r} values from V)")
+        B = _matrix(self.B, "B")
+        _shape(B, (r, s), "B", f" (r = {r} values from V, s = {s} stages from A)")
+        for k, v in (("A", A), ("U", U), ("B", B), ("V", V)):
+            object.__setattr__(self, k, v)
+        self._check_field()
+        c = None if self.c is None else _column(self.c, "c")
+        if c is not None:
+            _shape(c, (s, 1), "c", f" (s = {s} stages)")
+        object.__setattr__(self, "c", self._abscissae(c))
+
+    def _abscissae(self, c):
+        s, r = self.s, self.r
+        u = preconsistency(self.U, self.V)
+        if u is None:
+            if c is None:
+                raise MethodError("c is not given and cannot be derived: the method is not preconsistent "
+                                  "(no u with V u = u and U u = 1)")
+            return c
+        K = field_of([self.A, self.U, self.B, self.V, u] + ([c] if c is not None else []))
+        ones = sp.ones(s, 1)
+        rhs_v = list(self.B * ones - u)
+        if c is not None:
+            # c is consistent iff some v has (I - V) v = B 1 - u and U v = c - A 1.
+            M = to_dm(sp.Matrix.vstack(sp.eye(r) - self.V, self.U), K)
+            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None:
+                raise MethodError("c is not consistent with the method: no v with (I - V) v = B·1 - u "
+                                  "and c = A·1 + U v (stage order 1 fails for every starting method)")
+            return c
+        w = _left_eigenvector(self.V, u, K)
+        rows = sp.eye(r) - self.V
+        rhs = rhs_v
+        if w is not None:
+            rows = sp.Matrix.vstack(rows, w.T)
+            rhs = rhs_v + [0]
+        v = solve_linear(to_dm(rows, K), rhs)
+        if v is None:
+            raise MethodError("c is not given and cannot be derived: the method is not consistent "
+                              "((I - V) v = B·1 - u has no solution)")
+        v = sp.Matrix([K.to_sympy(x) for x in v])
+        c = from_dm(to_dm(self.A * ones + self.U * v, K))
+        return c
+
+    @property
+    def s(self) -> int:
+        return self.A.rows
+
+    @property
+    def r(self) -> int:
+        return self.V.rows
+
+    def matrices(self) -> dict:
+        return {"A": self.A, "U": self.U, "B": self.B, "V": self.V, "c": self.c}
+
+    def as_glm(self) -> "GeneralLinearMethod":
+        return self
+
+
+def _left_eigenvector(V, u, K):
+    """w with wᵀV = wᵀ and wᵀu = 1, when unique (1 a simple eigenvalue of V)."""
+    r = V.rows
+    M = to_dm(sp.Matrix.vstack(V.T - sp.eye(r), u.T), K)
+    if M.rank() < r:
+        return None
+    x = solve_linear(M, [0] * r + [1])
+    return None if x is None else sp.Matrix([K.to_sympy(v) for v in x])

@@ -1,0 +1,276 @@
+"""The JSON tableau format: read, validate, write (documented in docs/tableau-format.md).
+
+>>> m = loads('{"name": "implicit midpoint", "kind": "rk", "A": [["1/2"]], "b": [1]}')
+>>> m.c.T
+Matrix([[1/2]])
+>>> loads(dumps(m)) == m
+True
+>>> loads('{"name": "x", "kind": "rk", "A": [[0.5]], "b": [1]}', source="m.json")
+Traceback (most recent call last):
+...
+tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.5 is a floating-point number, and tableau entries are exact: write it as a string such as "1/2" or "sqrt(2)/2"
+"""
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from .grammar import LIMITS, EntryError, format_entry, parse_entry
+from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
+
+__all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES"]
+
+MAX_BYTES = 1 << 20
+
+KINDS = {
+    "rk": (RungeKutta, {"A": "matrix", "b": "vector"}, {"c": "vector"}),
+    "prk": (PartitionedRungeKutta, {"A": "matrix", "b": "vector", "Ahat": "matrix", "bhat": "vector"},
+            {"c": "vector", "chat": "vector"}),
+    "glm": (GeneralLinearMethod, {"A": "matrix", "U": "matrix", "B": "matrix", "V": "matrix"}, {"c": "vector"}),
+}
+
+#: Claims a tableau may make, with the JSON type each takes and the kinds it applies to.
+CLAIMS = {
+    "symplectic": (bool, ("rk", "prk")),
+    "g_symplectic": (bool, ("rk", "glm")),
+}
+
+META = {"format", "name", "kind", "source", "notes", "claims"}
+
+
+class TableauError(ValueError):
+    """A tableau file that cannot be read: names the file and the entry."""
+
+    def __init__(self, source: str, message: str, entry: str | None = None):
+        self.source, self.entry, self.message = source, entry, message
+        where = f"{source}: " + (f"entry {entry}: " if entry else "")
+        super().__init__(where + message)
+
+
+class _Refused:
+    """A JSON value kept as text to be refused, with a message naming its entry."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __repr__(self):
+        return self.text
+
+
+class _Float(_Refused):
+    def message(self):
+        return (f"{self.text} is a floating-point number, and tableau entries are exact: "
+                f'write it as a string such as "{_hint(self.text)}" or "sqrt(2)/2"')
+
+
+class _Constant(_Refused):
+    def message(self):
+        return f"{self.text} is not a number a tableau can hold"
+
+
+class _BigInt(_Refused):
+    def message(self):
+        return f"integer with {len(self.text.lstrip('-'))} digits is too long (limit {LIMITS['integer_digits']})"
+
+
+def _int(text: str):
+    return _BigInt(text) if len(text) > LIMITS["integer_digits"] + 1 else int(text)
+
+
+def _pairs(pairs):
+    out = {}
+    for k, v in pairs:
+        if k in out:
+            raise ValueError(f"duplicate key {k!r}")
+        out[k] = v
+    return out
+
+
+def _entry(value, source, where):
+    if isinstance(value, _Refused):
+        raise TableauError(source, value.message(), where)
+    if value is None:
+        raise TableauError(source, "null is not a number", where)
+    try:
+        return parse_entry(value)
+    except EntryError as exc:
+        raise TableauError(source, str(exc), where) from None
+
+
+def _hint(text):
+    try:
+        return str(sp.Rational(text)) if len(text) < 30 else "1/2"
+    except (TypeError, ValueError):
+        return "1/2"
+
+
+def _matrix(value, source, key):
+    if not isinstance(value, list) or not value:
+        raise TableauError(source, f"{key} must be a non-empty list of rows (a list of lists)", key)
+    rows = []
+    for i, row in enumerate(value, 1):
+        if not isinstance(row, list):
+            raise TableauError(source, f"row {i} of {key} is not a list", f"{key} row {i}")
+        if len(row) != len(value[0]):
+            raise TableauError(source, f"{key} is ragged: row {i} has {len(row)} entries, row 1 has {len(value[0])}",
+                               f"{key} row {i}")
+        if not row:
+            raise TableauError(source, f"row {i} of {key} is empty", f"{key} row {i}")
+        rows.append([_entry(x, source, f"{key} row {i}, column {j}") for j, x in enumerate(row, 1)])
+    return sp.ImmutableMatrix(rows)
+
+
+def _vector(value, source, key):
+    if not isinstance(value, list) or not value:
+        raise TableauError(source, f"{key} must be a non-empty list of entries", key)
+    out = []
+    for i, x in enumerate(value, 1):
+        if isinstance(x, list):
+            raise TableauError(source, f"{key} must be a flat list, but entry {i} is a list", f"{key}[{i}]")
+        out.append(_entry(x, source, f"{key}[{i}]"))
+    return sp.ImmutableMatrix(out)
+
+
+def _claims(value, kind, source):
+    if not isinstance(value, dict):
+        raise TableauError(source, "claims must be an object such as {\"g_symplectic\": true}", "claims")
+    for k, v in value.items():
+        if k not in CLAIMS:
+            raise TableauError(source, f"unknown claim {k!r} (known: {', '.join(sorted(CLAIMS))})", f"claims.{k}")
+        typ, kinds = CLAIMS[k]
+        if kind not in kinds:
+            raise TableauError(source, f"claim {k!r} does not apply to kind {kind!r}", f"claims.{k}")
+        if type(v) is not typ:
+            raise TableauError(source, f"claim {k!r} must be a {typ.__name__}, got {v!r}", f"claims.{k}")
+    return value
+
+
+def from_dict(data: Any, source: str = "<tableau>") -> Method:
+    """Build a method from the parsed JSON object of a tableau file."""
+    if not isinstance(data, dict):
+        raise TableauError(source, "the file must hold one JSON object {\"name\": ..., \"kind\": ..., ...}")
+    kind = data.get("kind")
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise TableauError(source, f"unknown or missing kind {kind!r}: use one of {', '.join(KINDS)}", "kind")
+    cls, required, optional = KINDS[kind]
+    for key in data:
+        if key not in META and key not in required and key not in optional and not key.startswith("x-"):
+            raise TableauError(source, f"unknown key {key!r} for kind {kind!r} (allowed: "
+                                       f"{', '.join(list(required) + list(optional) + sorted(META))}; "
+                                       "prefix your own keys with 'x-')", key)
+    for key in required:
+        if key not in data:
+            raise TableauError(source, f"kind {kind!r} needs {key!r}", key)
+    name = data.get("name")
+    if not isinstance(name, str) or not name.strip():
+        raise TableauError(source, "name must be a non-empty string", "name")
+    for key in ("source",):
+        if key in data and not isinstance(data[key], str):
+            raise TableauError(source, f"{key} must be a string", key)
+    notes = data.get("notes", [])
+    if isinstance(notes, str):
+        notes = [notes]
+    if not isinstance(notes, list) or not all(isinstance(n, str) for n in notes):
+        raise TableauError(source, "notes must be a string or a list of strings", "notes")
+    if "format" in data and data["format"] != FORMAT:
+        raise TableauError(source, f"format {data['format']!r} is not understood (this is {FORMAT!r})", "format")
+    readers = {"matrix": _matrix, "vector": _vector}
+    parts = {}
+    for key, shape in list(required.items()) + list(optional.items()):
+        if key in data:
+            parts[key] = readers[shape](data[key], source, key)
+    claims = _claims(data.get("claims", {}), kind, source)
+    try:
+        return cls(**parts, name=name, source=data.get("source", ""), notes=tuple(notes),
+                   claims=tuple(sorted(claims.items())))
+    except MethodError as exc:
+        raise TableauError(source, str(exc)) from None
+
+
+FORMAT = "tableau_lab/1"
+
+
+def loads(text: str | bytes, source: str = "<tableau>") -> Method:
+    """Parse the text of a tableau file."""
+    if isinstance(text, bytes):
+        if len(text) > MAX_BYTES:
+            raise TableauError(source, f"file is {len(text)} bytes, larger than the {MAX_BYTES}-byte limit for a tableau")
+        try:
+            text = text.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise TableauError(source, f"not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    if len(text) > MAX_BYTES:
+        raise TableauError(source, f"text of {len(text)} characters exceeds the {MAX_BYTES} limit for a tableau")
+    try:
+        data = json.loads(text, parse_float=_Float, parse_int=_int, parse_constant=_Constant,
+                          object_pairs_hook=_pairs)
+    except json.JSONDecodeError as exc:
+        raise TableauError(source, f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
+    except RecursionError:
+        raise TableauError(source, "not a tableau: JSON nested too deeply") from None
+    except ValueError as exc:
+        raise TableauError(source, f"not a valid tableau: {exc}") from None
+    return from_dict(data, source)
+
+
+def load(path: str | os.PathLike) -> Method:
+    """Read a tableau file; errors name the file and the entry."""
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_BYTES + 1)
+    except OSError as exc:
+        raise TableauError(str(path), f"cannot read: {exc.strerror}") from None
+    return loads(raw, source=str(path))
+
+
+def to_dict(m: Method) -> dict:
+    """The JSON object of a method (entries written in the grammar)."""
+    out: dict[str, Any] = {"format": FORMAT, "name": m.name, "kind": m.kind}
+    if m.source:
+        out["source"] = m.source
+    for key, M in m.matrices().items():
+        if M is None:
+            continue
+        if key in ("b", "c", "bhat", "chat"):
+            out[key] = [format_entry(x) for x in M]
+        else:
+            out[key] = [[format_entry(x) for x in M.row(i)] for i in range(M.rows)]
+    if m.notes:
+        out["notes"] = list(m.notes)
+    if m.claims:
+        out["claims"] = dict(m.claims)
+    return out
+
+
+def dumps(m: Method) -> str:
+    """Tableau text: one matrix row per line."""
+    d = to_dict(m)
+    lines = []
+    for k, v in d.items():
+        if isinstance(v, list) and v and isinstance(v[0], list):
+            rows = ",\n    ".join(json.dumps(r, ensure_ascii=False) for r in v)
+            lines.append(f'  {json.dumps(k)}: [\n    {rows}\n  ]')
+        else:
+            lines.append(f"  {json.dumps(k)}: {json.dumps(v, ensure_ascii=False)}")
+    return "{\n" + ",\n".join(lines) + "\n}\n"
+
+
+def save(m: Method, path: str | os.PathLike) -> None:
+    """Write a tableau file atomically (no half-written file on failure)."""
+    path = Path(path)
+    text = dumps(m)
+    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
