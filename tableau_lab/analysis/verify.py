@@ -42,7 +42,8 @@ class VerifyResult(Result):
 
     def __str__(self):
         kinds = {"rk": "Runge-Kutta", "prk": "partitioned Runge-Kutta", "glm": "general linear method"}
-        head = f"{self.name}: {kinds[self.kind]}, s = {self.stages} stages, r = {self.values} values"
+        head = (f"{self.name}: {kinds[self.kind]}, s = {self.stages} stage{'s' * (self.stages != 1)}, "
+                f"r = {self.values} value{'s' * (self.values != 1)}")
         if self.parameters:
             head += ", parameters " + ", ".join(map(str, self.parameters))
         parts = [head]
