@@ -38,6 +38,30 @@ def _verify(args) -> int:
     return status
 
 
+def _order(args) -> int:
+    from .analysis.glm_order import glm_order
+    from .exact.tableau_json import TableauError, load
+
+    status = EXIT_OK
+    for i, path in enumerate(args.files):
+        try:
+            method = load(path)
+        except TableauError as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            status = EXIT_INPUT
+            continue
+        if method.kind == "prk":
+            print(f"tableau-lab: error: {path}: order of partitioned methods is not available yet", file=sys.stderr)
+            status = EXIT_INPUT
+            continue
+        res = glm_order(method, max_order=args.max_order)
+        if args.json:
+            print(json.dumps({"file": path, "name": method.name, **res.to_json()}, ensure_ascii=False), flush=True)
+        else:
+            print(("\n" if i else "") + f"== {path}\n{method.name}: {res}", flush=True)
+    return status
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="tableau-lab", description=(
         "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
@@ -50,6 +74,14 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("files", nargs="+", metavar="FILE", help="JSON tableau files")
     v.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     v.set_defaults(run=_verify)
+    o = sub.add_parser("order", help="order, stage order, starting and finishing methods (GLM theory)",
+                       description="Order of RK methods and GLMs relative to the best starting method "
+                                   "(Butcher's algebraic theory), with the order for θ ≡ 0, the stage order, "
+                                   "the starting method ξ(t), the finishing method and the error terms.")
+    o.add_argument("files", nargs="+", metavar="FILE")
+    o.add_argument("--max-order", type=int, default=8, metavar="N", help="highest order examined (default 8)")
+    o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+    o.set_defaults(run=_order)
     return p
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from ..exact.methods import Method
 from .results import Result
+from .glm_order import GLMOrderResult, glm_order
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
 
 __all__ = ["verify", "VerifyResult"]
@@ -20,6 +21,10 @@ __all__ = ["verify", "VerifyResult"]
 CHECKS = {
     "symplectic": lambda v: v.rk_symplectic.holds,
     "g_symplectic": lambda v: v.g_symplectic.holds,
+    # for RK methods "order" is the classical order (θ ≡ 0), for GLMs the highest achievable
+    "order": lambda v: v.order.order_identity_start if v.kind == "rk" else v.order.order,
+    "stage_order": lambda v: v.order.stage_order,
+    "effective_order": lambda v: v.order.order,
 }
 
 
@@ -32,6 +37,7 @@ class VerifyResult(Result):
     parameters: tuple
     g_symplectic: GSymplecticResult | None
     rk_symplectic: RKSymplecticResult | None
+    order: GLMOrderResult | None
     claims: dict
     found: dict
     failed: tuple
@@ -51,6 +57,13 @@ class VerifyResult(Result):
             parts.append(str(self.rk_symplectic))
         if self.g_symplectic is not None:
             parts.append(str(self.g_symplectic))
+        if self.order is not None:
+            o = self.order
+            if self.kind == "rk":
+                parts.append(f"order: classical {o.order_identity_start}, effective {o.order}, stage order {o.stage_order}")
+            else:
+                parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
+                             f"stage order {o.stage_order}")
         if self.claims:
             marks = [f"{k} = {_show(self.claims[k])} ({'holds' if k not in self.failed else f'FAILS: found {_show(self.found[k])}'})"
                      for k in self.claims]
@@ -63,9 +76,22 @@ class VerifyResult(Result):
             "parameters": [str(p) for p in self.parameters],
             "g_symplectic": None if self.g_symplectic is None else self.g_symplectic.to_json(),
             "rk_symplectic": None if self.rk_symplectic is None else self.rk_symplectic.to_json(),
+            "order": None if self.order is None else self._order_json(),
             "claims": {"checked": list(self.claims), "failed": list(self.failed),
                        "claimed": dict(self.claims), "found": dict(self.found)},
         }
+
+    def _order_json(self):
+        o = self.order
+        out = {"order": o.order_identity_start if self.kind == "rk" else o.order,
+               "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
+        if self.kind == "rk":
+            out["effective_order"] = o.order
+        else:
+            full = o.to_json()
+            out.update(starting_method=full["starting_method"], finishing_method=full["finishing_method"],
+                       u=full["u"], w=full["w"])
+        return out
 
     def to_latex(self):
         parts = []
@@ -84,8 +110,9 @@ def verify(m: Method) -> VerifyResult:
     """All applicable analyses of ``m`` and the verdict on each of its claims."""
     rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
     gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
-    partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, {}, {}, ())
+    order = glm_order(m) if m.kind in ("rk", "glm") and not m.parameters else None
+    partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, ())
     claims = m.claims_dict
     found = {k: CHECKS[k](partial) for k in claims}
     failed = tuple(k for k in claims if found[k] != claims[k])
-    return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, claims, found, failed)
+    return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, claims, found, failed)

@@ -38,6 +38,9 @@ KINDS = {
 CLAIMS = {
     "symplectic": (bool, ("rk", "prk")),
     "g_symplectic": (bool, ("rk", "glm")),
+    "order": (int, ("rk", "glm")),
+    "stage_order": (int, ("rk", "glm")),
+    "effective_order": (int, ("rk",)),
 }
 
 META = {"format", "name", "kind", "source", "notes", "claims"}

@@ -1,0 +1,333 @@
+r"""Order of a general linear method relative to a starting method, exactly.
+
+Butcher's algebraic theory ([B16] Sec. 53; [B21] ch. 6; Butcher & Imran, BIT 55 (2015)):
+a GLM M has order p relative to a starting method S (y^[0]_i = B(ξ_i, y₀), ξ(∅) = u)
+when M∘S = S∘E + O(h^{p+1}).  Tree by tree, with the stage series η and its
+derivative ηD ((ηD)(τ) = 1, (ηD)([t₁…t_m]) = Π η(t_k)):
+
+    η(t) = A (ηD)(t) + U ξ(t),        (I − V) ξ(t) = Q(t) := B (ηD)(t) − [(ξ·E)(t) − ξ(t)].
+
+The order-|t| equation is solvable iff wᵀQ(t) = 0 (w the left eigenvector of V for 1,
+wᵀu = 1); then ξ(t) = ξ₀(t) + θ(t)u with wᵀξ₀(t) = 0 and θ(t) = wᵀξ(t) free.  The θ(s),
+|s| = k − 1, enter the order-k conditions linearly with the method-independent matrix
+L_k[t, s] = [t = [s]] − #{leaves of t whose removal leaves s}; L_2 = 0 (θ(τ) is a time
+shift and never matters) and L_k has full column rank for k ≥ 3 (checked up to k = 9 in
+the tests), so the θ's are forced order by order and the sequential exact solve below
+gives the **highest achievable order**.  Forcing θ ≡ 0 gives the order with the identity
+as first starting component; for an RK method the two are its effective and classical orders.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> res = glm_order(load("methods/example4_glm.json"))
+>>> res.order, res.order_identity_start
+(4, 4)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import lru_cache
+from itertools import product
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from ..exact.field import field_of, solve_linear, to_dm
+from ..exact.grammar import format_entry
+from ..exact.methods import Method, preconsistency
+from .results import Result
+
+__all__ = ["glm_order", "GLMOrderResult", "trees_of_order", "bracket", "theta_matrix"]
+
+# ----------------------------------------------------------------- rooted trees
+# A tree is the sorted tuple of its children's trees; τ = ().
+
+
+@lru_cache(maxsize=None)
+def trees_of_order(n: int) -> tuple:
+    """All rooted trees with n vertices, canonical and sorted (counts 1, 1, 2, 4, 9, 20, ...)."""
+    if n == 1:
+        return ((),)
+    out = set()
+
+    def forests(rem, bound):
+        if rem == 0:
+            yield ()
+            return
+        for k in range(min(rem, bound[0]), 0, -1):
+            for t in trees_of_order(k):
+                if (k, t) <= bound:
+                    for rest in forests(rem - k, (k, t)):
+                        yield (t,) + rest
+
+    for f in forests(n - 1, (n, ())):
+        out.add(tuple(sorted(f)))
+    return tuple(sorted(out))
+
+
+@lru_cache(maxsize=None)
+def order(t) -> int:
+    return 1 + sum(order(c) for c in t)
+
+
+@lru_cache(maxsize=None)
+def density(t) -> int:
+    g = order(t)
+    for c in t:
+        g *= density(c)
+    return g
+
+
+@lru_cache(maxsize=None)
+def bracket(t) -> str:
+    """Butcher's bracket notation: τ, [τ], [τ²], [[τ]], [τ[τ]], ..."""
+    if t == ():
+        return "τ"
+    parts, i = [], 0
+    while i < len(t):
+        j = i
+        while j < len(t) and t[j] == t[i]:
+            j += 1
+        n = j - i
+        parts.append(bracket(t[i]) + (_sup(n) if n > 1 else ""))
+        i = j
+    return "[" + "".join(parts) + "]"
+
+
+def _sup(n: int) -> str:
+    return "".join("⁰¹²³⁴⁵⁶⁷⁸⁹"[int(d)] for d in str(n))
+
+
+@lru_cache(maxsize=None)
+def _leaf_removals(t) -> tuple:
+    out = []
+    for i, c in enumerate(t):
+        rest = t[:i] + t[i + 1:]
+        if c == ():
+            out.append(tuple(sorted(rest)))
+        else:
+            out.extend(tuple(sorted(rest + (c2,))) for c2 in _leaf_removals(c))
+    return tuple(out)
+
+
+@lru_cache(maxsize=None)
+def theta_matrix(k: int) -> tuple:
+    """L_k: coefficient of θ(s) (|s| = k−1) in the order-k condition of tree t."""
+    return tuple(tuple((1 if t == (s,) else 0) - _leaf_removals(t).count(s) for s in trees_of_order(k - 1))
+                 for t in trees_of_order(k))
+
+
+def _kept_cuts(t, inner):
+    """Cuts of t that keep the root: {trunk: Σ Π inner(pruned)}, ``inner`` a function of trees."""
+    acc = {(): 1}
+    for c in t:
+        options = {None: inner(c)}
+        options.update(_kept_cuts(c, inner))
+        new = {}
+        for trunk, coef in acc.items():
+            for sub, cf in options.items():
+                key = trunk if sub is None else tuple(sorted(trunk + (sub,)))
+                new[key] = new.get(key, 0) + coef * cf
+        acc = new
+    return acc
+
+
+# ----------------------------------------------------------------- the solve
+
+@dataclass(frozen=True)
+class GLMOrderResult(Result):
+    """Order of a GLM (or an RK method as a GLM) with its starting and finishing methods."""
+
+    method: str
+    order: int                   # highest achievable (θ free)
+    order_identity_start: int    # θ ≡ 0
+    stage_order: int
+    u: tuple
+    w: tuple
+    starting: dict               # bracket -> (ξ_1(t), ..., ξ_r(t)) exact, |t| <= order
+    theta: dict                  # bracket -> θ(t)
+    finishing: dict              # bracket -> α⁻¹(t): F(y) = B(α⁻¹, wᵀy)
+    errors: dict                 # bracket -> nonzero residual of the order-(p+1) condition
+    errors_identity_start: dict
+    max_order: int = 0
+    capped: bool = False         # order reached max_order: it may be higher
+
+    def __str__(self):
+        cap = " (at least: cap reached)" if self.capped else ""
+        lines = [f"order {self.order}{cap} with a suitable starting method; "
+                 f"{self.order_identity_start} with θ ≡ 0; stage order {self.stage_order}"]
+        lines.append("  starting method ξ(t) (y^[0]_i = B(ξ_i, y0)):")
+        for t, xi in self.starting.items():
+            lines.append(f"    {t:10s} " + ", ".join(str(format_entry(x)) for x in xi))
+        if self.errors:
+            lines.append(f"  error terms at order {self.order + 1}: "
+                         + "; ".join(f"{t}: {format_entry(v)}" for t, v in self.errors.items()))
+        return "\n".join(lines)
+
+    def to_json(self):
+        s = lambda x: str(format_entry(x))  # noqa: E731
+        return {
+            "order": self.order, "order_identity_start": self.order_identity_start,
+            "stage_order": self.stage_order, "capped": self.capped,
+            "u": [s(x) for x in self.u], "w": [s(x) for x in self.w],
+            "starting_method": {t: [s(x) for x in xi] for t, xi in self.starting.items()},
+            "theta": {t: s(x) for t, x in self.theta.items()},
+            "finishing_method": {t: s(x) for t, x in self.finishing.items()},
+            "error_terms": {t: s(x) for t, x in self.errors.items()},
+            "error_terms_identity_start": {t: s(x) for t, x in self.errors_identity_start.items()},
+        }
+
+    def to_latex(self):
+        rows = [f"{_tex_tree(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
+                for t, xi in self.starting.items()]
+        r = len(self.u)
+        return ("Order " + str(self.order) + " relative to the starting method\n"
+                + r"\[ \begin{array}{c|" + "c" * r + "} t & " + " & ".join(f"\\xi_{{{i + 1}}}(t)" for i in range(r))
+                + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
+
+
+def _tex_tree(b: str) -> str:
+    return b.replace("τ", r"\tau ").replace("²", "^2").replace("³", "^3").replace("⁴", "^4")
+
+
+class _Solver:
+    def __init__(self, g, K):
+        self.K = K
+        self.s, self.r = g.s, g.r
+        self.A, self.U, self.B, self.V = (to_dm(X, K) for X in (g.A, g.U, g.B, g.V))
+        u = preconsistency(g.U, g.V)
+        if u is None:
+            raise ValueError(f"{g.name}: not preconsistent (no u with Vu = u, Uu = 1): order 0")
+        r = self.r
+        M = to_dm(sp.Matrix.vstack(g.V.T - sp.eye(r), u.T), K)
+        if M.rank() < r:
+            raise ValueError(f"{g.name}: 1 is not a simple eigenvalue of V; the order theory here needs it")
+        self.u = [K.from_sympy(x) for x in u]
+        self.w = solve_linear(M, [0] * r + [1])
+        # (I − V) x = q with wᵀx = 0: the particular solution without principal part
+        self.P = to_dm(sp.Matrix.vstack(sp.eye(r) - g.V, sp.Matrix([[K.to_sympy(x) for x in self.w]])), K)
+        self.c = [K.from_sympy(x) for x in g.c]
+
+    # vectors are plain lists of field elements
+    def mat(self, M, v):
+        K = self.K
+        rows = M.to_list()
+        return [sum((a * x for a, x in zip(row, v)), K.zero) for row in rows]
+
+    def dot_w(self, v):
+        return sum((a * b for a, b in zip(self.w, v)), self.K.zero)
+
+    def run(self, max_order, free_theta, theta_tau):
+        K = self.K
+        one = [K.one] * self.s
+        xi = {None: list(self.u)}          # None is the empty tree
+        eta, etaD, theta = {}, {}, {}
+        p, errors = 0, {}
+        E = lambda t: K.convert(sp.Rational(1, density(t)))  # noqa: E731
+        for k in range(1, max_order + 2):
+            Tk = trees_of_order(k)
+
+            def Q(t):
+                if t == ():
+                    d = list(one)
+                else:
+                    d = list(one)
+                    for c in t:
+                        d = [x * y for x, y in zip(d, eta[c])]
+                etaD[t] = d
+                q = self.mat(self.B, d)
+                q = [a - b * E(t) for a, b in zip(q, xi[None])]
+                for trunk, coef in _kept_cuts(t, E).items():
+                    if trunk == t:
+                        continue
+                    cf = K.convert(coef)
+                    q = [a - cf * b for a, b in zip(q, xi[trunk])]
+                return q
+
+            res = [self.dot_w(Q(t)) for t in Tk]
+            if k >= 3 and free_theta:
+                prev = trees_of_order(k - 1)
+                L = DomainMatrix([[K.convert(x) for x in row] for row in theta_matrix(k)], (len(Tk), len(prev)), K)
+                sol = solve_linear(L, [-x for x in res])
+                if sol is None:
+                    errors = _pivot_residuals(L, res, Tk, K)
+                    break
+                for s_, th in zip(prev, sol):
+                    theta[s_] = th
+                    xi[s_] = [a + th * b for a, b in zip(xi[s_], self.u)]
+                    eta[s_] = [a + th for a in eta[s_]]
+                res = [self.dot_w(Q(t)) for t in Tk]
+            bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res) if not K.is_zero(x)}
+            if bad:
+                errors = bad
+                break
+            if k > max_order:
+                break
+            p = k
+            for t in Tk:
+                qt = Q(t)
+                x = solve_linear(self.P, qt + [K.zero])
+                if t == () and theta_tau is not None:
+                    x = [a + theta_tau * b for a, b in zip(x, self.u)]
+                    theta[t] = theta_tau
+                xi[t] = x
+                eta[t] = [a + b for a, b in zip(self.mat(self.A, etaD[t]), self.mat(self.U, x))]
+        return p, xi, eta, theta, errors
+
+
+def _pivot_residuals(L, res, Tk, K):
+    """θ chosen to satisfy a maximal independent set of the conditions (first trees first);
+    the residuals of the others are the intrinsic error terms."""
+    rows = L.to_list()
+    chosen = list(L.transpose().rref()[1])     # the first maximal set of independent rows
+    sub = DomainMatrix([rows[i] for i in chosen], (len(chosen), L.shape[1]), K)
+    th = solve_linear(sub, [-res[i] for i in chosen])
+    out = {}
+    for i, t in enumerate(Tk):
+        v = res[i] + sum((a * b for a, b in zip(rows[i], th)), K.zero)
+        if not K.is_zero(v):
+            out[bracket(t)] = K.to_sympy(v)
+    return out
+
+
+def _inverse(alpha, max_order, K):
+    """β = α⁻¹ in the Butcher group (α(∅) = 1): α·β = identity series."""
+    beta = {}
+    A = lambda t: alpha.get(t, K.zero)  # noqa: E731
+    for k in range(1, max_order + 1):
+        for t in trees_of_order(k):
+            acc = A(t)   # full cut: β(∅) α(t)
+            for trunk, coef in _kept_cuts(t, A).items():
+                if trunk != t:
+                    acc = acc + coef * beta[trunk]
+            beta[t] = -acc
+    return beta
+
+
+def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
+    """The order of ``m`` (a GLM, or an RK method as a GLM) relative to the best starting
+    method, the order with θ ≡ 0, the stage order, the starting method ξ(t) for |t| <= p,
+    the finishing method and the error terms at order p + 1."""
+    g = m.as_glm()
+    K = field_of([g.A, g.U, g.B, g.V, g.c])
+    solver = _Solver(g, K)
+    # θ(τ): the uniform shift that makes the stage abscissae equal to the method's c
+    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u)] + [K.zero])
+    c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r))]
+    shift = solver.c[0] - c0[0] if x0 is not None else K.zero
+    p, xi, eta, theta, errors = solver.run(max_order, True, shift)
+    p0, _, _, _, errors0 = solver.run(max_order, False, shift)
+    q = 0
+    for k in range(1, p + 1):
+        if all(all(K.is_zero(e - ci ** k * K.convert(sp.Rational(1, density(t)))) for e, ci in zip(eta[t], solver.c)) for t in trees_of_order(k)):
+            q = k
+        else:
+            break
+    alpha = {t: solver.dot_w(xi[t]) for t in xi if t is not None}
+    beta = _inverse(alpha, p, K)
+    lift = K.to_sympy
+    return GLMOrderResult(
+        method=m.name, order=p, order_identity_start=p0, stage_order=q,
+        u=tuple(lift(x) for x in solver.u), w=tuple(lift(x) for x in solver.w),
+        starting={bracket(t): tuple(lift(x) for x in xi[t]) for k in range(1, p + 1) for t in trees_of_order(k)},
+        theta={bracket(t): lift(v) for t, v in theta.items() if order(t) <= p},
+        finishing={bracket(t): lift(v) for t, v in beta.items()},
+        errors=errors, errors_identity_start=errors0, max_order=max_order, capped=p >= max_order)
