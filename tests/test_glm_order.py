@@ -160,3 +160,42 @@ def test_finishing_inverts_principal_part():
 def test_glm43_printed_fails_at_order_2():
     res = glm_order(load(METHODS / "glm43_printed.json"))
     assert res.order == 1 and "[τ]" in res.errors
+
+
+def test_effective_order_exceeds_classical_measured_slope():
+    """A 2-stage method with Σb = 1, Σbc = 1/2, bᵀAc = 1/6 but bᵀc² ≠ 1/3: classical order 2,
+    effective order 3.  Independent check: processing with the computed starting method
+    (θ([τ])) and finishing method raises the measured convergence slope from 2 to 3 on
+    y' = y² (exact solution y0/(1 - y0 t))."""
+    import numpy as np
+    from tableau_lab.exact.methods import RungeKutta
+
+    m = RungeKutta.from_lists([[0, 0], [sp.Rational(2, 3), sp.Rational(1, 3)]], [sp.Rational(1, 2)] * 2)
+    res = glm_order(m)
+    assert (res.order_identity_start, res.order) == (2, 3)
+    th, fin = float(res.theta["[τ]"]), float(res.finishing["[τ]"])
+    assert fin == -th and all(float(res.finishing[k]) == 0 for k in ("[τ²]", "[[τ]]"))
+    f, fp = (lambda y: y * y), (lambda y: 2 * y)
+
+    def step(y, h):
+        Y2 = y
+        for _ in range(60):
+            Y2 = y + h * (2 / 3 * f(y) + 1 / 3 * f(Y2))
+        return y + h * (f(y) + f(Y2)) / 2
+
+    y0, T = 0.5, 1.0
+    slopes = []
+    for process in (False, True):
+        hs, errs = [], []
+        for n in (20, 40, 80, 160):
+            h, y = T / n, y0
+            if process:
+                y = y + h * h * th * fp(y) * f(y)        # S: B(ξ, y) with ξ([τ]) = θ([τ]), σ([τ]) = 1
+            for _ in range(n):
+                y = step(y, h)
+            if process:
+                y = y + h * h * fin * fp(y) * f(y)       # F = B(α⁻¹, ·)
+            hs.append(h)
+            errs.append(abs(y - y0 / (1 - y0 * T)))
+        slopes.append(np.polyfit(np.log(hs), np.log(errs), 1)[0])
+    assert abs(slopes[0] - 2) < 0.2 and abs(slopes[1] - 3) < 0.2
