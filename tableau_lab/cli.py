@@ -13,53 +13,47 @@ from . import __version__
 EXIT_OK, EXIT_CLAIM, EXIT_INPUT = 0, 1, 2
 
 
-def _verify(args) -> int:
-    from .analysis.verify import verify
+def _each_method(args, analyse) -> int:
+    """Load each file, run ``analyse(method, path) -> (result, failed)`` and print it (text or JSON).
+    Unreadable files are reported on stderr and give exit code 2; a failed claim gives 1."""
     from .exact.tableau_json import TableauError, load
 
     status = EXIT_OK
     for i, path in enumerate(args.files):
         try:
             method = load(path)
+            result, failed = analyse(method, path)
         except TableauError as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
             continue
-        result = verify(method)
         if args.json:
-            print(json.dumps({"file": path, **result.to_json()}, ensure_ascii=False), flush=True)
+            print(json.dumps({"file": path, "name": method.name, **result.to_json()}, ensure_ascii=False), flush=True)
         else:
-            if i:
-                print()
-            print(f"== {path}")
-            print(result, flush=True)
-        if result.failed and status == EXIT_OK:
+            print(("\n" if i else "") + f"== {path}\n{result}", flush=True)
+        if failed and status == EXIT_OK:
             status = EXIT_CLAIM
     return status
 
 
+def _verify(args) -> int:
+    from .analysis.verify import verify
+
+    def analyse(method, path):
+        res = verify(method)
+        return res, res.failed
+    return _each_method(args, analyse)
+
+
 def _order(args) -> int:
     from .analysis.glm_order import glm_order
-    from .exact.tableau_json import TableauError, load
+    from .exact.tableau_json import TableauError
 
-    status = EXIT_OK
-    for i, path in enumerate(args.files):
-        try:
-            method = load(path)
-        except TableauError as exc:
-            print(f"tableau-lab: error: {exc}", file=sys.stderr)
-            status = EXIT_INPUT
-            continue
+    def analyse(method, path):
         if method.kind == "prk":
-            print(f"tableau-lab: error: {path}: order of partitioned methods is not available yet", file=sys.stderr)
-            status = EXIT_INPUT
-            continue
-        res = glm_order(method, max_order=args.max_order)
-        if args.json:
-            print(json.dumps({"file": path, "name": method.name, **res.to_json()}, ensure_ascii=False), flush=True)
-        else:
-            print(("\n" if i else "") + f"== {path}\n{method.name}: {res}", flush=True)
-    return status
+            raise TableauError(path, "the order of partitioned methods is not available yet")
+        return glm_order(method, max_order=args.max_order), ()
+    return _each_method(args, analyse)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -152,7 +152,7 @@ class GLMOrderResult(Result):
 
     def __str__(self):
         cap = " (at least: cap reached)" if self.capped else ""
-        lines = [f"order {self.order}{cap} with a suitable starting method; "
+        lines = [f"{self.method}: order {self.order}{cap} with a suitable starting method; "
                  f"{self.order_identity_start} with θ ≡ 0; stage order {self.stage_order}"]
         lines.append("  starting method ξ(t) (y^[0]_i = B(ξ_i, y0)):")
         for t, xi in self.starting.items():
