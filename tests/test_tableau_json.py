@@ -2,7 +2,6 @@
 and the entry, exit code 2, quickly, and with nothing executed."""
 import builtins
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path

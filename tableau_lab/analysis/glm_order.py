@@ -23,9 +23,8 @@ as first starting component; for an RK method the two are its effective and clas
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
-from itertools import product
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix

@@ -29,7 +29,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import field_of, from_dm, nullspace, to_dm
 from ..exact.grammar import format_matrix
-from ..exact.methods import GeneralLinearMethod, Method, PartitionedRungeKutta, RungeKutta
+from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from .results import Result, matrix_latex, matrix_text
 
 __all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "RKSymplecticResult", "GSymplecticResult"]

@@ -27,7 +27,7 @@ from sympy.polys.matrices import DomainMatrix
 
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
-    "solve_linear", "nullspace", "lift", "exprs_of",
+    "solve_linear", "nullspace", "exprs_of",
 ]
 
 
@@ -92,10 +92,6 @@ def from_dm(M: DomainMatrix) -> sp.ImmutableMatrix:
     K = M.domain
     return sp.ImmutableMatrix(M.shape[0], M.shape[1],
                               [K.to_sympy(x) for row in M.to_list() for x in row])
-
-
-def lift(K, x) -> sp.Expr:
-    return K.to_sympy(x)
 
 
 def normal_form(e, K=None) -> sp.Expr:
