@@ -47,11 +47,11 @@ def _verify(args) -> int:
 
 def _order(args) -> int:
     from .analysis.glm_order import glm_order
-    from .exact.tableau_json import TableauError
+    from .analysis.prk_order import prk_order
 
     def analyse(method, path):
         if method.kind == "prk":
-            raise TableauError(path, "the order of partitioned methods is not available yet")
+            return prk_order(method, max_order=args.max_order), ()
         return glm_order(method, max_order=args.max_order), ()
     return _each_method(args, analyse)
 

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from ..exact.methods import Method
 from .results import Result
 from .glm_order import GLMOrderResult, glm_order
+from .prk_order import PRKOrderResult, prk_order
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
 
 __all__ = ["verify", "VerifyResult"]
@@ -37,7 +38,7 @@ class VerifyResult(Result):
     parameters: tuple
     g_symplectic: GSymplecticResult | None
     rk_symplectic: RKSymplecticResult | None
-    order: GLMOrderResult | None
+    order: GLMOrderResult | PRKOrderResult | None
     claims: dict
     found: dict
     failed: tuple
@@ -59,7 +60,9 @@ class VerifyResult(Result):
             parts.append(str(self.g_symplectic))
         if self.order is not None:
             o = self.order
-            if self.kind == "rk":
+            if self.kind == "prk":
+                parts.append(f"order: {o.order} (bicoloured trees)")
+            elif self.kind == "rk":
                 parts.append(f"order: classical {o.order_identity_start}, effective {o.order}, stage order {o.stage_order}")
             else:
                 parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
@@ -83,6 +86,8 @@ class VerifyResult(Result):
 
     def _order_json(self):
         o = self.order
+        if self.kind == "prk":
+            return {"order": o.order}
         out = {"order": o.order_identity_start if self.kind == "rk" else o.order,
                "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
         if self.kind == "rk":
@@ -110,7 +115,10 @@ def verify(m: Method) -> VerifyResult:
     """All applicable analyses of ``m`` and the verdict on each of its claims."""
     rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
     gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
-    order = glm_order(m) if m.kind in ("rk", "glm") and not m.parameters else None
+    if m.parameters:
+        order = None
+    else:
+        order = prk_order(m) if m.kind == "prk" else glm_order(m)
     partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, ())
     claims = m.claims_dict
     found = {k: CHECKS[k](partial) for k in claims}

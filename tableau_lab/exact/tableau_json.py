@@ -38,7 +38,7 @@ KINDS = {
 CLAIMS = {
     "symplectic": (bool, ("rk", "prk")),
     "g_symplectic": (bool, ("rk", "glm")),
-    "order": (int, ("rk", "glm")),
+    "order": (int, ("rk", "prk", "glm")),
     "stage_order": (int, ("rk", "glm")),
     "effective_order": (int, ("rk",)),
 }

@@ -1,0 +1,123 @@
+r"""Order of partitioned Runge–Kutta methods from bicoloured trees ([HLW06] III.2.1).
+
+A bicoloured tree is (colour, children) with colour 0 for the first partition (A, b)
+and 1 for the second (Â, b̂).  The elementary weight is Φ(t) = b_{col(root)}ᵀ Ψ(t) with
+Ψ(t) = Π_children (A_{col(child)} Ψ(child)) (componentwise), and the method has order p
+when Φ(t) = 1/γ(t) for every bicoloured tree with |t| ≤ p.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> prk_order(load("methods/stormer_verlet.json")).order
+2
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import sympy as sp
+
+from ..exact.field import field_of, to_dm
+from ..exact.grammar import format_entry
+from ..exact.methods import PartitionedRungeKutta
+from .results import Result
+
+__all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees"]
+
+
+@lru_cache(maxsize=None)
+def bicoloured_trees(n: int) -> tuple:
+    """All bicoloured rooted trees with n vertices (counts 2, 4, 14, 52, 214, ...: OEIS A000151)."""
+    if n == 1:
+        return ((0, ()), (1, ()))
+    out = set()
+
+    def forests(rem, bound):
+        if rem == 0:
+            yield ()
+            return
+        for k in range(min(rem, bound[0]), 0, -1):
+            for t in bicoloured_trees(k):
+                if (k, t) <= bound:
+                    for rest in forests(rem - k, (k, t)):
+                        yield (t,) + rest
+
+    for colour in (0, 1):
+        for f in forests(n - 1, (n, (2, ()))):
+            out.add((colour, tuple(sorted(f))))
+    return tuple(sorted(out))
+
+
+@lru_cache(maxsize=None)
+def _size(t) -> int:
+    return 1 + sum(_size(c) for c in t[1])
+
+
+@lru_cache(maxsize=None)
+def _gamma(t) -> int:
+    g = _size(t)
+    for c in t[1]:
+        g *= _gamma(c)
+    return g
+
+
+def _label(t) -> str:
+    """Bracket notation with ● for the first partition (q) and ○ for the second (p)."""
+    mark = "●" if t[0] == 0 else "○"
+    return mark if not t[1] else f"[{''.join(_label(c) for c in t[1])}]{mark}"
+
+
+@dataclass(frozen=True)
+class PRKOrderResult(Result):
+    method: str
+    order: int
+    errors: dict          # label -> Φ(t) − 1/γ(t) at order p + 1 (nonzero ones)
+    max_order: int
+
+    def __str__(self):
+        out = f"{self.method}: order {self.order} (bicoloured trees; ● first partition, ○ second)"
+        if self.errors:
+            out += f"\n  error terms at order {self.order + 1}: " + "; ".join(
+                f"{k}: {format_entry(v)}" for k, v in self.errors.items())
+        return out
+
+    def to_json(self):
+        return {"order": self.order, "error_terms": {k: str(format_entry(v)) for k, v in self.errors.items()}}
+
+    def to_latex(self):
+        return f"The partitioned method has order {self.order}."
+
+
+def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
+    """Classical order of a partitioned RK method, exactly, pinned at p + 1."""
+    K = field_of([m.A, m.b, m.Ahat, m.bhat])
+    As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
+    bs = [[K.from_sympy(x) for x in m.b], [K.from_sympy(x) for x in m.bhat]]
+    s = m.s
+    psi = {}
+
+    def stage(t):
+        if t not in psi:
+            v = [K.one] * s
+            for c in t[1]:
+                Ac, pc = As[c[0]], stage(c)
+                w = [sum((a * x for a, x in zip(row, pc)), K.zero) for row in Ac]
+                v = [x * y for x, y in zip(v, w)]
+            psi[t] = v
+        return psi[t]
+
+    p = 0
+    errors = {}
+    for n in range(1, max_order + 2):
+        bad = {}
+        for t in bicoloured_trees(n):
+            phi = sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero)
+            r = phi - K.convert(sp.Rational(1, _gamma(t)))
+            if not K.is_zero(r):
+                bad[_label(t)] = K.to_sympy(r)
+        if bad:
+            errors = bad
+            break
+        if n > max_order:
+            break
+        p = n
+    return PRKOrderResult(m.name, p, errors, max_order)
