@@ -29,7 +29,7 @@ from functools import lru_cache
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from ..exact.field import field_of, solve_linear, to_dm
+from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
 from .results import Result
@@ -199,11 +199,11 @@ class _Solver:
         M = to_dm(sp.Matrix.vstack(g.V.T - sp.eye(r), u.T), K)
         if M.rank() < r:
             raise ValueError(f"{g.name}: 1 is not a simple eigenvalue of V; the order theory here needs it")
-        self.u = [K.from_sympy(x) for x in u]
+        self.u = [element(K, x) for x in u]
         self.w = solve_linear(M, [0] * r + [1])
         # (I − V) x = q with wᵀx = 0: the particular solution without principal part
         self.P = to_dm(sp.Matrix.vstack(sp.eye(r) - g.V, sp.Matrix([[K.to_sympy(x) for x in self.w]])), K)
-        self.c = [K.from_sympy(x) for x in g.c]
+        self.c = [element(K, x) for x in g.c]
 
     # vectors are plain lists of field elements
     def mat(self, M, v):

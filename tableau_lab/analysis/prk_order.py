@@ -16,7 +16,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from ..exact.field import field_of, to_dm
+from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
 from .results import Result
@@ -91,7 +91,7 @@ def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
     """Classical order of a partitioned RK method, exactly, pinned at p + 1."""
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
-    bs = [[K.from_sympy(x) for x in m.b], [K.from_sympy(x) for x in m.bhat]]
+    bs = [[element(K, x) for x in m.b], [element(K, x) for x in m.bhat]]
     s = m.s
     psi = {}
 
