@@ -199,3 +199,19 @@ def test_effective_order_exceeds_classical_measured_slope():
             errs.append(abs(y - y0 / (1 - y0 * T)))
         slopes.append(np.polyfit(np.log(hs), np.log(errs), 1)[0])
     assert abs(slopes[0] - 2) < 0.2 and abs(slopes[1] - 3) < 0.2
+
+
+@pytest.mark.parametrize("s", [1, 2, 3])
+def test_generated_gauss_order_2s(s):
+    from tableau_lab.exact.families import gauss
+    res = glm_order(gauss(s), max_order=2 * s)
+    assert (res.order_identity_start, res.order, res.stage_order) == (2 * s, 2 * s, s) and res.errors
+
+
+def test_generated_gauss5_order_10_pinned():
+    """Gauss with 5 stages, nodes as nested radicals in a degree-8 number field: all
+    conditions through order 10 hold, one of order 11 fails (about 10 s)."""
+    from tableau_lab.exact.families import gauss
+    res = glm_order(gauss(5), max_order=10)
+    assert res.order_identity_start == 10 and res.order == 10 and not res.capped
+    assert res.errors_identity_start and all(len(k) > 0 for k in res.errors_identity_start)
