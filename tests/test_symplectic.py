@@ -118,3 +118,15 @@ def test_result_objects_print_serialise_render():
     assert js["D"] == [["1/2", "0"], ["0", "1/2"]] and js["dimension"] == 1
     tex = res.to_latex()
     assert r"\frac{1}{2}" in tex and "G-symplectic" in tex
+
+
+def test_parameter_with_radicals_generic_and_special_value():
+    """Example 4 with its diagonal entry replaced by a parameter θ: generically not
+    G-symplectic (the field is QQ<√3>(θ)); at θ = (3 + √3)/6 it is again."""
+    th = sp.Symbol("theta", real=True)
+    m = example4()
+    fam = GeneralLinearMethod(A=sp.Matrix([[th, 0], [-S3 / 3, th]]), U=m.U, B=m.B, V=m.V, name="θ family")
+    res = g_symplectic(fam)
+    assert not res.holds and res.parameters == (th,)
+    special = GeneralLinearMethod(A=fam.A.subs(th, (3 + S3) / 6), U=m.U, B=m.B, V=m.V)
+    assert g_symplectic(special).holds
