@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from tableau_lab.analysis.glm_order import bracket, glm_order, theta_matrix, trees_of_order
+from tableau_lab.analysis.glm_order import glm_order, theta_matrix
+from tableau_lab.analysis.trees import bracket, trees_of_order
 from tableau_lab.exact.tableau_json import load
 
 METHODS = Path(__file__).parent.parent / "methods"

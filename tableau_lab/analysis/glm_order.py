@@ -32,108 +32,17 @@ from sympy.polys.matrices import DomainMatrix
 from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
+from .bseries import flow_cuts, inverse
 from .results import Result
+from .trees import bracket, density, leaf_removals, order, trees_of_order
 
-__all__ = ["glm_order", "GLMOrderResult", "trees_of_order", "bracket", "theta_matrix"]
-
-# ----------------------------------------------------------------- rooted trees
-# A tree is the sorted tuple of its children's trees; τ = ().
-
-
-@lru_cache(maxsize=None)
-def trees_of_order(n: int) -> tuple:
-    """All rooted trees with n vertices, canonical and sorted (counts 1, 1, 2, 4, 9, 20, ...)."""
-    if n == 1:
-        return ((),)
-    out = set()
-
-    def forests(rem, bound):
-        if rem == 0:
-            yield ()
-            return
-        for k in range(min(rem, bound[0]), 0, -1):
-            for t in trees_of_order(k):
-                if (k, t) <= bound:
-                    for rest in forests(rem - k, (k, t)):
-                        yield (t,) + rest
-
-    for f in forests(n - 1, (n, ())):
-        out.add(tuple(sorted(f)))
-    return tuple(sorted(out))
-
-
-@lru_cache(maxsize=None)
-def order(t) -> int:
-    return 1 + sum(order(c) for c in t)
-
-
-@lru_cache(maxsize=None)
-def density(t) -> int:
-    g = order(t)
-    for c in t:
-        g *= density(c)
-    return g
-
-
-@lru_cache(maxsize=None)
-def bracket(t) -> str:
-    """Butcher's bracket notation: τ, [τ], [τ²], [[τ]], [τ[τ]], ..."""
-    if t == ():
-        return "τ"
-    parts, i = [], 0
-    while i < len(t):
-        j = i
-        while j < len(t) and t[j] == t[i]:
-            j += 1
-        n = j - i
-        parts.append(bracket(t[i]) + (_sup(n) if n > 1 else ""))
-        i = j
-    return "[" + "".join(parts) + "]"
-
-
-def _sup(n: int) -> str:
-    return "".join("⁰¹²³⁴⁵⁶⁷⁸⁹"[int(d)] for d in str(n))
-
-
-@lru_cache(maxsize=None)
-def _leaf_removals(t) -> tuple:
-    out = []
-    for i, c in enumerate(t):
-        rest = t[:i] + t[i + 1:]
-        if c == ():
-            out.append(tuple(sorted(rest)))
-        else:
-            out.extend(tuple(sorted(rest + (c2,))) for c2 in _leaf_removals(c))
-    return tuple(out)
-
+__all__ = ["glm_order", "GLMOrderResult", "theta_matrix"]
 
 @lru_cache(maxsize=None)
 def theta_matrix(k: int) -> tuple:
     """L_k: coefficient of θ(s) (|s| = k−1) in the order-k condition of tree t."""
-    return tuple(tuple((1 if t == (s,) else 0) - _leaf_removals(t).count(s) for s in trees_of_order(k - 1))
+    return tuple(tuple((1 if t == (s,) else 0) - leaf_removals(t).count(s) for s in trees_of_order(k - 1))
                  for t in trees_of_order(k))
-
-
-def _kept_cuts(t, inner):
-    """Cuts of t that keep the root: {trunk: Σ Π inner(pruned)}, ``inner`` a function of trees."""
-    acc = {(): 1}
-    for c in t:
-        options = {None: inner(c)}
-        options.update(_kept_cuts(c, inner))
-        new = {}
-        for trunk, coef in acc.items():
-            for sub, cf in options.items():
-                key = trunk if sub is None else tuple(sorted(trunk + (sub,)))
-                new[key] = new.get(key, 0) + coef * cf
-        acc = new
-    return acc
-
-
-@lru_cache(maxsize=None)
-def _flow_cuts(t) -> tuple:
-    """(trunk, Σ Π 1/γ(pruned)) over the root-keeping cuts of t other than t itself."""
-    cuts = _kept_cuts(t, lambda c: sp.Rational(1, density(c)))
-    return tuple((trunk, coef) for trunk, coef in cuts.items() if trunk != t)
 
 
 # ----------------------------------------------------------------- the solve
@@ -182,7 +91,7 @@ class GLMOrderResult(Result):
         }
 
     def to_latex(self):
-        rows = [f"{_tex_tree(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
+        rows = [f"{_tex(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
                 for t, xi in self.starting.items()]
         r = len(self.u)
         return ("Order " + str(self.order) + " relative to the starting method\n"
@@ -190,8 +99,12 @@ class GLMOrderResult(Result):
                 + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
 
 
-def _tex_tree(b: str) -> str:
-    return b.replace("τ", r"\tau ").replace("²", "^2").replace("³", "^3").replace("⁴", "^4")
+def _tex(b: str) -> str:
+    """Bracket notation (τ, superscript multiplicities) in LaTeX."""
+    out = b.replace("τ", r"\tau ")
+    for d, sup in zip("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"):
+        out = out.replace(sup, f"^{{{d}}}")
+    return out
 
 
 class _Solver:
@@ -256,7 +169,7 @@ class _Solver:
                 etaD[t] = d
                 q = self.mat(self.B, d)
                 q = [a - b * E(t) for a, b in zip(q, xi[None])]
-                for trunk, coef in _flow_cuts(t):
+                for trunk, coef in flow_cuts(t):
                     if trunk in nonzero:
                         cf = self.rational(coef)
                         q = [a - cf * b for a, b in zip(q, xi[trunk])]
@@ -312,20 +225,6 @@ def _pivot_residuals(L, res, Tk, K):
     return out
 
 
-def _inverse(alpha, max_order, K):
-    """β = α⁻¹ in the Butcher group (α(∅) = 1): α·β = identity series."""
-    beta = {}
-    A = lambda t: alpha.get(t, K.zero)  # noqa: E731
-    for k in range(1, max_order + 1):
-        for t in trees_of_order(k):
-            acc = A(t)   # full cut: β(∅) α(t)
-            for trunk, coef in _kept_cuts(t, A).items():
-                if trunk != t:
-                    acc = acc + coef * beta[trunk]
-            beta[t] = -acc
-    return beta
-
-
 def _linear_order_bound(m: Method):
     """Upper bound for the effective order of an RK method: s if explicit, else 2s."""
     if m.kind != "rk":
@@ -361,12 +260,12 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
         else:
             break
     alpha = {t: solver.dot_w(xi[t]) for t in xi if t is not None}
-    beta = _inverse(alpha, p, K)
+    beta = inverse(alpha, p)
     lift = K.to_sympy
     return GLMOrderResult(
         method=m.name, order=p, order_identity_start=p0, stage_order=q,
         u=tuple(lift(x) for x in solver.u), w=tuple(lift(x) for x in solver.w),
         starting={bracket(t): tuple(lift(x) for x in xi[t]) for k in range(1, p + 1) for t in trees_of_order(k)},
         theta={bracket(t): lift(v) for t, v in theta.items() if order(t) <= p},
-        finishing={bracket(t): lift(v) for t, v in beta.items()},
+        finishing={bracket(t): lift(v) for t, v in beta.items() if t is not None},
         errors=errors, errors_identity_start=errors0, max_order=max_order, capped=not errors)
