@@ -21,15 +21,19 @@ def timed(fn):
 
 def main():
     from tableau_lab.analysis.glm_order import glm_order
+    from tableau_lab.analysis.rk_order import rk_order
     from tableau_lab.exact.families import gauss
     from tableau_lab.exact.tableau_json import load
 
     rows = []
     t, m = timed(lambda: gauss(5))
     rows.append(("build Gauss 5 (nested radicals, degree-8 field)", t, None))
+    t, r = timed(lambda: rk_order(m))
+    assert r.order == 10 and r.residuals and len(r.weights) == 1205 + 1842
+    rows.append(("Gauss 5: order 10 pinned through order-11 conditions (elementary weights)", t, 10.0))
     t, r = timed(lambda: glm_order(m, max_order=10))
     assert r.order_identity_start == 10 and not r.capped
-    rows.append(("Gauss 5: order 10 pinned through order-11 conditions", t, 10.0))
+    rows.append(("Gauss 5: the same by GLM theory (starting-method solve, r = 1)", t, 10.0))
     t, r = timed(lambda: glm_order(load(ROOT / "methods/example4_glm.json")))
     rows.append(("Example 4 GLM order (starting method, theta free and theta = 0)", t, 5.0))
     files = sorted(glob.glob(str(ROOT / "methods/*.json")))

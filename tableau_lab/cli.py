@@ -46,13 +46,10 @@ def _verify(args) -> int:
 
 
 def _order(args) -> int:
-    from .analysis.glm_order import glm_order
-    from .analysis.prk_order import prk_order
+    from .analysis.order import order
 
     def analyse(method, path):
-        if method.kind == "prk":
-            return prk_order(method, max_order=args.max_order), ()
-        return glm_order(method, max_order=args.max_order), ()
+        return order(method, max_order=args.max_order), ()
     return _each_method(args, analyse)
 
 
@@ -69,11 +66,14 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     v.set_defaults(run=_verify)
     o = sub.add_parser("order", help="order, stage order, starting and finishing methods (GLM theory)",
-                       description="Order of RK methods and GLMs relative to the best starting method "
-                                   "(Butcher's algebraic theory), with the order for θ ≡ 0, the stage order, "
+                       description="RK methods: classical order by elementary weights (pinned at p + 1), "
+                                   "principal error coefficients, B(p), C(q), D(r), effective order. "
+                                   "Partitioned RK: bicoloured trees. GLMs: order relative to the best starting "
+                                   "method (Butcher's algebraic theory), the order for θ ≡ 0, the stage order, "
                                    "the starting method ξ(t), the finishing method and the error terms.")
     o.add_argument("files", nargs="+", metavar="FILE")
-    o.add_argument("--max-order", type=int, default=8, metavar="N", help="highest order examined (default 8)")
+    o.add_argument("--max-order", type=int, default=None, metavar="N",
+                   help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
     return p

@@ -8,8 +8,8 @@ import pytest
 import sympy as sp
 
 from tableau_lab.analysis.bseries import compose, exact_flow, identity, inverse, stage_derivative
-from tableau_lab.analysis.trees import (TAU, bracket, butcher_product, density, from_children, order, symmetry,
-                                        trees_of_order, trees_up_to)
+from tableau_lab.analysis.trees import (TAU, bracket, butcher_product, density, from_children, order, subtrees,
+                                        symmetry, trees_of_order, trees_up_to)
 
 
 def test_counts_a000081():
@@ -35,6 +35,17 @@ def test_butcher_product():
     t = from_children([TAU])
     assert butcher_product(t, TAU) == from_children([TAU, TAU])
     assert order(butcher_product(t, t)) == 4 and bracket(butcher_product(t, t)) == "[τ[τ]]"
+
+
+@pytest.mark.parametrize("n", range(1, 9))
+def test_density_is_product_of_subtree_orders(n):
+    """γ(t) = Π over the vertices v of |subtree at v| (the non-recursive definition), and a
+    tree of order n has n vertex subtrees."""
+    from math import prod
+    for t in trees_of_order(n):
+        subs = subtrees(t)
+        assert len(subs) == n and subs[0] == t
+        assert density(t) == prod(order(u) for u in subs)
 
 
 N = 6

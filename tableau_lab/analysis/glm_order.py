@@ -225,14 +225,6 @@ def _pivot_residuals(L, res, Tk, K):
     return out
 
 
-def _linear_order_bound(m: Method):
-    """Upper bound for the effective order of an RK method: s if explicit, else 2s."""
-    if m.kind != "rk":
-        return None
-    explicit = all(m.A[i, j] == 0 for i in range(m.s) for j in range(i, m.s))
-    return m.s if explicit else 2 * m.s
-
-
 def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     """The order of ``m`` (a GLM, or an RK method as a GLM) relative to the best starting
     method, the order with θ ≡ 0, the stage order, the starting method ξ(t) for |t| <= p,
@@ -245,7 +237,7 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r))]
     shift = solver.c[0] - c0[0] if x0 is not None else K.zero
     p0, xi0, eta0, theta0, errors0 = solver.run(max_order, False, shift)
-    bound = _linear_order_bound(m)
+    bound = m.order_bound if m.kind == "rk" else None
     if bound is not None and p0 >= bound:
         # For RK methods the order with any starting method is at most the order of the
         # stability function R(z) (on y' = λy the starting method is a scalar factor that

@@ -10,6 +10,8 @@ Trees are hashable, totally ordered and canonical, so equal trees are equal tupl
 ('[τ[τ]]', 4, 8, 1)
 >>> bracket(butcher_product(TAU, TAU)), symmetry(from_children([TAU, TAU]))
 ('[τ]', 2)
+>>> [bracket(u) for u in subtrees(t)]
+['[τ[τ]]', 'τ', '[τ]', 'τ']
 """
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ from functools import lru_cache
 from math import factorial
 
 __all__ = ["TAU", "trees_of_order", "trees_up_to", "from_children", "order", "density", "symmetry",
-           "butcher_product", "bracket", "latex", "leaf_removals"]
+           "butcher_product", "bracket", "latex", "leaf_removals", "subtrees"]
 
 TAU = ()
 
@@ -127,4 +129,14 @@ def leaf_removals(t) -> tuple:
             out.append(tuple(sorted(rest)))
         else:
             out.extend(tuple(sorted(rest + (c2,))) for c2 in leaf_removals(c))
+    return tuple(out)
+
+
+@lru_cache(maxsize=None)
+def subtrees(t) -> tuple:
+    """The subtree rooted at each vertex of t (t itself first, then depth first), with
+    multiplicity; γ(t) is the product of their orders."""
+    out = [t]
+    for c in t:
+        out.extend(subtrees(c))
     return tuple(out)

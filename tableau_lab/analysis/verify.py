@@ -12,8 +12,10 @@ from dataclasses import dataclass
 
 from ..exact.methods import Method
 from .results import Result
-from .glm_order import GLMOrderResult, glm_order
-from .prk_order import PRKOrderResult, prk_order
+from .glm_order import GLMOrderResult
+from .order import order as order_of
+from .prk_order import PRKOrderResult
+from .rk_order import RKOrderResult
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
 
 __all__ = ["verify", "VerifyResult"]
@@ -23,9 +25,9 @@ CHECKS = {
     "symplectic": lambda v: v.rk_symplectic.holds,
     "g_symplectic": lambda v: v.g_symplectic.holds,
     # for RK methods "order" is the classical order (θ ≡ 0), for GLMs the highest achievable
-    "order": lambda v: v.order.order_identity_start if v.kind == "rk" else v.order.order,
+    "order": lambda v: v.order.order,
     "stage_order": lambda v: v.order.stage_order,
-    "effective_order": lambda v: v.order.order,
+    "effective_order": lambda v: v.order.effective_order if v.kind == "rk" else v.order.order,
 }
 
 
@@ -38,7 +40,7 @@ class VerifyResult(Result):
     parameters: tuple
     g_symplectic: GSymplecticResult | None
     rk_symplectic: RKSymplecticResult | None
-    order: GLMOrderResult | PRKOrderResult | None
+    order: RKOrderResult | GLMOrderResult | PRKOrderResult | None
     claims: dict
     found: dict
     failed: tuple
@@ -63,7 +65,8 @@ class VerifyResult(Result):
             if self.kind == "prk":
                 parts.append(f"order: {o.order} (bicoloured trees)")
             elif self.kind == "rk":
-                parts.append(f"order: classical {o.order_identity_start}, effective {o.order}, stage order {o.stage_order}")
+                parts.append(f"order: classical {o.order}, effective {o.effective_order}, stage order {o.stage_order}; "
+                             f"B({o.B}), C({o.C}), D({o.D})")
             else:
                 parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
                              f"stage order {o.stage_order}")
@@ -88,14 +91,13 @@ class VerifyResult(Result):
         o = self.order
         if self.kind == "prk":
             return {"order": o.order}
-        out = {"order": o.order_identity_start if self.kind == "rk" else o.order,
-               "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
+        full = o.to_json()
+        out = {"order": o.order, "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
         if self.kind == "rk":
-            out["effective_order"] = o.order
+            out.update({k: full[k] for k in ("effective_order", "B", "C", "D", "error_coefficients")})
+            out.update({k: full[k] for k in ("starting_method", "finishing_method") if k in full})
         else:
-            full = o.to_json()
-            out.update(starting_method=full["starting_method"], finishing_method=full["finishing_method"],
-                       u=full["u"], w=full["w"])
+            out.update({k: full[k] for k in ("starting_method", "finishing_method", "u", "w", "error_terms")})
         return out
 
     def to_latex(self):
@@ -118,7 +120,7 @@ def verify(m: Method) -> VerifyResult:
     if m.parameters:
         order = None
     else:
-        order = prk_order(m) if m.kind == "prk" else glm_order(m)
+        order = order_of(m)
     partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, ())
     claims = m.claims_dict
     found = {k: CHECKS[k](partial) for k in claims}

@@ -161,6 +161,18 @@ class RungeKutta(Method):
     def s(self) -> int:
         return self.A.rows
 
+    @property
+    def explicit(self) -> bool:
+        """A strictly lower triangular (the seed's §1.2.3 says "upper": ERRATA 1)."""
+        return all(self.A[i, j] == 0 for i in range(self.s) for j in range(i, self.s))
+
+    @property
+    def order_bound(self) -> int:
+        """No s-stage RK method has order, classical or effective, above 2s, nor above s when
+        explicit: R(z) = e^z + O(z^{p+1}) is necessary (on y' = λy a starting method is a
+        scalar factor that commutes with the step) and R has degree s."""
+        return self.s if self.explicit else 2 * self.s
+
     def matrices(self) -> dict:
         return {"A": self.A, "b": self.b, "c": self.c}
 

@@ -1,0 +1,82 @@
+"""RK order by elementary weights against published facts: orders pinned at p + 1,
+simplifying assumptions of the collocation families ([HW96] Table IV.5.13), the tall-tree
+error coefficient against the stability function's Taylor expansion, Gauss 5 order 10."""
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from tableau_lab.analysis.glm_order import glm_order
+from tableau_lab.analysis.order import order
+from tableau_lab.analysis.rk_order import rk_order
+from tableau_lab.exact.families import gauss
+from tableau_lab.exact.field import is_zero
+from tableau_lab.exact.tableau_json import load
+
+METHODS = Path(__file__).parent.parent / "methods"
+
+# (order, B, C, D): HW96 Table IV.5.13 with s = 3 (Gauss: B(2s) C(s) D(s); Radau IIA: B(2s-1) C(s) D(s-1);
+# Lobatto IIIA: B(2s-2) C(s) D(s-2); IIIB: B(2s-2) C(s-2) D(s); IIIC: B(2s-2) C(s-1) D(s-1)); s = 2 for gauss2
+FACTS = {"gauss2": (4, 4, 2, 2), "gauss3": (6, 6, 3, 3), "radau_iia3": (5, 5, 3, 2), "lobatto_iiia3": (4, 4, 3, 1),
+         "lobatto_iiib3": (4, 4, 1, 3), "lobatto_iiic3": (4, 4, 2, 2)}
+
+
+@pytest.mark.parametrize("name", sorted(FACTS))
+def test_collocation_families(name):
+    r = rk_order(load(METHODS / f"{name}.json"))
+    assert (r.order, r.B, r.C, r.D) == FACTS[name]
+    assert r.residuals and not r.capped
+
+
+@pytest.mark.parametrize("name, p", [("explicit_euler", 1), ("implicit_midpoint", 2), ("rk4", 4), ("rule_3_8", 4)])
+def test_orders_agree_with_glm_theory(name, p):
+    m = load(METHODS / f"{name}.json")
+    assert rk_order(m).order == p == glm_order(m).order_identity_start
+
+
+@pytest.mark.parametrize("name", ["rk4", "gauss2", "gauss3", "radau_iia3", "lobatto_iiic3"])
+def test_tall_tree_error_coefficient_is_stability_function_defect(name):
+    """On y' = λy only the tall tree contributes: its error coefficient (σ = 1) equals the
+    z^(p+1) coefficient of R(z) − e^z, with R(z) = det(I − zA + z1bᵀ)/det(I − zA)
+    ([HW96] Prop. IV.3.2), expanded by exact power-series division."""
+    m = load(METHODS / f"{name}.json")
+    r = rk_order(m)
+    z = sp.Symbol("z")
+    s, n = m.s, r.order + 1
+    P = sp.Poly(sp.expand((sp.eye(s) - z * m.A + z * sp.ones(s, 1) * m.b.T).det()), z)
+    Q = sp.Poly(sp.expand((sp.eye(s) - z * m.A).det()), z)
+    p_, q_ = [P.coeff_monomial(z ** k) for k in range(n + 1)], [Q.coeff_monomial(z ** k) for k in range(n + 1)]
+    R = []
+    for k in range(n + 1):                                   # R·Q = P, q_0 = 1
+        R.append(sp.expand(p_[k] - sum(q_[j] * R[k - j] for j in range(1, k + 1))))
+    defect = R[n] - sp.Rational(1, sp.factorial(n))
+    tall = "[" * r.order + "τ" + "]" * r.order
+    assert is_zero(r.error_coefficients[tall] - defect)
+    assert not is_zero(defect)
+
+
+def test_gauss5_order_10_by_elementary_weights():
+    """All 1205 conditions of order ≤ 10 hold, and of the 1842 of order 11 not all do."""
+    r = rk_order(gauss(5))
+    assert (r.order, r.B, r.C, r.D, r.effective_order) == (10, 10, 5, 5, 10) and r.residuals
+    assert len(r.weights) == 1205 + 1842
+
+
+def test_butcher_effective_order_5_method():
+    """[B21] Sec. 5.7, tableau (5.7d): explicit, 5 stages, classical order 4, effective order 5.
+    The book's starter b(t5), ..., b(t8) = 1/480, 1/960, −1/480, −1/960 (trees [τ³], [τ[τ]],
+    [[τ²]], [[[τ]]]) with b = 0 on the other trees of order ≤ 5 is the computed θ."""
+    r = rk_order(load(METHODS / "butcher_effective5.json"))
+    assert (r.order, r.effective_order) == (4, 5) and r.residuals
+    published = {"[τ³]": sp.Rational(1, 480), "[τ[τ]]": sp.Rational(1, 960),
+                 "[[τ²]]": sp.Rational(-1, 480), "[[[τ]]]": sp.Rational(-1, 960)}
+    theta = r.effective.theta
+    assert all(theta.get(t, 0) == published.get(t, 0) for t in theta) and set(published) <= set(theta)
+    assert r.effective.errors           # pinned: effective order 6 fails
+
+
+def test_order_dispatch_and_latex():
+    assert order(load(METHODS / "stormer_verlet.json")).order == 2
+    assert order(load(METHODS / "example4_glm.json")).order == 4
+    tex = order(load(METHODS / "rk4.json")).to_latex()
+    assert r"\Phi(t)" in tex and r"[[\tau]]" in tex and r"\frac{1}{24}" in tex
