@@ -80,3 +80,32 @@ def test_order_dispatch_and_latex():
     assert order(load(METHODS / "example4_glm.json")).order == 4
     tex = order(load(METHODS / "rk4.json")).to_latex()
     assert r"\Phi(t)" in tex and r"[[\tau]]" in tex and r"\frac{1}{24}" in tex
+
+
+@pytest.mark.parametrize("claims, failed", [
+    ({"order": 5}, ["order"]),                       # classical order is 4, not the effective 5
+    ({"order": 4, "effective_order": 4}, ["effective_order"]),
+    ({"order": 4, "effective_order": 5, "stage_order": 2}, ["stage_order"]),
+    ({"order": 4, "effective_order": 5}, []),
+])
+def test_order_claims_checked_exit_codes(tmp_path, capsys, claims, failed):
+    import json
+    from tableau_lab.cli import main
+    data = json.loads((METHODS / "butcher_effective5.json").read_text())
+    data["claims"] = claims
+    f = tmp_path / "m.json"
+    f.write_text(json.dumps(data))
+    assert main(["verify", "--json", str(f)]) == (1 if failed else 0)
+    out = json.loads(capsys.readouterr().out)
+    assert out["claims"]["failed"] == failed
+    assert (out["order"]["order"], out["order"]["effective_order"]) == (4, 5)
+    assert out["order"]["starting_method"]["[τ³]"] == "1/480"
+
+
+def test_order_cli_json_glm(capsys):
+    import json
+    from tableau_lab.cli import main
+    assert main(["order", "--json", str(METHODS / "example4_glm.json")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["order"] == 4 and out["order_identity_start"] == 4 and out["stage_order"] == 2
+    assert out["starting_method"]["[τ]"] == ["0", "sqrt(3)/12"]
