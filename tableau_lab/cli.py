@@ -53,6 +53,61 @@ def _order(args) -> int:
     return _each_method(args, analyse)
 
 
+CLAIM_OF = {"symplectic": ("symplectic", True), "g-symplectic": ("g_symplectic", True),
+            "parasitism-free": ("parasitism_free", True)}
+
+
+def _solve(args) -> int:
+    from .analysis.design import DesignError, solve_file
+    from .exact.methods import MethodError
+    from .exact.tableau_json import TableauError, save
+
+    try:
+        res = solve_file(args.file, args.require)
+    except (TableauError, DesignError, MethodError) as exc:
+        print(f"tableau-lab: error: {args.file}: {exc}" if not str(exc).startswith(str(args.file)) else
+              f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    if args.json:
+        print(json.dumps({"file": args.file, "name": res.name, **res.to_json()}, ensure_ascii=False), flush=True)
+    else:
+        print(f"== {args.file}\n{res}", flush=True)
+    if res.status != "solved":
+        return EXIT_CLAIM
+    if args.save:
+        k = args.solution
+        if k is None and len(res.solutions) > 1:
+            print(f"tableau-lab: error: {len(res.solutions)} solutions: choose one with --solution K", file=sys.stderr)
+            return EXIT_INPUT
+        k = k or 1
+        if not 1 <= k <= len(res.solutions):
+            print(f"tableau-lab: error: --solution {k}: there are {len(res.solutions)} solutions", file=sys.stderr)
+            return EXIT_INPUT
+        sol = res.solutions[k - 1]
+        claims = dict(sol.method.claims)
+        for r in res.requirements:
+            if r.name in CLAIM_OF:
+                key, val = CLAIM_OF[r.name]
+            elif r.name in ("order", "stage-order"):
+                key, val = r.name.replace("-", "_"), r.value
+            else:
+                continue
+            if sol.method.kind in _claim_kinds(key):
+                claims[key] = val
+        from dataclasses import replace
+        meth = replace(sol.method, name=args.name or sol.method.name, claims=tuple(sorted(claims.items())),
+                       notes=tuple(sol.method.notes) + (f"Solved by tableau-lab solve for {', '.join(map(str, res.requirements))}"
+                                                        f" ({sol.label}).",))
+        save(meth, args.save)
+        print(f"saved solution {k} to {args.save}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _claim_kinds(key):
+    from .exact.tableau_json import CLAIMS
+    return CLAIMS[key][1]
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="tableau-lab", description=(
         "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
@@ -76,6 +131,20 @@ def build_parser() -> argparse.ArgumentParser:
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
+    sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
+                        description="Treat the named unknowns of a tableau as parameters and find every solution "
+                                    "family (exactly: Gröbner bases, radicals) of the required conditions; each "
+                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, "
+                                    "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
+                                    "Exit 0: solved; 1: no (real, radical) solution; 2: bad input.")
+    sv.add_argument("file", metavar="FILE", help="JSON tableau with unknowns (names) in its entries")
+    sv.add_argument("--require", action="append", required=True, metavar="CONDITIONS",
+                    help="comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
+    sv.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
+    sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
+    sv.add_argument("--solution", type=int, metavar="K", help="which solution --save writes (1-based)")
+    sv.add_argument("--name", help="name of the saved method")
+    sv.set_defaults(run=_solve)
     return p
 
 

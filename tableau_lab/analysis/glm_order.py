@@ -36,7 +36,7 @@ from .bseries import flow_cuts, inverse
 from .results import Result
 from .trees import bracket, density, leaf_removals, order, trees_of_order
 
-__all__ = ["glm_order", "GLMOrderResult", "theta_matrix"]
+__all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions"]
 
 @lru_cache(maxsize=None)
 def theta_matrix(k: int) -> tuple:
@@ -148,7 +148,11 @@ class _Solver:
     def dot_w(self, v):
         return sum((a * b for a, b in zip(self.w, v)), self.K.zero)
 
-    def run(self, max_order, free_theta, theta_tau):
+    def run(self, max_order, free_theta, theta_tau, collect=None):
+        """The sequential solve.  With ``collect`` (a list), the order conditions up to
+        ``max_order`` are appended to it as (label, residual) instead of stopping at the first
+        failure; θ is then the least-squares-free left-inverse solution, exact wherever the
+        conditions hold (the design module solves them)."""
         K = self.K
         one = [K.one] * self.s
         xi = {None: list(self.u)}          # None is the empty tree
@@ -156,7 +160,7 @@ class _Solver:
         p, errors = 0, {}
         E = lambda t: self.rational(sp.Rational(1, density(t)))  # noqa: E731
         nonzero = set()                    # trees whose ξ(t) is not the zero vector
-        for k in range(1, max_order + 2):
+        for k in range(1, max_order + (1 if collect is not None else 2)):
             Tk = trees_of_order(k)
 
             def Q(t):
@@ -179,7 +183,8 @@ class _Solver:
             if k >= 3 and free_theta:
                 prev = trees_of_order(k - 1)
                 L = DomainMatrix([[K.convert(x) for x in row] for row in theta_matrix(k)], (len(Tk), len(prev)), K)
-                sol = solve_linear(L, [-x for x in res])
+                sol = (left_inverse(L, [-x for x in res]) if collect is not None
+                       else solve_linear(L, [-x for x in res]))
                 if sol is None:
                     errors = _pivot_residuals(L, res, Tk, K)
                     break
@@ -190,6 +195,9 @@ class _Solver:
                     if not K.is_zero(th):
                         nonzero.add(s_)
                 res = [self.dot_w(Q(t)) for t in Tk]
+            if collect is not None:
+                collect.extend((f"order {k}, tree {bracket(t)}", x) for t, x in zip(Tk, res) if not K.is_zero(x))
+                res = []
             bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res) if not K.is_zero(x)}
             if bad:
                 errors = bad
@@ -210,13 +218,19 @@ class _Solver:
         return p, xi, eta, theta, errors
 
 
+def left_inverse(L, rhs):
+    """x with L x = rhs on the independent rows of L (L of full column rank)."""
+    rows = L.to_list()
+    chosen = list(L.transpose().rref()[1])
+    sub = DomainMatrix([rows[i] for i in chosen], (len(chosen), L.shape[1]), L.domain)
+    return solve_linear(sub, [rhs[i] for i in chosen])
+
+
 def _pivot_residuals(L, res, Tk, K):
     """θ chosen to satisfy a maximal independent set of the conditions (first trees first);
     the residuals of the others are the intrinsic error terms."""
     rows = L.to_list()
-    chosen = list(L.transpose().rref()[1])     # the first maximal set of independent rows
-    sub = DomainMatrix([rows[i] for i in chosen], (len(chosen), L.shape[1]), K)
-    th = solve_linear(sub, [-res[i] for i in chosen])
+    th = left_inverse(L, [-x for x in res])    # θ from the first maximal set of independent rows
     out = {}
     for i, t in enumerate(Tk):
         v = res[i] + sum((a * b for a, b in zip(rows[i], th)), K.zero)
@@ -261,3 +275,14 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
         theta={bracket(t): lift(v) for t, v in theta.items() if order(t) <= p},
         finishing={bracket(t): lift(v) for t, v in beta.items() if t is not None},
         errors=errors, errors_identity_start=errors0, max_order=max_order, capped=not errors)
+
+
+def order_conditions(m: Method, max_order: int, K, free_theta: bool = True) -> list:
+    """The order conditions of ``m`` through ``max_order`` as (label, element of K) pairs, with
+    the principal parts θ free (eliminated) or ≡ 0; K holds the method's free parameters.
+    All vanish exactly when the method has that order (for the parameter values)."""
+    g = m.as_glm()
+    solver = _Solver(g, K)
+    out: list = []
+    solver.run(max_order, free_theta, None, collect=out)
+    return out

@@ -87,9 +87,8 @@ class PRKOrderResult(Result):
         return f"The partitioned method has order {self.order}."
 
 
-def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
-    """Classical order of a partitioned RK method, exactly, pinned at p + 1."""
-    K = field_of([m.A, m.b, m.Ahat, m.bhat])
+def _residuals(m: PartitionedRungeKutta, K):
+    """Per order n, the list of (tree, Φ(t) − 1/γ(t)) over K (a generator, order by order)."""
     As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
     bs = [[element(K, x) for x in m.b], [element(K, x) for x in m.bhat]]
     s = m.s
@@ -105,15 +104,30 @@ def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
             psi[t] = v
         return psi[t]
 
+    n = 0
+    while True:
+        n += 1
+        yield [(t, sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero) - K.convert(sp.Rational(1, _gamma(t))))
+               for t in bicoloured_trees(n)]
+
+
+def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
+    """(label, Φ(t) − 1/γ(t)) as exact sympy expressions for every bicoloured tree of order
+    ≤ max_order (the free parameters stay symbolic)."""
+    K = field_of([m.A, m.b, m.Ahat, m.bhat])
+    out = []
+    for n, level in zip(range(1, max_order + 1), _residuals(m, K)):
+        out += [(f"order {n}, tree {_label(t)}", K.to_sympy(r)) for t, r in level]
+    return out
+
+
+def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
+    """Classical order of a partitioned RK method, exactly, pinned at p + 1."""
+    K = field_of([m.A, m.b, m.Ahat, m.bhat])
     p = 0
     errors = {}
-    for n in range(1, max_order + 2):
-        bad = {}
-        for t in bicoloured_trees(n):
-            phi = sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero)
-            r = phi - K.convert(sp.Rational(1, _gamma(t)))
-            if not K.is_zero(r):
-                bad[_label(t)] = K.to_sympy(r)
+    for n, level in zip(range(1, max_order + 2), _residuals(m, K)):
+        bad = {_label(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
         if bad:
             errors = bad
             break

@@ -35,7 +35,7 @@ from ..exact.methods import RungeKutta
 from .results import Result
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
-__all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions"]
+__all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights"]
 
 #: trees of at most this order are listed in the LaTeX table (order 6 has 20 trees, 7 has 48)
 LATEX_MAX_ORDER = 6
@@ -154,6 +154,26 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     return largest(holds_B, 2 * s + 1), largest(holds_C, s + 1), largest(holds_D, s + 1)
 
 
+def elementary_weights(A, b, zero, one):
+    """t ↦ Φ(t) = bᵀΨ(t) for A, b given as lists of field elements (any arithmetic with
+    +, *), with the stage weights Ψ(t) and AΨ(t) cached across trees."""
+    s = len(b)
+    psi: dict = {}
+    apsi: dict = {}
+
+    def stage(t):
+        if t not in psi:
+            v = [one] * s
+            for ch in t:
+                if ch not in apsi:
+                    pc = stage(ch)
+                    apsi[ch] = [sum((a * x for a, x in zip(row, pc)), zero) for row in A]
+                v = [x * y for x, y in zip(v, apsi[ch])]
+            psi[t] = v
+        return psi[t]
+    return lambda t: sum((bi * x for bi, x in zip(b, stage(t))), zero)
+
+
 def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True) -> RKOrderResult:
     """Classical order by elementary weights over the method's number field, pinned at p + 1
     (default cap: the bound 2s, or s for explicit methods), with the stage order, B, C, D and,
@@ -166,24 +186,11 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
     b = [F.lift(element(K, x)) for x in m.b]
     bound = m.order_bound
     cap = max_order if max_order is not None else bound
-    psi: dict = {}
-    apsi: dict = {}      # AΨ(t), computed once per tree
-
-    def stage(t):
-        if t not in psi:
-            v = [F.one] * m.s
-            for ch in t:
-                if ch not in apsi:
-                    pc = stage(ch)
-                    apsi[ch] = [sum((a * x for a, x in zip(row, pc)), F.zero) for row in A]
-                v = [x * y for x, y in zip(v, apsi[ch])]
-            psi[t] = v
-        return psi[t]
-
+    phi_of = elementary_weights(A, b, F.zero, F.one)
     phis, p, bad = [], 0, []
     for n in range(1, cap + 2):
         for t in trees_of_order(n):
-            phi = sum((bi * x for bi, x in zip(b, stage(t))), F.zero)
+            phi = phi_of(t)
             r = phi - F.rational(sp.Rational(1, density(t)))
             phis.append((t, phi))
             if not F.is_zero(r):

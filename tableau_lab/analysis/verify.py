@@ -14,6 +14,7 @@ from ..exact.methods import Method
 from .results import Result
 from .glm_order import GLMOrderResult
 from .order import order as order_of
+from .parasitism import ParasitismResult, growth_parameters
 from .prk_order import PRKOrderResult
 from .rk_order import RKOrderResult
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
@@ -28,6 +29,7 @@ CHECKS = {
     "order": lambda v: v.order.order,
     "stage_order": lambda v: v.order.stage_order,
     "effective_order": lambda v: v.order.effective_order if v.kind == "rk" else v.order.order,
+    "parasitism_free": lambda v: v.parasitism.free,
 }
 
 
@@ -44,6 +46,7 @@ class VerifyResult(Result):
     claims: dict
     found: dict
     failed: tuple
+    parasitism: ParasitismResult | None = None
 
     @property
     def ok(self) -> bool:
@@ -70,6 +73,8 @@ class VerifyResult(Result):
             else:
                 parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
                              f"stage order {o.stage_order}")
+        if self.parasitism is not None:
+            parts.append(str(self.parasitism))
         if self.claims:
             marks = [f"{k} = {_show(self.claims[k])} ({'holds' if k not in self.failed else f'FAILS: found {_show(self.found[k])}'})"
                      for k in self.claims]
@@ -83,6 +88,7 @@ class VerifyResult(Result):
             "g_symplectic": None if self.g_symplectic is None else self.g_symplectic.to_json(),
             "rk_symplectic": None if self.rk_symplectic is None else self.rk_symplectic.to_json(),
             "order": None if self.order is None else self._order_json(),
+            "parasitism": None if self.parasitism is None else self.parasitism.to_json(),
             "claims": {"checked": list(self.claims), "failed": list(self.failed),
                        "claimed": dict(self.claims), "found": dict(self.found)},
         }
@@ -121,8 +127,10 @@ def verify(m: Method) -> VerifyResult:
         order = None
     else:
         order = order_of(m)
-    partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, ())
+    par = growth_parameters(m) if m.kind == "glm" and not m.V.free_symbols else None
+    partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, (), par)
     claims = m.claims_dict
     found = {k: CHECKS[k](partial) for k in claims}
     failed = tuple(k for k in claims if found[k] != claims[k])
-    return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, claims, found, failed)
+    return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, claims, found, failed,
+                        par)

@@ -61,7 +61,9 @@ def _generators(exprs: Iterable[sp.Expr]):
                 if p.base.free_symbols:
                     raise FieldError(f"{p} is a radical of a free parameter: no exact field arithmetic for it")
                 gens.add(sp.Pow(p.base, sp.Rational(1, p.exp.q)))
-        for a in e.atoms(sp.Function, sp.NumberSymbol, sp.core.numbers.ImaginaryUnit):
+        if e.has(sp.I):
+            gens.add(sp.I)       # only analyses make it (eigenvalues of V); the grammar refuses it
+        for a in e.atoms(sp.Function, sp.NumberSymbol):
             raise FieldError(f"{a} is not an algebraic number")
     return gens, syms
 

@@ -41,6 +41,7 @@ CLAIMS = {
     "order": (int, ("rk", "prk", "glm")),
     "stage_order": (int, ("rk", "glm")),
     "effective_order": (int, ("rk",)),
+    "parasitism_free": (bool, ("glm",)),
 }
 
 META = {"format", "name", "kind", "source", "notes", "claims"}
@@ -198,8 +199,9 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
 FORMAT = "tableau_lab/1"
 
 
-def loads(text: str | bytes, source: str = "<tableau>") -> Method:
-    """Parse the text of a tableau file."""
+def parse(text: str | bytes, source: str = "<tableau>") -> dict:
+    """The JSON object of a tableau text, read with the size, float, constant and
+    duplicate-key guards (entries are not parsed yet: :func:`from_dict` does that)."""
     if isinstance(text, bytes):
         if len(text) > MAX_BYTES:
             raise TableauError(source, f"file is {len(text)} bytes, larger than the {MAX_BYTES}-byte limit for a tableau")
@@ -210,7 +212,7 @@ def loads(text: str | bytes, source: str = "<tableau>") -> Method:
     if len(text) > MAX_BYTES:
         raise TableauError(source, f"text of {len(text)} characters exceeds the {MAX_BYTES} limit for a tableau")
     try:
-        data = json.loads(text, parse_float=_Float, parse_int=_int, parse_constant=_Constant,
+        return json.loads(text, parse_float=_Float, parse_int=_int, parse_constant=_Constant,
                           object_pairs_hook=_pairs)
     except json.JSONDecodeError as exc:
         raise TableauError(source, f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
@@ -218,18 +220,33 @@ def loads(text: str | bytes, source: str = "<tableau>") -> Method:
         raise TableauError(source, "not a tableau: JSON nested too deeply") from None
     except ValueError as exc:
         raise TableauError(source, f"not a valid tableau: {exc}") from None
-    return from_dict(data, source)
 
 
-def load(path: str | os.PathLike) -> Method:
-    """Read a tableau file; errors name the file and the entry."""
+def loads(text: str | bytes, source: str = "<tableau>") -> Method:
+    """Parse the text of a tableau file."""
+    return from_dict(parse(text, source), source)
+
+
+def read(path: str | os.PathLike) -> dict:
+    """The JSON object of a tableau file (see :func:`parse`); errors name the file."""
     path = Path(path)
     try:
         with open(path, "rb") as fh:
             raw = fh.read(MAX_BYTES + 1)
     except OSError as exc:
         raise TableauError(str(path), f"cannot read: {exc.strerror}") from None
-    return loads(raw, source=str(path))
+    return parse(raw, source=str(path))
+
+
+def load(path: str | os.PathLike) -> Method:
+    """Read a tableau file; errors name the file and the entry."""
+    return from_dict(read(path), str(path))
+
+
+def entries(value, source: str, key: str):
+    """Parse one matrix (list of rows) or vector of entries with the safe grammar."""
+    reader = _matrix if isinstance(value, list) and value and isinstance(value[0], list) else _vector
+    return reader(value, source, key)
 
 
 def to_dict(m: Method) -> dict:

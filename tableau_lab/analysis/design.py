@@ -1,0 +1,529 @@
+r"""Method design: the free parameters of a tableau solved for required properties.
+
+A tableau may hold named unknowns anywhere (``"b2"``, ``"-u22"``, ``"(1-b2)/2"``).  Each
+requirement becomes polynomial equations in them (numerators of exact rational functions
+over the tableau's number field):
+
+* ``order=P``: RK: Φ(t) = 1/γ(t) for |t| ≤ P (elementary weights); partitioned RK: the
+  bicoloured-tree conditions; GLM: the order conditions relative to the best starting method
+  (θ eliminated order by order, see :mod:`glm_order`);
+* ``stage-order=Q`` (RK): C(Q), Σⱼ aᵢⱼcⱼ^{k−1} = cᵢ^k/k;
+* ``symplectic`` (RK, PRK): diag(b)A + Aᵀdiag(b) − bbᵀ = 0 ([HLW06] VI.4);
+* ``g-symplectic``: VᵀGV = G, DU = BᵀGV, DA + AᵀD = BᵀGB with the entries of G and D as
+  further unknowns, det(G)·z = 1 (Rabinowitsch: G nonsingular), and the scale fixed by a
+  complete case split on the first nonzero entry of G (set to 1, those before it to 0);
+* ``parasitism-free``: Re μ = Im μ = 0 for every parasitic growth parameter ([BHHN14]);
+* ``symmetric`` (RK): aᵢⱼ + a_{s+1−i,s+1−j} = bⱼ, bᵢ = b_{s+1−i} ([HLW06] V.2);
+* user equations ``LHS = RHS`` in the safe entry grammar;
+* always, unless an order is required: consistency (the order-1 conditions, e.g. Σbᵢ = 1),
+  without which a "method" approximates nothing.
+
+The system is split into components and parametrised by :mod:`exact.polysystem` (Gröbner
+bases, factor splitting, back-substitution in radicals).  Every solution is then rebuilt as a
+method and **re-verified** through the ordinary analyses (``rk_symplectic``, ``g_symplectic``,
+``order``, ``growth_parameters``); one that fails is never returned.  A solution with free
+parameters left is verified generically (over the field of rational functions in them) and
+holds wherever its branch conditions (listed) do not vanish.
+
+>>> from tableau_lab.exact.tableau_json import loads
+>>> res = solve_text('{"name": "2-stage", "kind": "rk", "A": [["a11", "a12"], ["a21", "a22"]],'
+...                  ' "b": ["b1", "b2"]}', ["order=4"])
+>>> res.status, len(res.solutions)
+('solved', 2)
+>>> sorted(str(s.parameters["a12"]) for s in res.solutions)
+['1/4 + sqrt(3)/6', '1/4 - sqrt(3)/6']
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..exact.field import is_zero, normal_form
+from ..exact.grammar import EntryError, format_entry, parse_entry
+from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
+from ..exact.polysystem import PolynomialSystem, SystemError_
+from ..exact.tableau_json import TableauError, entries, from_dict, parse, read, to_dict
+from .results import Result
+from .trees import bracket, density, order as tree_order, trees_up_to
+
+__all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
+           "Solution", "DesignError"]
+
+KEYWORDS = ("g-symplectic", "symplectic", "order", "stage-order", "parasitism-free", "symmetric")
+
+
+class DesignError(ValueError):
+    """A requirement that cannot be posed for this tableau (message says why)."""
+
+
+@dataclass(frozen=True)
+class Requirement:
+    name: str                 # one of KEYWORDS or "equation"
+    value: object = None      # P for order, Q for stage-order, (lhs, rhs) for an equation
+    text: str = ""
+
+    def __str__(self):
+        return self.text or self.name
+
+
+def parse_requirements(items) -> tuple[Requirement, ...]:
+    """``["g-symplectic", "order=4", "a11 = b1/2"]`` (items may also be comma-separated)."""
+    out = []
+    for item in items:
+        for part in (p.strip() for p in str(item).split(",")):
+            if not part:
+                continue
+            key, _, val = part.partition("=")
+            key = key.strip().lower()
+            if key in ("order", "stage-order"):
+                try:
+                    n = int(val)
+                except ValueError:
+                    raise DesignError(f"requirement {part!r}: {key} needs a positive integer, e.g. {key}=4") from None
+                if not 1 <= n <= 12:
+                    raise DesignError(f"requirement {part!r}: {key} must be between 1 and 12")
+                out.append(Requirement(key, n, f"{key}={n}"))
+            elif key in KEYWORDS and not val:
+                out.append(Requirement(key, None, key))
+            elif "=" in part:
+                lhs, rhs = part.split("=", 1)
+                try:
+                    out.append(Requirement("equation", (parse_entry(lhs.strip()), parse_entry(rhs.strip())), part))
+                except EntryError as exc:
+                    raise DesignError(f"equation {part!r}: {exc}") from None
+            else:
+                raise DesignError(f"unknown requirement {part!r}: use {', '.join(KEYWORDS)} "
+                                  "(order=P, stage-order=Q) or an equation LHS = RHS")
+    if not out:
+        raise DesignError("no requirement given")
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Solution:
+    label: str
+    parameters: dict          # unknown's name -> exact value (in the free ones)
+    free: tuple
+    conditions: tuple         # expressions that must not vanish
+    auxiliary: dict           # "G", "D" -> exact matrices (g-symplectic)
+    method: Method | None
+    verified: dict            # requirement text -> bool (re-verified by the analyses)
+    real: bool = True
+    implicit: dict = field(default_factory=dict)
+
+    def to_json(self):
+        s = lambda x: str(format_entry(x)) if not sp.sympify(x).has(sp.I) else str(x)  # noqa: E731
+        out = {"label": self.label,
+               "parameters": {k: s(v) for k, v in self.parameters.items()},
+               "free": [str(x) for x in self.free],
+               "conditions": [f"{s(c)} != 0" for c in self.conditions],
+               "real": self.real, "verified": dict(self.verified),
+               "method": None if self.method is None else to_dict(self.method)}
+        if self.auxiliary:
+            out["auxiliary"] = {k: [[s(x) for x in M.row(i)] for i in range(M.rows)] for k, M in self.auxiliary.items()}
+        if self.implicit:
+            out["implicit"] = {str(k): f"root of {v}" for k, v in self.implicit.items()}
+        return out
+
+
+@dataclass(frozen=True)
+class DesignResult(Result):
+    name: str
+    requirements: tuple
+    unknowns: tuple
+    status: str                # "solved" | "no solution" | "no real solution" | "not in radicals"
+    solutions: tuple
+    obstruction: tuple = ()    # ((label, equation), ...): a minimal inconsistent subset
+    rejected: tuple = ()       # solutions found but not verified, or complex, or implicit
+    equations: int = 0
+    seconds: float = 0.0
+
+    def __str__(self):
+        req = ", ".join(map(str, self.requirements))
+        lines = [f"{self.name}: solve for {', '.join(map(str, self.unknowns))} with {req}",
+                 f"status: {self.status} ({self.equations} equations, {self.seconds:.2f} s)"]
+        for i, sol in enumerate(self.solutions, 1):
+            lines.append(f"solution {i}: {sol.label}" + (f"; free: {', '.join(map(str, sol.free))}" if sol.free else ""))
+            lines += [f"    {k} = {format_entry(v)}" for k, v in sol.parameters.items()]
+            for k, M in sol.auxiliary.items():
+                lines.append(f"    {k} = {_inline(M)}")
+            lines += [f"    provided {format_entry(c)} ≠ 0" for c in sol.conditions]
+            lines.append("    re-verified: " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items()))
+        if self.obstruction:
+            lines.append("obstruction (a minimal inconsistent set of the equations):")
+            lines += [f"    {lab}: {format_entry(e)} = 0" for lab, e in self.obstruction]
+        for sol in self.rejected:
+            why = "complex" if not sol.real else ("not in radicals" if sol.implicit else "failed re-verification")
+            lines.append(f"not returned ({why}): {sol.label}: "
+                         + ", ".join(f"{k} = {v}" for k, v in list(sol.parameters.items())[:6]))
+        return "\n".join(lines)
+
+    def to_json(self):
+        return {"status": self.status, "requirements": [str(r) for r in self.requirements],
+                "unknowns": [str(u) for u in self.unknowns], "equations": self.equations,
+                "solutions": [s.to_json() for s in self.solutions],
+                "obstruction": [{"condition": lab, "equation": f"{format_entry(e)} = 0"} for lab, e in self.obstruction],
+                "rejected": [s.to_json() for s in self.rejected], "seconds": round(self.seconds, 3)}
+
+    def to_latex(self):
+        parts = [f"\\paragraph{{{self.name}}} Requirements: {', '.join(map(str, self.requirements))}; status: {self.status}."]
+        for i, sol in enumerate(self.solutions, 1):
+            eqs = ", ".join(f"{sp.latex(k)} = {sp.latex(v)}" for k, v in sol.parameters.items())
+            parts.append(f"Solution {i} ({sol.label}): \\( {eqs} \\).")
+        return "\n\n".join(parts)
+
+
+def _inline(M):
+    return "[" + "; ".join(", ".join(str(format_entry(x)) for x in M.row(i)) for i in range(M.rows)) + "]"
+
+
+# ------------------------------------------------------------------ equations
+
+def _unknown_order(m: Method, extra=()) -> list:
+    """Unknowns in lex order, largest first: the ``extra`` ones (abscissae to eliminate), then
+    the tableau's in reading order (A row by row, U, B, V, b, ...), so that the last entries
+    read are the ones left free in a family."""
+    seen = []
+    for M in m.matrices().values():
+        if M is None:
+            continue
+        for x in M:
+            for s in sorted(sp.sympify(x).free_symbols, key=lambda s: s.name):
+                if s not in seen:
+                    seen.append(s)
+    return [s for s in extra if s not in seen] + seen
+
+
+def _rk_weights(A, b, n, F, const):
+    """Φ(t) − 1/γ(t) for |t| ≤ n over the fraction field F (elementary weights)."""
+    from .rk_order import elementary_weights
+    phi = elementary_weights(A, b, F.zero, F.one)
+    return [(f"order {tree_order(t)}, tree {bracket(t)}", phi(t) - const(sp.Rational(1, density(t))))
+            for t in trees_up_to(n)]
+
+
+def _symplectic_rk(A, b, F, hat=None):
+    s = len(b)
+    bh, Ah = (b, A) if hat is None else hat
+    out = []
+    for i in range(s):
+        for j in range(i if hat is None else 0, s):
+            out.append((f"symplectic M[{i + 1},{j + 1}]", b[i] * Ah[i][j] + bh[j] * A[j][i] - b[i] * bh[j]))
+    return out
+
+
+class _Problem:
+    """The tableau as elements of K(unknowns) and the labelled equations of the requirements."""
+
+    def __init__(self, m: Method, reqs, extra_eqs=(), extra_unknowns=()):
+        self.m, self.reqs = m, reqs
+        self.params = _unknown_order(m, extra_unknowns)
+        self.aux: list = []
+        self.g_branches = [[]]
+        for r in reqs:
+            if r.name == "equation":
+                stray = sorted(str(x) for x in (r.value[0] - r.value[1]).free_symbols if x not in self.params)
+                if stray:
+                    import difflib
+                    hint = difflib.get_close_matches(stray[0].replace("_", "-"), KEYWORDS, n=1)
+                    raise DesignError(f"equation {r.text!r} names {', '.join(stray)}, not an unknown of the tableau "
+                                      f"(unknowns: {', '.join(map(str, self.params)) or 'none'})"
+                                      + (f"; did you mean the condition {hint[0]!r}?" if hint else ""))
+        consts = [x for M in m.matrices().values() if M is not None for x in M]
+        consts += [s for _, s in extra_eqs]
+        for r in reqs:
+            if r.name == "equation":
+                consts += list(r.value)
+        if any(r.name == "g-symplectic" for r in reqs):
+            self._g_unknowns()
+        try:
+            self.sys = PolynomialSystem(self.aux + self.params, _radicals(consts))
+        except SystemError_ as exc:
+            raise DesignError(str(exc)) from None
+        self.labelled = [(lab, self.sys.frac(e)) for lab, e in extra_eqs]
+        if not any(r.name == "order" for r in reqs):     # a method must at least be consistent
+            self.labelled += [(f"consistency ({lab})", e) for lab, e in self._order(1)]
+        for r in reqs:
+            self.labelled += self._equations(r)
+
+    # unknowns for G (symmetric) and D (diagonal), det inverse z
+    def _glm(self):
+        """(A, U, B, V) of the method seen as a GLM, unvalidated (unknowns may break consistency)."""
+        m = self.m
+        if m.kind == "rk":
+            return sp.Matrix(m.A), sp.ones(m.s, 1), sp.Matrix(m.b).T, sp.Matrix([[1]])
+        if m.kind == "glm":
+            return tuple(sp.Matrix(X) for X in (m.A, m.U, m.B, m.V))
+        raise DesignError("g-symplectic applies to RK methods and GLMs; for a partitioned RK method use symplectic")
+
+    def _g_unknowns(self):
+        A, U, B, V = self._glm()
+        r, s = V.rows, A.rows
+        self.G = sp.Matrix(r, r, lambda i, j: sp.Symbol(f"G{min(i, j) + 1}{max(i, j) + 1}", real=True))
+        self.D = sp.diag(*[sp.Symbol(f"D{i + 1}", real=True) for i in range(s)])
+        self.z = sp.Symbol("z_det", real=True)
+        gs = [self.G[i, j] for i in range(r) for j in range(i, r)]
+        self.aux = [self.z] + gs + [self.D[i, i] for i in range(s)]
+        # first nonzero entry of G (in reading order) is 1, those before it are 0
+        self.g_branches = [[(f"normalisation {gs[k]} = 1", gs[k] - 1)] + [(f"normalisation {x} = 0", x) for x in gs[:k]]
+                           for k in range(len(gs))]
+
+    def _mat(self, M):
+        return [[self.sys.frac(x) for x in M.row(i)] for i in range(M.rows)]
+
+    def _vec(self, v):
+        return [self.sys.frac(x) for x in v]
+
+    def _equations(self, r):
+        m, F = self.m, self.sys.F
+        if r.name == "equation":
+            return [(f"equation {r.text}", self.sys.frac(r.value[0] - r.value[1]))]
+        if r.name == "symplectic":
+            if m.kind == "rk":
+                return _symplectic_rk(self._mat(m.A), self._vec(m.b), F)
+            if m.kind == "prk":
+                A, b, Ah, bh = self._mat(m.A), self._vec(m.b), self._mat(m.Ahat), self._vec(m.bhat)
+                return (_symplectic_rk(A, b, F, hat=(bh, Ah))
+                        + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh))])
+            raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
+        if r.name == "symmetric":
+            if m.kind != "rk":
+                raise DesignError("symmetric is implemented for RK methods (a_ij + a_{s+1-i,s+1-j} = b_j)")
+            A, b, s = self._mat(m.A), self._vec(m.b), m.s
+            out = [(f"symmetric b[{i + 1}]", b[i] - b[s - 1 - i]) for i in range(s // 2)]
+            out += [(f"symmetric A[{i + 1},{j + 1}]", A[i][j] + A[s - 1 - i][s - 1 - j] - b[j])
+                    for i in range(s) for j in range(s)]
+            return out
+        if r.name == "stage-order":
+            if m.kind != "rk":
+                raise DesignError("stage-order is implemented for RK methods (C(q))")
+            A, c = self._mat(m.A), self._vec(m.c)
+            return [(f"C({k}) stage {i + 1}", sum((a * cj ** (k - 1) for a, cj in zip(A[i], c)), F.zero)
+                     - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
+        if r.name == "order":
+            return self._order(r.value)
+        if r.name == "parasitism-free":
+            from .parasitism import growth_parameters
+            try:
+                res = growth_parameters(m)
+            except ValueError as exc:
+                raise DesignError(str(exc)) from None
+            out = []
+            for p in res.items:
+                re, im = sp.expand_complex(sp.expand(p.mu)).as_real_imag()
+                out += [(f"parasitism Re μ(ζ = {p.zeta})", self.sys.frac(sp.expand(re))),
+                        (f"parasitism Im μ(ζ = {p.zeta})", self.sys.frac(sp.expand(im)))]
+            return out
+        if r.name == "g-symplectic":
+            A, U, B, V = self._glm()
+            G, D = self.G, self.D
+            out = []
+            for name, M in (("VᵀGV − G", V.T * G * V - G), ("DU − BᵀGV", D * U - B.T * G * V),
+                            ("DA + AᵀD − BᵀGB", D * A + A.T * D - B.T * G * B)):
+                sym = name != "DU − BᵀGV"
+                out += [(f"{name} [{i + 1},{j + 1}]", self.sys.frac(sp.expand(M[i, j])))
+                        for i in range(M.rows) for j in range(i if sym else 0, M.cols)]
+            out.append(("G nonsingular: det(G)·z = 1", self.sys.frac(sp.expand(G.det() * self.z - 1))))
+            return out
+        raise DesignError(f"requirement {r} is not implemented")  # pragma: no cover
+
+    def _order(self, P):
+        m, F = self.m, self.sys.F
+        if m.kind == "rk":
+            return _rk_weights(self._mat(m.A), self._vec(m.b), P, F, self.sys.frac)
+        if m.kind == "prk":
+            from .prk_order import order_conditions as prk_conditions
+            return [(lab, self.sys.frac(e)) for lab, e in prk_conditions(m, P)]
+        from .glm_order import order_conditions
+        K = self.sys.K.frac_field(*self.params) if self.params else self.sys.K
+        return [(lab, self.sys.frac(K.to_sympy(x))) for lab, x in order_conditions(m, P, K)]
+
+
+def _radicals(exprs):
+    """The radicals (and numbers) in the expressions, parameters set aside."""
+    out = []
+    for e in exprs:
+        e = sp.sympify(e)
+        out += [p for p in e.atoms(sp.Pow) if p.exp.is_Rational and not p.exp.is_Integer and not p.free_symbols]
+    return out or [sp.Integer(0)]
+
+
+# ------------------------------------------------------------------ solving
+
+def _label(m: Method, sol: dict, free) -> str:
+    if m.kind == "rk":
+        zero = [i + 1 for i in range(m.s) if sp.sympify(m.b[i]).subs(sol) == 0 and not (
+            sp.sympify(m.b[i]).subs(sol).free_symbols)]
+        if zero:
+            return "reducible: " + ", ".join(f"b{i} = 0 (stage {i} does not contribute)" for i in zero)
+        return "irreducible"
+    return "component"
+
+
+def _rebuild(m: Method, values: dict) -> Method:
+    sub = lambda M: None if M is None else sp.ImmutableMatrix(M.subs(values).applyfunc(normal_form))  # noqa: E731
+    meta = dict(name=m.name + " (solved)", source=m.source, notes=m.notes)
+    if m.kind == "rk":
+        return RungeKutta(A=sub(m.A), b=sub(m.b), **meta)
+    if m.kind == "prk":
+        return PartitionedRungeKutta(A=sub(m.A), b=sub(m.b), Ahat=sub(m.Ahat), bhat=sub(m.bhat), **meta)
+    return GeneralLinearMethod(A=sub(m.A), U=sub(m.U), B=sub(m.B), V=sub(m.V), **meta)
+
+
+def _verify(meth: Method, reqs, values) -> dict:
+    from .order import order
+    from .parasitism import growth_parameters
+    from .symplectic import g_symplectic, rk_symplectic
+    out = {}
+    for r in reqs:
+        if r.name == "symplectic":
+            out[str(r)] = rk_symplectic(meth).holds
+        elif r.name == "g-symplectic":
+            out[str(r)] = g_symplectic(meth).holds
+        elif r.name == "order":
+            res = order(meth, max_order=r.value)
+            out[str(r)] = res.order >= r.value
+        elif r.name == "stage-order":
+            out[str(r)] = order(meth, max_order=r.value).stage_order >= r.value
+        elif r.name == "parasitism-free":
+            out[str(r)] = growth_parameters(meth).free
+        elif r.name == "symmetric":
+            s = meth.s
+            out[str(r)] = all(is_zero(meth.A[i, j] + meth.A[s - 1 - i, s - 1 - j] - meth.b[j])
+                              for i in range(s) for j in range(s)) and all(
+                is_zero(meth.b[i] - meth.b[s - 1 - i]) for i in range(s))
+        elif r.name == "equation":
+            out[str(r)] = is_zero(sp.sympify(r.value[0] - r.value[1]).subs(values))
+    return out
+
+
+def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> DesignResult:
+    """All solution families of the requirements for the unknowns of ``m``, each re-verified."""
+    t0 = time.perf_counter()
+    reqs = parse_requirements(requirements) if not all(isinstance(r, Requirement) for r in requirements) \
+        else tuple(requirements)
+    prob = _Problem(m, reqs, extra_equations, extra_unknowns)
+    sysm = prob.sys
+    if not prob.params:
+        raise DesignError(f"{m.name}: the tableau has no unknowns to solve for (write names such as \"b2\" "
+                          "in the entries); use `tableau-lab verify` to check a method")
+    base = [(lab, f.numer) for lab, f in prob.labelled]
+    solutions, rejected, cores, n_eq = [], [], [], len(base)
+    queue = []
+    for branch in prob.g_branches:
+        labelled = base + [(lab, sysm.poly(e)) for lab, e in branch]
+        comps = sysm.components([p for _, p in labelled])
+        if not comps:
+            cores.append(sysm.core([(lab, p) for lab, p in labelled if p]))
+        queue += [(comp, 0, "", None) for comp in comps]
+    params = set(prob.params)
+    covered = []          # (component, condition polynomials) of the families found
+    while queue:
+        comp, depth, note, parent = queue.pop(0)
+        if parent is not None and any(
+                other is not parent and sysm._contains(other, comp)
+                and all(sysm.poly(c).rem(comp) for c in conds) for other, conds in covered):
+            continue      # a special case that another family already covers
+        for br in sysm.explicit_parametrisation(comp, list(reversed(prob.params)))[1]:
+            conds = _conditions(br.conditions, params)
+            covered.append((comp, conds))
+            sol = _solution(m, prob, br, conds, note)
+            if sol.real and not sol.implicit:
+                try:
+                    meth = _rebuild(m, {sp.Symbol(k, real=True): v for k, v in sol.parameters.items()})
+                    ver = _verify(meth, reqs, {sp.Symbol(k, real=True): v for k, v in sol.parameters.items()})
+                except (MethodError, ValueError) as exc:  # pragma: no cover - a solution that is no method
+                    rejected.append(Solution(**{**sol.__dict__, "label": f"{sol.label}: {exc}"}))
+                    continue
+                sol = Solution(**{**sol.__dict__, "method": meth, "verified": ver})
+                (solutions if all(ver.values()) else rejected).append(sol)
+            else:
+                rejected.append(sol)
+            # the generic formulas exclude the zeros of their branch conditions: solve those too
+            if depth < 2:
+                exprs = [g.as_expr() for g in comp]
+                for c in conds:
+                    queue += [(sub, depth + 1, f"special case {format_entry(c)} = 0 of: ", comp)
+                              for sub in sysm.components([sysm.poly(e) for e in exprs] + [sysm.poly(c)])]
+    solutions = _dedupe(solutions)
+    if solutions:
+        status = "solved"
+    elif any(not s.real for s in rejected):
+        status = "no real solution"
+    elif rejected:
+        status = "not in radicals"
+    else:
+        status = "no solution"
+    obstruction = tuple((lab, sysm.expr(p)) for lab, p in (cores[0] if cores and not solutions and not rejected else ()))
+    return DesignResult(name=m.name, requirements=reqs, unknowns=tuple(prob.params), status=status,
+                        solutions=tuple(solutions), obstruction=obstruction, rejected=tuple(rejected),
+                        equations=n_eq, seconds=time.perf_counter() - t0)
+
+
+def _conditions(conds, params) -> list:
+    """The distinct non-constant factors (over QQ) of the numerators of the branch conditions
+    that involve only tableau unknowns."""
+    out = []
+    for c in conds:
+        if not c.free_symbols or not c.free_symbols <= params:
+            continue
+        num = sp.numer(sp.together(c))
+        for f, _ in sp.factor_list(num)[1]:
+            f = sp.expand(f / sp.Poly(f, *sorted(f.free_symbols, key=str)).LC())
+            if f.free_symbols and f not in out:
+                out.append(f)
+    return out
+
+
+def _solution(m, prob, br, conds, note) -> Solution:
+    symvals = {p: br.values[p] for p in prob.params if p in br.values}
+    aux = {"G": prob.G.subs(br.values), "D": prob.D.subs(br.values)} if prob.aux else {}
+    return Solution(label=note + _label(m, symvals, br.free), parameters={p.name: v for p, v in symvals.items()},
+                    free=tuple(x for x in br.free if x in prob.params), conditions=tuple(conds),
+                    auxiliary=aux, method=None, verified={}, real=br.real, implicit=br.implicit)
+
+
+def _dedupe(sols):
+    out, seen = [], set()
+    for s in sols:
+        key = (tuple(sorted((str(k), str(v)) for k, v in s.parameters.items())), s.free)
+        if key not in seen:
+            seen.add(key)
+            out.append(s)
+    return out
+
+
+def _design_method(data: dict, source: str):
+    """A method from a design tableau: c with unknowns is dropped (c = A·1 is derived) and its
+    entries become the equations cᵢ = Σⱼ aᵢⱼ."""
+    extra = []
+    if data.get("kind") in ("rk", "prk") and "c" in data:
+        c = entries(data["c"], source, "c")
+        if any(sp.sympify(x).free_symbols for x in c):
+            data = {k: v for k, v in data.items() if k != "c"}
+            A = entries(data["A"], source, "A")
+            extra = [(f"c{i + 1} = row sum of A", c[i] - sum(A.row(i))) for i in range(A.rows)]
+    data = {k: v for k, v in data.items() if k != "claims"}
+    return from_dict(data, source), extra
+
+
+def solve_text(text: str, requirements, source: str = "<tableau>") -> DesignResult:
+    m, extra = _design_method(parse(text, source), source)
+    return solve(m, requirements, extra, _symbols(extra))
+
+
+def solve_file(path, requirements) -> DesignResult:
+    m, extra = _design_method(read(path), str(path))
+    return solve(m, requirements, extra, _symbols(extra))
+
+
+def _symbols(extra):
+    out = []
+    for _, e in extra:
+        out += sorted(sp.sympify(e).free_symbols, key=lambda s: s.name)
+    return out
+
+
+__all__ += ["TableauError"]

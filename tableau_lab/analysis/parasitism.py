@@ -1,0 +1,107 @@
+r"""Parasitic growth parameters of a GLM ([BHHN14] Butcher, Habib, Hill & Norton, SIAM J.
+Numer. Anal. 52 (2014) 2440–2465; [B21] ch. 7).
+
+M(z) = V + zBU + O(z²).  For each simple eigenvalue ζ ≠ 1 of V on the unit circle, with right
+and left eigenvectors x, y (y x = 1), the perturbed eigenvalue is ζ(1 + μz + O(z²)) with
+
+    μ = ζ⁻¹ · y B U x.
+
+The parasitic component then behaves like ζⁿ v(t) with v′ = μ f′(y(t)) v: it grows where
+μ f′ has eigenvalues with positive real part.  μ = 0 for every such ζ: parasitism is
+controlled to first order.  Computed exactly (ζ, x, y in a number field containing i); the
+entries of A, U, B may be free parameters (μ is then a polynomial in them), V may not.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> [str(p.mu) for p in growth_parameters(load("methods/example4_glm.json")).items]
+['1 + 2*sqrt(3)/3']
+
+(By hand: V = diag(1, −1), x = y = e₂, so μ = (−1)⁻¹ (BU)₂₂ = −(½·u₁₂ − ½·u₂₂) with
+u₁₂ = −u₂₂ = −(1 + 2√3/3).)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..exact.field import normal_form
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .results import Result
+
+__all__ = ["growth_parameters", "ParasitismResult", "Parasitic"]
+
+
+@dataclass(frozen=True)
+class Parasitic:
+    zeta: sp.Expr     # eigenvalue of V on the unit circle, ζ ≠ 1
+    mu: sp.Expr       # growth parameter ζ⁻¹ y B U x (y x = 1)
+
+
+@dataclass(frozen=True)
+class ParasitismResult(Result):
+    method: str
+    items: tuple
+    note: str = ""
+
+    @property
+    def free(self) -> bool:
+        """True when every growth parameter is exactly zero."""
+        return all(p.mu == 0 for p in self.items)
+
+    def __str__(self):
+        if not self.items:
+            return f"parasitism: none (V has no eigenvalue ≠ 1 on the unit circle){self.note}"
+        lines = ["parasitism: " + ("controlled to first order (all μ = 0)" if self.free
+                                   else "growth parameters are not all zero")]
+        lines += [f"  ζ = {_show(p.zeta)}: μ = {_show(p.mu)}" for p in self.items]
+        return "\n".join(lines)
+
+    def to_json(self):
+        return {"parasitism_free": self.free,
+                "parasitism": [{"zeta": _show(p.zeta), "mu": _show(p.mu)} for p in self.items]}
+
+    def to_latex(self):
+        rows = " \\\\ ".join(f"{sp.latex(p.zeta)} & {sp.latex(p.mu)}" for p in self.items)
+        return r"\begin{array}{c|c} \zeta & \mu \\ \hline " + rows + r" \end{array}"
+
+
+def _show(x):
+    x = sp.sympify(x)
+    if x.has(sp.I):
+        return str(x)
+    return str(format_entry(x))
+
+
+def _on_unit_circle(z) -> bool:
+    return normal_form(sp.expand(z * sp.conjugate(z))) == 1
+
+
+def growth_parameters(m: Method) -> ParasitismResult:
+    """The parasitic growth parameters μ of each eigenvalue ζ ≠ 1 of V with |ζ| = 1."""
+    g = m.as_glm()
+    V, B, U = sp.Matrix(g.V), sp.Matrix(g.B), sp.Matrix(g.U)
+    if V.free_symbols:
+        raise ValueError(f"{m.name}: V has free parameters; growth parameters need a numeric V")
+    items = []
+    for zeta, mult, vecs in V.eigenvects():
+        zeta = sp.nsimplify(zeta) if zeta.is_Rational else sp.radsimp(zeta)
+        if normal_form(zeta - 1) == 0 or not _on_unit_circle(zeta):
+            continue
+        if mult > 1 or len(vecs) > 1:
+            raise ValueError(f"{m.name}: eigenvalue {zeta} of V is not simple; growth parameters need simple ones")
+        x = vecs[0]
+        left = (V.T - zeta * sp.eye(V.rows)).nullspace()
+        y = left[0].T
+        yx = sp.expand((y * x)[0])
+        mu = sp.expand((y * B * U * x)[0] / (zeta * yx))
+        items.append(Parasitic(zeta=normal_form(zeta), mu=_normal(mu)))
+    return ParasitismResult(method=m.name, items=tuple(items))
+
+
+def _normal(e):
+    """Normal form of an exact (possibly complex, possibly parametric) expression."""
+    if e.free_symbols:
+        re, im = (sp.expand(part) for part in sp.expand_complex(e).as_real_imag())
+        return normal_form(re) + sp.I * normal_form(im)
+    return normal_form(e)
