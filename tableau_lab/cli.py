@@ -63,16 +63,22 @@ def _solve(args) -> int:
     from .exact.tableau_json import TableauError, save
 
     try:
-        res = solve_file(args.file, args.require)
+        if args.repair or args.locate:
+            from .analysis.design import repair
+            from .exact.tableau_json import load
+            rep = repair(load(args.file), args.require, _split(args.repair), args.locate, _split(args.within))
+            res = rep.design
+        else:
+            rep = res = solve_file(args.file, args.require)
     except (TableauError, DesignError, MethodError) as exc:
         print(f"tableau-lab: error: {args.file}: {exc}" if not str(exc).startswith(str(args.file)) else
               f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     if args.json:
-        print(json.dumps({"file": args.file, "name": res.name, **res.to_json()}, ensure_ascii=False), flush=True)
+        print(json.dumps({"file": args.file, "name": rep.name, **rep.to_json()}, ensure_ascii=False), flush=True)
     else:
-        print(f"== {args.file}\n{res}", flush=True)
-    if res.status != "solved":
+        print(f"== {args.file}\n{rep}", flush=True)
+    if res is None or res.status != "solved":
         return EXIT_CLAIM
     if args.save:
         k = args.solution
@@ -101,6 +107,10 @@ def _solve(args) -> int:
         save(meth, args.save)
         print(f"saved solution {k} to {args.save}", file=sys.stderr)
     return EXIT_OK
+
+
+def _split(items):
+    return [p.strip() for item in (items or []) for p in __import__("re").split(r";|,(?![^\[]*\])", item) if p.strip()]
 
 
 def _claim_kinds(key):
@@ -144,6 +154,14 @@ def build_parser() -> argparse.ArgumentParser:
     sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
     sv.add_argument("--solution", type=int, metavar="K", help="which solution --save writes (1-based)")
     sv.add_argument("--name", help="name of the saved method")
+    sv.add_argument("--repair", action="append", metavar="ENTRIES",
+                    help="repair a printed (numeric) tableau: these entries, e.g. 'A[2,1],U[2,2]', become unknowns; "
+                         "the output names each changed entry with its printed and correct value")
+    sv.add_argument("--locate", action="store_true",
+                    help="try every single entry as the unknown (beside --repair ones) and report those that make "
+                         "the requirements solvable; a unique one is then repaired")
+    sv.add_argument("--within", action="append", metavar="MATRICES",
+                    help="with --locate: search only these matrices, e.g. 'A,B'")
     sv.set_defaults(run=_solve)
     return p
 

@@ -150,3 +150,23 @@ def test_save_writes_a_library_file_whose_claims_verify(tmp_path, capsys):
                  "--save", str(out), "--solution", "1"]) == 0
     assert json.loads(out.read_text())["claims"] == {"order": 4, "symplectic": True}
     assert main(["verify", str(out)]) == 0
+
+
+def test_repair_names_printed_and_correct_values(capsys):
+    """The printed GLM43 with A[2,1] and U[2,2] as suspects: A[2,1] changes from the printed
+    −11/127 to −11/172, U[2,2] (the text's u22) is confirmed."""
+    code = main(["solve", str(ROOT / "methods" / "glm43_printed.json"), "--require", "g-symplectic",
+                 "--repair", "A[2,1],U[2,2]", "--json"])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["changes"] == [{"A[2,1]": {"printed": "-11/127", "correct": "-11/172"}}]
+    assert out["printed"]["U[2,2]"] == "-1973/29068 + 6*sqrt(4865)/7267"
+
+
+@pytest.mark.parametrize("args, match", [
+    (["--repair", "Q[1,1]"], "not a matrix"), (["--repair", "A[9,1]"], "is 4x4"), (["--repair", "A21"], "write it as"),
+    (["--locate", "--within", "Z"], "not a matrix"),
+])
+def test_repair_bad_entries_exit_2(capsys, args, match):
+    assert main(["solve", str(ROOT / "methods" / "glm43_printed.json"), "--require", "g-symplectic", *args]) == 2
+    assert match in capsys.readouterr().err

@@ -527,3 +527,178 @@ def _symbols(extra):
 
 
 __all__ += ["TableauError"]
+
+
+# ------------------------------------------------------------------ repair of misprinted tableaux
+
+@dataclass(frozen=True)
+class RepairResult(Result):
+    """Suspect entries of a printed tableau solved for the requirements: each changed entry with
+    its printed and its correct value; with ``located``, the single entries whose replacement by
+    an unknown makes the requirements solvable."""
+
+    name: str
+    suspects: tuple            # entry names, e.g. "A[2,1]"
+    printed: dict              # entry -> printed value
+    design: DesignResult | None
+    located: tuple = ()        # entries that alone restore solvability (locate mode)
+    tried: int = 0
+    skipped: tuple = ()        # entries whose generic replacement leaves no preconsistent method
+
+    def __str__(self):
+        lines = [f"{self.name}: repair"]
+        if self.tried:
+            lines.append(f"located: of {self.tried} entries tried one at a time, the requirements become solvable "
+                         f"when {('one of ' + ', '.join(self.located)) if self.located else 'none'} is an unknown"
+                         + (f" (not tried: {', '.join(self.skipped)}: no preconsistent method for generic values)"
+                            if self.skipped else ""))
+        if self.design is None:
+            return "\n".join(lines)
+        lines.append(f"suspects {', '.join(self.suspects)}: {self.design.status}")
+        for i, sol in enumerate(self.design.solutions, 1):
+            lines.append(f"repair {i}" + (f" (free: {', '.join(map(str, sol.free))})" if sol.free else "") + ":")
+            for e in self.suspects:
+                new = sol.parameters.get(_var(e).name, _var(e))
+                old = self.printed[e]
+                same = not sp.sympify(new).free_symbols and is_zero(new - old)
+                lines.append(f"    {e}: printed {format_entry(old)}" + ("  (correct)" if same else f"  →  {format_entry(new)}"))
+            for k, M in sol.auxiliary.items():
+                lines.append(f"    {k} = {_inline(M)}")
+            lines.append("    re-verified: " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items()))
+        if self.design.obstruction:
+            lines.append("obstruction: " + "; ".join(lab for lab, _ in self.design.obstruction))
+        return "\n".join(lines)
+
+    def changes(self, k: int = 1) -> dict:
+        """entry -> (printed, correct) for the entries that repair k changes."""
+        sol = self.design.solutions[k - 1]
+        out = {}
+        for e in self.suspects:
+            new = sol.parameters.get(_var(e).name, _var(e))
+            if sp.sympify(new).free_symbols or not is_zero(new - self.printed[e]):
+                out[e] = (self.printed[e], new)
+        return out
+
+    def to_json(self):
+        out = {"suspects": list(self.suspects), "located": list(self.located), "tried": self.tried,
+               "printed": {e: str(format_entry(v)) for e, v in self.printed.items()}}
+        if self.design is not None:
+            out.update(self.design.to_json())
+            out["changes"] = [{e: {"printed": str(format_entry(a)), "correct": str(format_entry(b))}
+                               for e, (a, b) in self.changes(k).items()} for k in range(1, len(self.design.solutions) + 1)]
+        return out
+
+    def to_latex(self):
+        return "" if self.design is None else self.design.to_latex()
+
+
+_ENTRY = __import__("re").compile(r"^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*(?:,|\]\s*\[)\s*(\d+)\s*\]\s*$|^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*\]\s*$")
+
+
+def _var(entry: str) -> sp.Symbol:
+    return sp.Symbol("x_" + "".join(ch for ch in entry if ch.isalnum()), real=True)
+
+
+def _entry_spec(m: Method, text: str):
+    """'A[2,1]' (or A[2][1], b[3]) → (matrix key, row, col), 0-based, checked against m."""
+    mt = _ENTRY.match(text)
+    if not mt:
+        raise DesignError(f"suspect entry {text!r}: write it as A[2,1] (1-based row, column) or b[2]")
+    key, i, j = (mt.group(1), int(mt.group(2)), int(mt.group(3))) if mt.group(1) else (mt.group(4), int(mt.group(5)), 1)
+    mats = {k: v for k, v in m.matrices().items() if v is not None and k != "c"}
+    if key not in mats:
+        raise DesignError(f"suspect entry {text!r}: {key} is not a matrix of this {m.kind} tableau "
+                          f"({', '.join(mats)})")
+    M = mats[key]
+    if not (1 <= i <= M.rows and 1 <= j <= M.cols):
+        raise DesignError(f"suspect entry {text!r}: {key} is {M.rows}x{M.cols}")
+    return key, i - 1, j - 1
+
+
+def _with_unknowns(m: Method, specs: dict) -> Method:
+    mats = {k: sp.Matrix(v) for k, v in m.matrices().items() if v is not None and k != "c"}
+    for name, (key, i, j) in specs.items():
+        mats[key][i, j] = _var(name)
+    cls = type(m)
+    return cls(**{k: sp.ImmutableMatrix(v) for k, v in mats.items()}, name=m.name, source=m.source, notes=m.notes)
+
+
+def _canonical(text: str, m: Method) -> str:
+    key, i, j = _entry_spec(m, text)
+    return f"{key}[{i + 1}]" if key in ("b", "bhat") else f"{key}[{i + 1},{j + 1}]"
+
+
+def solvable(m: Method, requirements) -> bool:
+    """Whether the requirements have any (complex) solution for the unknowns of m: one Gröbner
+    basis per normalisation branch, no parametrisation."""
+    reqs = parse_requirements(requirements) if not all(isinstance(r, Requirement) for r in requirements) \
+        else tuple(requirements)
+    prob = _Problem(m, reqs)
+    base = [f.numer for _, f in prob.labelled]
+    return any(prob.sys.consistent(base + [prob.sys.poly(e) for _, e in br]) for br in prob.g_branches)
+
+
+def repair(m: Method, requirements, suspects=(), locate: bool = False, within=None) -> RepairResult:
+    """Replace the ``suspects`` (e.g. ["A[2,1]", "U[2,2]"]) of a numeric tableau by unknowns and
+    solve for the requirements.  With ``locate``, first try every single entry (of the matrices
+    ``within``, default all but V and c) as the unknown, beside the suspects, and report those
+    that make the requirements solvable; without suspects, a single located entry is repaired.
+
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> r = repair(load("methods/glm43_printed.json"), ["g-symplectic"], locate=True, within=["A"])
+    >>> r.located
+    ('A[1,2]', 'A[2,1]')
+    >>> r = repair(load("methods/glm43_printed.json"), ["g-symplectic"], ["A[2,1]"])
+    >>> {e: [str(v) for v in pair] for e, pair in r.changes().items()}
+    {'A[2,1]': ['-11/127', '-11/172']}
+    """
+    if m.parameters:
+        raise DesignError(f"{m.name}: repair takes a numeric tableau (this one has unknowns "
+                          f"{', '.join(map(str, m.parameters))}: use solve)")
+    reqs = parse_requirements(requirements)
+    printed = {}
+    located, tried = (), 0
+    if locate:
+        keys = [k for k, M in m.matrices().items() if M is not None and k not in ("c", "V")]
+        if within:
+            bad = [k for k in within if k not in keys and k != "V"]
+            if bad:
+                raise DesignError(f"--within {', '.join(bad)}: not a matrix of this tableau ({', '.join(keys)})")
+            keys = [k for k in keys if k in within] + (["V"] if "V" in within else [])
+        cands = [f"{k}[{i + 1},{j + 1}]" for k in keys for M in [m.matrices()[k]]
+                 for i in range(M.rows) for j in range(M.cols)]
+        if m.kind == "rk":
+            cands = [c if not c.startswith("b[") else c.replace(",1]", "]") for c in cands]
+        base = {_canonical(s, m) for s in suspects}
+        found, skipped = [], []
+        for c in cands:
+            cc = _canonical(c, m)
+            if cc in base:
+                continue
+            specs = {e: _entry_spec(m, e) for e in sorted(base | {cc})}
+            try:
+                trial = _with_unknowns(m, specs)
+            except MethodError:          # no preconsistency vector for generic values: not tried
+                skipped.append(cc)
+                continue
+            tried += 1
+            if solvable(trial, reqs):
+                found.append(cc)
+        located = tuple(found)
+        if not suspects and len(found) != 1:
+            return RepairResult(m.name, (), {}, None, located, tried, tuple(skipped))
+        if not suspects:
+            suspects = found
+    if not suspects:
+        raise DesignError("name the suspect entries (e.g. A[2,1]) or ask to locate them")
+    specs = {}
+    for s in suspects:
+        c = _canonical(s, m)
+        specs[c] = _entry_spec(m, c)
+        key, i, j = specs[c]
+        printed[c] = m.matrices()[key][i, j]
+    design = solve(_with_unknowns(m, specs), reqs)
+    return RepairResult(m.name, tuple(specs), printed, design, located, tried, tuple(skipped) if locate else ())
+
+
+__all__ += ["repair", "RepairResult", "solvable"]

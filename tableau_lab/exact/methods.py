@@ -86,7 +86,8 @@ class Method:
         """The named free parameters of the tableau, sorted by name."""
         syms = set()
         for M in self.matrices().values():
-            syms |= M.free_symbols
+            if M is not None:
+                syms |= M.free_symbols
         return tuple(sorted(syms, key=lambda s: s.name))
 
     def matrices(self) -> dict:  # pragma: no cover - overridden
@@ -302,6 +303,10 @@ class GeneralLinearMethod(Method):
             rows = sp.Matrix.vstack(rows, w.T)
             rhs = rhs_v + [0]
         v = solve_linear(to_dm(rows, K), rhs)
+        if v is None and any(X.free_symbols for X in (self.A, self.U, self.B, self.V)):
+            # unknowns (design): consistency is a condition on them, not a property of the entries;
+            # c = A·1 stands in until the unknowns are solved for
+            v = [K.zero] * r
         if v is None:
             raise MethodError("c is not given and cannot be derived: the method is not consistent "
                               "((I - V) v = B·1 - u has no solution)")
