@@ -7,6 +7,7 @@ over the tableau's number field):
 * ``order=P``: RK: Φ(t) = 1/γ(t) for |t| ≤ P (elementary weights); partitioned RK: the
   bicoloured-tree conditions; GLM: the order conditions relative to the best starting method
   (θ eliminated order by order, see :mod:`glm_order`);
+* ``effective-order=P`` (RK): the GLM conditions with r = 1 (a free starting method);
 * ``stage-order=Q`` (RK): C(Q), Σⱼ aᵢⱼcⱼ^{k−1} = cᵢ^k/k;
 * ``symplectic`` (RK, PRK): diag(b)A + Aᵀdiag(b) − bbᵀ = 0 ([HLW06] VI.4);
 * ``g-symplectic``: VᵀGV = G, DU = BᵀGV, DA + AᵀD = BᵀGB with the entries of G and D as
@@ -51,7 +52,7 @@ from .trees import bracket, density, order as tree_order, trees_up_to
 __all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
            "Solution", "DesignError"]
 
-KEYWORDS = ("g-symplectic", "symplectic", "order", "stage-order", "parasitism-free", "symmetric")
+KEYWORDS = ("g-symplectic", "symplectic", "order", "effective-order", "stage-order", "parasitism-free", "symmetric")
 
 
 class DesignError(ValueError):
@@ -77,7 +78,7 @@ def parse_requirements(items) -> tuple[Requirement, ...]:
                 continue
             key, _, val = part.partition("=")
             key = key.strip().lower()
-            if key in ("order", "stage-order"):
+            if key in ("order", "effective-order", "stage-order"):
                 try:
                     n = int(val)
                 except ValueError:
@@ -304,6 +305,11 @@ class _Problem:
                      - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
         if r.name == "order":
             return self._order(r.value)
+        if r.name == "effective-order":
+            if m.kind != "rk":
+                raise DesignError("effective-order applies to RK methods; a GLM's order=P is already relative "
+                                  "to the best starting method")
+            return self._order(r.value, glm=True)
         if r.name == "parasitism-free":
             from .parasitism import growth_parameters
             try:
@@ -329,9 +335,9 @@ class _Problem:
             return out
         raise DesignError(f"requirement {r} is not implemented")  # pragma: no cover
 
-    def _order(self, P):
+    def _order(self, P, glm=False):
         m, F = self.m, self.sys.F
-        if m.kind == "rk":
+        if m.kind == "rk" and not glm:
             return _rk_weights(self._mat(m.A), self._vec(m.b), P, F, self.sys.frac)
         if m.kind == "prk":
             from .prk_order import order_conditions as prk_conditions
@@ -353,13 +359,22 @@ def _radicals(exprs):
 # ------------------------------------------------------------------ solving
 
 def _label(m: Method, sol: dict, free) -> str:
-    if m.kind == "rk":
-        zero = [i + 1 for i in range(m.s) if sp.sympify(m.b[i]).subs(sol) == 0 and not (
-            sp.sympify(m.b[i]).subs(sol).free_symbols)]
-        if zero:
-            return "reducible: " + ", ".join(f"b{i} = 0 (stage {i} does not contribute)" for i in zero)
-        return "irreducible"
-    return "component"
+    """'irreducible', or the stages that never reach the output (DJ-reducible: b_j = 0 and no
+    stage that reaches the output uses stage j) for RK methods."""
+    if m.kind != "rk":
+        return "component"
+    s = m.s
+    nz = lambda e: sp.sympify(e).subs(sol) != 0  # noqa: E731  (a value with free unknowns counts as nonzero)
+    used = {i for i in range(s) if nz(m.b[i])}
+    grew = True
+    while grew:
+        new = {j for i in used for j in range(s) if nz(m.A[i, j])} - used
+        grew = bool(new)
+        used |= new
+    idle = [j + 1 for j in range(s) if j not in used]
+    if idle:
+        return "reducible: " + ", ".join(f"stage {j} does not reach the output" for j in idle)
+    return "irreducible"
 
 
 def _rebuild(m: Method, values: dict) -> Method:
@@ -385,6 +400,8 @@ def _verify(meth: Method, reqs, values) -> dict:
         elif r.name == "order":
             res = order(meth, max_order=r.value)
             out[str(r)] = res.order >= r.value
+        elif r.name == "effective-order":
+            out[str(r)] = order(meth, max_order=r.value).effective_order >= r.value
         elif r.name == "stage-order":
             out[str(r)] = order(meth, max_order=r.value).stage_order >= r.value
         elif r.name == "parasitism-free":
@@ -496,14 +513,14 @@ def _dedupe(sols):
 
 
 def _design_method(data: dict, source: str):
-    """A method from a design tableau: c with unknowns is dropped (c = A·1 is derived) and its
-    entries become the equations cᵢ = Σⱼ aᵢⱼ."""
+    """A method from a design tableau: when c or A holds unknowns, c is dropped (c = A·1 is
+    derived) and its entries become the equations cᵢ = Σⱼ aᵢⱼ."""
     extra = []
     if data.get("kind") in ("rk", "prk") and "c" in data:
         c = entries(data["c"], source, "c")
-        if any(sp.sympify(x).free_symbols for x in c):
+        A = entries(data["A"], source, "A")
+        if any(sp.sympify(x).free_symbols for x in list(c) + list(A)):
             data = {k: v for k, v in data.items() if k != "c"}
-            A = entries(data["A"], source, "A")
             extra = [(f"c{i + 1} = row sum of A", c[i] - sum(A.row(i))) for i in range(A.rows)]
     data = {k: v for k, v in data.items() if k != "claims"}
     return from_dict(data, source), extra

@@ -292,7 +292,8 @@ class GeneralLinearMethod(Method):
         if c is not None:
             # c is consistent iff some v has (I - V) v = B 1 - u and U v = c - A 1.
             M = to_dm(sp.Matrix.vstack(sp.eye(r) - self.V, self.U), K)
-            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None:
+            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None and not (
+                    any(X.free_symbols for X in (self.A, self.U, self.B, self.V))):
                 raise MethodError("c is not consistent with the method: no v with (I - V) v = B·1 - u "
                                   "and c = A·1 + U v (stage order 1 fails for every starting method)")
             return c
