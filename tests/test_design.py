@@ -134,11 +134,14 @@ def test_equation_with_a_stray_name_is_refused():
         solve_file(DESIGN / "rk2_general.json", ["orderr=4"])
 
 
-def test_solve_refuses_without_unknowns_and_bad_kinds(capsys):
+def test_solve_refuses_without_unknowns_and_bad_kinds(capsys, tmp_path):
     assert main(["solve", str(ROOT / "methods" / "rk4.json"), "--require", "order=4"]) == 2
     assert "no unknowns" in capsys.readouterr().err
-    assert main(["solve", str(DESIGN / "glm43_suspects.json"), "--require", "symmetric"]) == 2
-    assert "symmetric is implemented for RK" in capsys.readouterr().err
+    prk = tmp_path / "prk.json"
+    prk.write_text('{"name": "p", "kind": "prk", "A": [["x"]], "b": [1], "Ahat": [[0]], "bhat": [1]}')
+    assert main(["solve", str(prk), "--require", "symmetric"]) == 2
+    assert "not partitioned methods" in capsys.readouterr().err
+    assert main(["solve", str(DESIGN / "glm43_suspects.json"), "--require", "symmetric"]) == 1   # not symmetric
     with pytest.raises(DesignError, match="stage-order"):
         solve_file(DESIGN / "glm43_suspects.json", ["stage-order=2"])
 
@@ -183,3 +186,14 @@ def test_effective_order_recovers_butchers_method():
     assert res.status == "solved" and len(res.solutions) == 1
     assert res.solutions[0].label == "irreducible"
     assert _same(res.solutions[0].method.A, load(ROOT / "methods" / "butcher_effective5.json").A)
+
+
+def test_symmetric_glm_design_recovers_example4():
+    """Example 4 with a21 and u12 unknown: symmetry alone forces both back to the printed values."""
+    d = json.loads((ROOT / "methods" / "example4_glm.json").read_text())
+    d["A"][1][0], d["U"][0][1] = "a21", "u12"
+    d.pop("claims")
+    res = solve_text(json.dumps(d), ["symmetric", "g-symplectic", "order=4"])
+    assert res.status == "solved" and len(res.solutions) == 1
+    e4 = load(ROOT / "methods" / "example4_glm.json")
+    assert _same(res.solutions[0].method.A, e4.A) and _same(res.solutions[0].method.U, e4.U)

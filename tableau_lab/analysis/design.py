@@ -14,7 +14,9 @@ over the tableau's number field):
   further unknowns, det(G)·z = 1 (Rabinowitsch: G nonsingular), and the scale fixed by a
   complete case split on the first nonzero entry of G (set to 1, those before it to 0);
 * ``parasitism-free``: Re μ = Im μ = 0 for every parasitic growth parameter ([BHHN14]);
-* ``symmetric`` (RK): aᵢⱼ + a_{s+1−i,s+1−j} = bⱼ, bᵢ = b_{s+1−i} ([HLW06] V.2);
+* ``symmetric``: RK: aᵢⱼ + a_{s+1−i,s+1−j} = bⱼ, bᵢ = b_{s+1−i} ([HLW06] V.2); GLM: the adjoint
+  equals the method up to stage reversal and a diagonal sign involution L of the inputs
+  (:mod:`symmetry`; one branch per L, V numeric);
 * user equations ``LHS = RHS`` in the safe entry grammar;
 * always, unless an order is required: consistency (the order-1 conditions, e.g. Σbᵢ = 1),
   without which a "method" approximates nothing.
@@ -222,7 +224,7 @@ class _Problem:
         self.m, self.reqs = m, reqs
         self.params = _unknown_order(m, extra_unknowns)
         self.aux: list = []
-        self.g_branches = [[]]
+        self.branches = [[]]
         for r in reqs:
             if r.name == "equation":
                 stray = sorted(str(x) for x in (r.value[0] - r.value[1]).free_symbols if x not in self.params)
@@ -268,7 +270,7 @@ class _Problem:
         gs = [self.G[i, j] for i in range(r) for j in range(i, r)]
         self.aux = [self.z] + gs + [self.D[i, i] for i in range(s)]
         # first nonzero entry of G (in reading order) is 1, those before it are 0
-        self.g_branches = [[(f"normalisation {gs[k]} = 1", gs[k] - 1)] + [(f"normalisation {x} = 0", x) for x in gs[:k]]
+        self.branches = [[(f"normalisation {gs[k]} = 1", gs[k] - 1)] + [(f"normalisation {x} = 0", x) for x in gs[:k]]
                            for k in range(len(gs))]
 
     def _mat(self, M):
@@ -290,8 +292,19 @@ class _Problem:
                         + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh))])
             raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
         if r.name == "symmetric":
+            if m.kind == "glm":
+                from .symmetry import symmetry_conditions
+                try:
+                    cands = symmetry_conditions(m)
+                except ValueError as exc:
+                    raise DesignError(f"symmetric: {exc}") from None
+                # one branch per involution L: the union of their solutions
+                self.branches = [gb + [(f"symmetric, L = diag({', '.join(str(L[i, i]) for i in range(L.rows))}),"
+                                          f" condition {k + 1}", e) for k, e in enumerate(conds) if e != 0]
+                                   for gb in self.branches for L, conds in cands]
+                return []
             if m.kind != "rk":
-                raise DesignError("symmetric is implemented for RK methods (a_ij + a_{s+1-i,s+1-j} = b_j)")
+                raise DesignError("symmetric is implemented for RK methods and GLMs, not partitioned methods")
             A, b, s = self._mat(m.A), self._vec(m.b), m.s
             out = [(f"symmetric b[{i + 1}]", b[i] - b[s - 1 - i]) for i in range(s // 2)]
             out += [(f"symmetric A[{i + 1},{j + 1}]", A[i][j] + A[s - 1 - i][s - 1 - j] - b[j])
@@ -407,10 +420,8 @@ def _verify(meth: Method, reqs, values) -> dict:
         elif r.name == "parasitism-free":
             out[str(r)] = growth_parameters(meth).free
         elif r.name == "symmetric":
-            s = meth.s
-            out[str(r)] = all(is_zero(meth.A[i, j] + meth.A[s - 1 - i, s - 1 - j] - meth.b[j])
-                              for i in range(s) for j in range(s)) and all(
-                is_zero(meth.b[i] - meth.b[s - 1 - i]) for i in range(s))
+            from .symmetry import symmetric
+            out[str(r)] = symmetric(meth).holds
         elif r.name == "equation":
             out[str(r)] = is_zero(sp.sympify(r.value[0] - r.value[1]).subs(values))
     return out
@@ -429,7 +440,7 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
     base = [(lab, f.numer) for lab, f in prob.labelled]
     solutions, rejected, cores, n_eq = [], [], [], len(base)
     queue = []
-    for branch in prob.g_branches:
+    for branch in prob.branches:
         labelled = base + [(lab, sysm.poly(e)) for lab, e in branch]
         comps = sysm.components([p for _, p in labelled])
         if not comps:
@@ -652,7 +663,7 @@ def solvable(m: Method, requirements) -> bool:
         else tuple(requirements)
     prob = _Problem(m, reqs)
     base = [f.numer for _, f in prob.labelled]
-    return any(prob.sys.consistent(base + [prob.sys.poly(e) for _, e in br]) for br in prob.g_branches)
+    return any(prob.sys.consistent(base + [prob.sys.poly(e) for _, e in br]) for br in prob.branches)
 
 
 def repair(m: Method, requirements, suspects=(), locate: bool = False, within=None) -> RepairResult:

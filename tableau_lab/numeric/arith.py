@@ -1,0 +1,149 @@
+r"""The one place that chooses float64 or mpmath arithmetic for the integrators.
+
+Vectors are numpy arrays: ``float64`` for the double-precision path, ``object`` arrays of
+``mpmath.mpf`` for the multiprecision path, so the integrator's vector code (+, *, @) is the
+same for both; only what differs lives here: conversion of exact numbers, linear solves, norms,
+the working tolerance and the machine epsilon.  Multiprecision code runs inside
+``a.context()`` (mpmath's working precision is global).
+
+>>> import sympy as sp
+>>> a = arith("mp:40")
+>>> x = a.number(sp.sqrt(2))
+>>> mpmath.nstr(x, 30)
+'1.41421356237309504880168872421'
+>>> arith("float64").number(sp.Rational(1, 3)) == 1 / 3
+True
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+__all__ = ["arith", "Arith"]
+
+
+class Arith:
+    """Arithmetic of one precision.  ``name`` is "float64" or "mp:DIGITS"."""
+
+    name = "float64"
+    dps = 16
+    dtype = float
+
+    @property
+    def eps(self) -> float:
+        return float(np.finfo(float).eps)
+
+    @property
+    def tol(self) -> float:
+        """Newton / projection tolerance: about 10 ulp."""
+        return 10 * self.eps
+
+    def number(self, e):
+        """An exact sympy number at this precision (rounded once, from the exact value)."""
+        return float(sp.N(sp.sympify(e), 30))
+
+    def array(self, values):
+        return np.array([self.number(v) if isinstance(v, sp.Basic) else v for v in values], dtype=self.dtype)
+
+    def matrix(self, M):
+        M = sp.Matrix(M)
+        return np.array([[self.number(M[i, j]) for j in range(M.cols)] for i in range(M.rows)], dtype=self.dtype)
+
+    def zeros(self, *shape):
+        return np.zeros(shape, dtype=float)
+
+    def solve(self, M, b):
+        return np.linalg.solve(M, b)
+
+    def lu(self, M):
+        """A factorisation reused over many right-hand sides (simplified Newton): here the
+        inverse, as the Newton matrices are small (s·d rows)."""
+        return np.linalg.inv(M)
+
+    def lu_solve(self, lu, b):
+        return lu @ b
+
+    def norm(self, x) -> float:
+        """Max norm, as a float (for convergence tests and reports)."""
+        return float(np.max(np.abs(x))) if len(x) else 0.0
+
+    def finite(self, x) -> bool:
+        return bool(np.all(np.isfinite(x)))
+
+    def to_float(self, x):
+        return np.asarray(x, dtype=float)
+
+    def context(self):
+        """The context in which this arithmetic's operations run at its precision."""
+        import contextlib
+        return contextlib.nullcontext()
+
+
+class MpArith(Arith):
+    dtype = object
+
+    def __init__(self, dps: int):
+        self.dps = dps
+        self.name = f"mp:{dps}"
+
+    @property
+    def eps(self) -> float:
+        return float(mpmath.mpf(10) ** (-self.dps))
+
+    @property
+    def tol(self) -> float:
+        return float(mpmath.mpf(10) ** (2 - self.dps))
+
+    def number(self, e):
+        e = sp.sympify(e)
+        with mpmath.workdps(self.dps):
+            if e.is_Rational:
+                return mpmath.mpf(int(e.p)) / int(e.q)
+            return mpmath.mpf(str(sp.N(e, self.dps + 10)))
+
+    def zeros(self, *shape):
+        with mpmath.workdps(self.dps):
+            return np.full(shape, mpmath.mpf(0), dtype=object)
+
+    def solve(self, M, b):
+        with mpmath.workdps(self.dps):
+            x = mpmath.lu_solve(mpmath.matrix(M.tolist()), mpmath.matrix(list(b)))
+        return np.array([x[i] for i in range(len(b))], dtype=object)
+
+    def lu(self, M):
+        with mpmath.workdps(self.dps):
+            return np.array(mpmath.inverse(mpmath.matrix(M.tolist())).tolist(), dtype=object)
+
+    def lu_solve(self, lu, b):
+        with mpmath.workdps(self.dps):
+            return lu @ b
+
+    def norm(self, x) -> float:
+        return float(max((abs(v) for v in x), default=0))
+
+    def finite(self, x) -> bool:
+        return all(mpmath.isfinite(v) for v in x)
+
+    def to_float(self, x):
+        return np.array([float(v) for v in x])
+
+    def context(self):
+        return mpmath.workdps(self.dps)
+
+
+@lru_cache(maxsize=None)
+def arith(precision: str = "float64") -> Arith:
+    """``"float64"`` or ``"mp:DIGITS"`` (e.g. ``"mp:32"``)."""
+    if precision == "float64":
+        return Arith()
+    if isinstance(precision, str) and precision.startswith("mp:"):
+        try:
+            dps = int(precision[3:])
+        except ValueError:
+            dps = 0
+        if 5 <= dps <= 10000:
+            return MpArith(dps)
+    raise ValueError(f"precision {precision!r}: use float64 or mp:DIGITS with 5 <= DIGITS <= 10000 (e.g. mp:32)")

@@ -1,0 +1,121 @@
+r"""Exact methods → numeric coefficients, at float64 or any mpmath precision.
+
+Every kind becomes one shape, a *partitioned GLM*: stage matrices A_q, A_p (s×s) acting on the
+q- and p-components of the stage derivatives, U (s×r), output matrices B_q, B_p (r×s), V (r×r).
+An RK method is A_q = A_p = A, U = 1, B = bᵀ, V = [1]; a partitioned RK method has A_q = A,
+A_p = Â; a GLM has A_q = A_p = A.  For a problem that is not Hamiltonian every component is a
+q-component.  Coefficients are rounded once from their exact values (``sympy.N`` at the working
+precision plus guard digits), never through an intermediate float.
+
+For GLMs the starting method ξ(t) and the finishing method α⁻¹(t) of the order analysis are
+exported too, so that a run can start with y^[0]_k = u_k y₀ + Σ_t ξ_k(t) h^|t|/σ(t) F(t)(y₀)
+and report z + Σ_t α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n].
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> nm = to_numeric(load("methods/gauss2.json"))
+>>> nm.s, nm.r, nm.explicit, round(float(nm.Aq[0, 1]), 12)
+(2, 1, False, -0.038675134595)
+>>> roundtrip_error(load("methods/example4_glm.json"), "mp:50") < 1e-49
+True
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from ..exact.methods import Method
+from .arith import Arith, arith
+
+__all__ = ["NumericMethod", "to_numeric", "roundtrip_error"]
+
+
+@dataclass(frozen=True)
+class NumericMethod:
+    name: str
+    kind: str
+    arith: Arith
+    Aq: np.ndarray
+    Ap: np.ndarray
+    U: np.ndarray
+    Bq: np.ndarray
+    Bp: np.ndarray
+    V: np.ndarray
+    c: np.ndarray
+    u: np.ndarray
+    w: np.ndarray
+    order: int
+    starting: dict       # tree -> array of r numbers ξ(t) (GLM; empty for RK)
+    finishing: dict      # tree -> number α⁻¹(t) (GLM; empty for RK)
+    exact: object = None  # the exact method
+
+    @property
+    def s(self) -> int:
+        return self.Aq.shape[0]
+
+    @property
+    def r(self) -> int:
+        return self.V.shape[0]
+
+    @property
+    def explicit(self) -> bool:
+        return bool(all(self.Aq[i, j] == 0 and self.Ap[i, j] == 0 for i in range(self.s) for j in range(i, self.s)))
+
+    @property
+    def partitioned(self) -> bool:
+        return self.kind == "prk"
+
+
+def _exact_parts(m: Method):
+    if m.kind == "prk":
+        return (m.A, m.Ahat, sp.ones(m.s, 1), m.b.T, m.bhat.T, sp.Matrix([[1]]), m.c)
+    g = m.as_glm()
+    return (g.A, g.A, g.U, g.B, g.B, g.V, g.c)
+
+
+def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> NumericMethod:
+    """The numeric form of ``m`` at ``precision`` ("float64" or "mp:DIGITS")."""
+    if m.parameters:
+        raise ValueError(f"{m.name}: the tableau has free parameters {', '.join(map(str, m.parameters))}; "
+                         "solve for them first (tableau-lab solve)")
+    a = arith(precision)
+    Aq, Ap, U, Bq, Bp, V, c = _exact_parts(m)
+    xi, beta, order, u, w = {}, {}, 0, [1], [1]
+    if m.kind == "glm":
+        from ..analysis.glm_order import glm_order
+        from ..analysis.trees import trees_up_to
+        res = glm_order(m)
+        order, u, w = res.order, res.u, res.w
+        if starting:
+            from ..analysis.trees import bracket
+            by_name = {bracket(t): t for t in trees_up_to(order)}
+            xi = {by_name[k]: a.array(v) for k, v in res.starting.items() if k in by_name}
+            beta = {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name}
+    elif m.kind == "rk":
+        from ..analysis.rk_order import rk_order
+        order = rk_order(m, effective=False).order
+    else:
+        from ..analysis.prk_order import prk_order
+        order = prk_order(m).order
+    with a.context():
+        return NumericMethod(name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
+                             Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),
+                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m)
+
+
+def roundtrip_error(m: Method, precision: str = "float64") -> float:
+    """Largest |numeric − exact| over the exported coefficients, measured at 60 digits more than
+    the working precision: the export's own round-off (≈ ulp of the precision)."""
+    import mpmath
+    nm = to_numeric(m, precision, starting=False)
+    parts = _exact_parts(m)
+    worst = mpmath.mpf(0)
+    with mpmath.workdps(nm.arith.dps + 60):
+        for X, M in zip((nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V), parts[:6]):
+            M = sp.Matrix(M)
+            for i in range(M.rows):
+                for j in range(M.cols):
+                    exact = mpmath.mpf(str(sp.N(M[i, j], nm.arith.dps + 60)))
+                    worst = max(worst, abs(mpmath.mpf(X[i, j]) - exact))
+    return float(worst)

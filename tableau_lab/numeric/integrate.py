@@ -1,0 +1,277 @@
+r"""One integrator for every method kind, in float64 or mpmath ([B16] ch. 5 for the GLM step;
+[HLW06] VII.1 and the seed's §3.2 for projection).
+
+A step of the partitioned GLM of :mod:`export` on y' = f(y) with input values y^[n−1] (r × d):
+
+    Yᵢ = Σₖ Uᵢₖ y^[n−1]ₖ + h Σⱼ (A_q[i,j] P_q + A_p[i,j] P_p) f(Yⱼ)
+    y^[n]ₖ = Σₗ Vₖₗ y^[n−1]ₗ + h Σⱼ (B_q[k,j] P_q + B_p[k,j] P_p) f(Yⱼ)
+
+(P_q, P_p: the masks of the q- and p-components).  Explicit methods evaluate the stages in
+order; implicit ones solve the stage system by simplified Newton with the Jacobian of f at the
+step's first stage input (I − h(A_q ⊗ P_qJ + A_p ⊗ P_pJ) factorised once per step) and fall back
+to fixed-point iteration; the tolerance follows the precision (10 ulp in float64, 10^(2−dps) in
+mpmath).  A stage system that does not converge, and any NaN or overflow, stops the run with
+:class:`IntegrationError` naming the step, the time and the residual.  When V's first row is
+e₁ᵀ (RK and partitioned RK methods, and G-symplectic GLMs written with the principal value
+first), the first output is an increment and is summed with compensation (Kahan).
+
+GLM runs start from the exported starting method (elementary differentials of f at y₀), or
+naively (y^[0] = u y₀), and report the principal value through the finishing method.
+Projection (optional) moves the first output value onto {I_k(y) = I_k(y₀)} for the chosen
+invariants by simplified Newton on the multipliers: y = ỹ + ∇g(ỹ)λ.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .export import NumericMethod
+
+__all__ = ["integrate", "Run", "IntegrationError", "start_values", "finish"]
+
+
+class IntegrationError(RuntimeError):
+    """A run that cannot continue; the message names step, time and the reason."""
+
+
+@dataclass
+class Run:
+    method: str
+    problem: str
+    precision: str
+    h: float
+    steps: int
+    start: str
+    projected: tuple
+    times: list = field(default_factory=list)           # recorded times
+    values: list = field(default_factory=list)          # recorded (finished) states, if asked
+    invariant_errors: dict = field(default_factory=dict)  # name -> [I(y) − I(y0)] at the records
+    final: object = None                                 # finished state at the end
+    nfev: int = 0
+    newton_iterations: int = 0
+    projection_iterations: int = 0
+    seconds: float = 0.0
+    completed: int = 0                                   # steps done
+
+    def max_invariant_error(self) -> dict:
+        return {k: max((abs(float(x)) for x in v), default=0.0) for k, v in self.invariant_errors.items()}
+
+
+def _symmetry(t):
+    from ..analysis.trees import symmetry
+    return symmetry(t)
+
+
+def _order(t):
+    from ..analysis.trees import order
+    return order(t)
+
+
+def start_values(nm: NumericMethod, prob, y0, h, start: str = "exact"):
+    """y^[0] (r × d): u y₀ plus, with ``start="exact"``, the starting method's B-series terms."""
+    a = nm.arith
+    Y = np.array([nm.u[k] * y0 for k in range(nm.r)], dtype=a.dtype)
+    if start == "naive" or not nm.starting:
+        return Y
+    p = max((_order(t) for t in nm.starting), default=0)
+    F = prob.elementary_differentials(p)(y0)
+    for t, xi in nm.starting.items():
+        coef = h ** _order(t) / _symmetry(t)
+        for k in range(nm.r):
+            if xi[k] != 0:
+                Y[k] = Y[k] + (xi[k] * coef) * F[t]
+    return Y
+
+
+def finish(nm: NumericMethod, prob, Y, h):
+    """The approximation of y(t) from y^[n]: z + Σ α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n]."""
+    z = sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
+    if not nm.finishing:
+        return z
+    p = max(_order(t) for t in nm.finishing)
+    F = prob.elementary_differentials(p)(z)
+    out = z.copy()
+    for t, beta in nm.finishing.items():
+        if beta != 0:
+            out = out + (beta * h ** _order(t) / _symmetry(t)) * F[t]
+    return out
+
+
+class _Stepper:
+    def __init__(self, nm: NumericMethod, prob, h, d, masks):
+        self.nm, self.prob, self.h = nm, prob, h
+        self.a = nm.arith
+        self.mq, self.mp = masks
+        self.s, self.r, self.d = nm.s, nm.r, d
+        self.nfev = 0
+        self.newton = 0
+        self.first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        self.comp = np.zeros(d, dtype=self.a.dtype) if self.first_is_increment else None
+        if self.comp is not None and self.a.dtype is object:
+            self.comp = self.a.zeros(d)
+        self.tol = self.a.tol
+
+    def f(self, y):
+        self.nfev += 1
+        return self.prob.f(y)
+
+    def stages(self, Ubar, n, t):
+        nm, h = self.nm, self.h
+        s = self.s
+        if nm.explicit:
+            F = []
+            for i in range(s):
+                Y = Ubar[i].copy()
+                for j in range(i):
+                    if nm.Aq[i, j] != 0 or nm.Ap[i, j] != 0:
+                        Y = Y + h * (nm.Aq[i, j] * self.mq + nm.Ap[i, j] * self.mp) * F[j]
+                F.append(self.f(Y))
+            return np.array(F, dtype=self.a.dtype)
+        return self._newton(Ubar, n, t)
+
+    def _rhs(self, F):
+        nm = self.nm
+        return self.h * (np.einsum("ij,jk->ik", nm.Aq, F) * self.mq + np.einsum("ij,jk->ik", nm.Ap, F) * self.mp) \
+            if self.a.dtype is not object else self.h * ((nm.Aq @ F) * self.mq + (nm.Ap @ F) * self.mp)
+
+    def _newton(self, Ubar, n, t):
+        a, nm, h, s, d = self.a, self.nm, self.h, self.s, self.d
+        J = self.prob.jac(Ubar[0])
+        Jq, Jp = J * self.mq[:, None], J * self.mp[:, None]
+        M = np.eye(s * d, dtype=float if a.dtype is not object else object)
+        if a.dtype is object:
+            M = np.array([[a.number(1) if i == j else a.number(0) for j in range(s * d)] for i in range(s * d)],
+                         dtype=object)
+        M = M - h * (np.kron(nm.Aq, Jq) + np.kron(nm.Ap, Jp))
+        Minv = a.lu(M)
+        Y = Ubar.copy()
+        F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
+        prev = None
+        for it in range(60):
+            R = Ubar + self._rhs(F) - Y
+            dY = a.lu_solve(Minv, R.reshape(-1)).reshape(s, d)
+            Y = Y + dY
+            self.newton += 1
+            size = a.norm(dY.reshape(-1))
+            if not a.finite(dY.reshape(-1)):
+                break
+            F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
+            if size <= self.tol * (1 + a.norm(Y.reshape(-1))):
+                return F
+            if prev is not None and it > 3 and size > prev:
+                break                   # diverging: try fixed point
+            prev = size
+        return self._fixed_point(Ubar, n, t)
+
+    def _fixed_point(self, Ubar, n, t):
+        a, s = self.a, self.s
+        Y = Ubar.copy()
+        F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
+        size = float("inf")
+        for _ in range(200):
+            Ynew = Ubar + self._rhs(F)
+            size = a.norm((Ynew - Y).reshape(-1))
+            Y = Ynew
+            if not a.finite(Y.reshape(-1)):
+                break
+            F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
+            if size <= self.tol * (1 + a.norm(Y.reshape(-1))):
+                return F
+        raise IntegrationError(f"step {n} (t = {float(t):.6g}): the implicit stage equations did not converge "
+                               f"(simplified Newton and fixed-point iteration; last correction {size:.3g}, "
+                               f"tolerance {self.tol:.3g}); try a smaller step size h = {float(self.h):.6g}")
+
+    def step(self, Yin, n, t):
+        nm, h = self.nm, self.h
+        Ubar = nm.U @ Yin
+        F = self.stages(Ubar, n, t)
+        inc = h * ((nm.Bq @ F) * self.mq + (nm.Bp @ F) * self.mp)
+        Yout = nm.V @ Yin + inc
+        if self.comp is not None:                  # Kahan summation of the principal increment
+            x = inc[0] + self.comp
+            y1 = Yin[0] + x
+            self.comp = (Yin[0] - y1) + x
+            Yout[0] = y1
+        return Yout
+
+
+def _project(prob, names, targets, y, a, n, t):
+    """y + ∇g(y)λ with g = invariants − targets, simplified Newton on λ; returns (y, iterations)."""
+    G = np.array([prob.gradient(k, y) for k in names], dtype=a.dtype).T          # d × m
+    GtG = G.T @ G
+    inv = a.lu(GtG)
+    lam = a.zeros(len(names))
+    z = y
+    for it in range(1, 51):
+        g = np.array([prob.invariant(k, z) - targets[k] for k in names], dtype=a.dtype)
+        dl = -a.lu_solve(inv, g)
+        lam = lam + dl
+        z = y + G @ lam
+        if a.norm(dl) * max(1.0, a.norm(G.reshape(-1))) <= a.tol * (1 + a.norm(z)):
+            return z, it
+    raise IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge")
+
+
+def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
+              invariants=(), record_every: int | None = None, record_states: bool = False,
+              masks=None, problem_name: str = "") -> Run:
+    """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
+
+    ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
+    ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
+    Records every ``record_every`` steps (and the last): time, invariant errors, and states
+    if ``record_states``; memory grows with the records only."""
+    a = nm.arith
+    with a.context():
+        y0 = np.array(list(y0), dtype=a.dtype)
+        d = len(y0)
+        if masks is None:
+            masks = (np.ones(d, dtype=a.dtype), np.zeros(d, dtype=a.dtype))
+        masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
+                      for m in masks)
+        h = a.number(h) if a.dtype is object and not hasattr(h, "_mpf_") else h
+        run = Run(nm.name, problem_name, a.name, float(h), steps, start if nm.r > 1 else "identity", tuple(project))
+        names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
+        targets = {k: prob.invariant(k, y0) for k in names}
+        run.invariant_errors = {k: [] for k in names}
+        stepper = _Stepper(nm, prob, h, d, masks)
+        t0 = time.perf_counter()
+        Y = start_values(nm, prob, y0, h, start)
+        every = record_every or max(1, steps // 1000)
+
+        def principal(Y):
+            if nm.r == 1:
+                return Y[0]
+            if start == "exact":
+                return finish(nm, prob, Y, h)
+            return sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
+
+        def record(n, y):
+            run.times.append(float(n * h))
+            for k in names:
+                run.invariant_errors[k].append(prob.invariant(k, y) - targets[k])
+            if record_states:
+                run.values.append(a.to_float(y))
+
+        record(0, principal(Y))
+        try:
+            for n in range(1, steps + 1):
+                Y = stepper.step(Y, n, n * h)
+                if project:
+                    Y[0], its = _project(prob, tuple(project), targets, Y[0], a, n, n * h)
+                    run.projection_iterations += its
+                if not a.finite(Y.reshape(-1)):
+                    raise IntegrationError(f"step {n} (t = {float(n * h):.6g}): the solution is not finite "
+                                           "(NaN or overflow): the method is unstable at this step size, or the "
+                                           "problem is singular here")
+                run.completed = n
+                if n % every == 0 or n == steps:
+                    record(n, principal(Y))
+        finally:
+            run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
+            run.seconds = time.perf_counter() - t0
+        run.final = principal(Y)
+    return run
+
