@@ -1,0 +1,245 @@
+"""Numeric code generated from a problem's symbols: numpy (float64) or mpmath (any precision).
+
+Only what is asked for is generated: f at compile time, the Jacobian, an invariant's gradient
+or the m-th derivative of f the first time they are used.  Parameters enter the generated
+functions as arguments, converted from their exact values (float64: correctly rounded;
+mpmath: at the working precision, never through a float).  Generated code is shared by all
+compiled instances of a problem; compiled instances are cached per (problem with its
+parameter values, backend, dps).
+
+>>> from tableau_lab.numeric.problems import get_problem
+>>> c = compile_problem(get_problem("harmonic"), "mpmath", dps=25)
+>>> c.f(c.y0)
+array([mpf('0.0'), mpf('-1.0')], dtype=object)
+>>> F = c.elementary_differentials(3)([1, 2])
+>>> [list(F[t]) for t in [(), ((),), ((), ())]]       # f, f'f, f''(f, f)
+[[mpf('2.0'), mpf('-1.0')], [mpf('-1.0'), mpf('-2.0')], [mpf('0.0'), mpf('0.0')]]
+"""
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from tableau_lab.analysis.trees import trees_up_to
+from .problems import Problem, ProblemError, exact_value, get_problem
+
+__all__ = ["compile_problem", "CompiledProblem", "reference", "extrapolation"]
+
+_CODE: dict = {}       # (problem.key, backend, what) -> generated function
+_COMPILED: dict = {}   # (problem.key, backend, dps) -> CompiledProblem
+_REFERENCES: dict = {}  # (problem.key, t, dps, method) -> state
+
+
+def compile_problem(problem, backend: str = "numpy", dps: int | None = None,
+                    parameters: dict | None = None) -> "CompiledProblem":
+    """f, jac, invariant, gradient and elementary differentials of ``problem`` (a Problem or a
+    built-in's name) for ``backend`` ("numpy" or "mpmath"; ``dps`` defaults to mpmath's current
+    precision), with ``parameters`` (name -> value, read exactly) replacing the problem's own."""
+    if backend not in ("numpy", "mpmath"):
+        raise ProblemError(f"backend must be 'numpy' or 'mpmath', not {backend!r}")
+    problem = get_problem(problem, **(parameters or {}))
+    dps = None if backend == "numpy" else int(dps or mpmath.mp.dps)
+    key = (problem.key, backend, dps)
+    if key not in _COMPILED:
+        _COMPILED[key] = CompiledProblem(problem, backend, dps)
+    return _COMPILED[key]
+
+
+class CompiledProblem:
+    """Numeric functions of one problem: vectors in and out are numpy arrays, of float64 or
+    (mpmath) of mpf with dtype=object, so that +, * and @ work alike in both precisions;
+    mpmath inputs may also be lists or mpmath matrices.  mpmath evaluates at ``dps`` digits."""
+
+    def __init__(self, problem, backend, dps):
+        self.problem, self.backend, self.dps = problem, backend, dps
+        self.constants = [self._number(v) for v in problem.parameters.values()]
+        self.y0 = self._vector([self._number(v) for v in problem.initial_state()])
+        self._f = self._code("f", lambda: (list(problem.f_expr), []))
+
+    # -- conversions --------------------------------------------------------------------------
+    def _number(self, x):
+        x = sp.sympify(x)
+        if self.backend == "numpy":
+            return float(x) if x.is_Rational else float(sp.N(x, 30))
+        with mpmath.workdps(self.dps):
+            return mpmath.mpf(x.p) / x.q if x.is_Rational else mpmath.mpf(str(sp.N(x, self.dps + 10)))
+
+    def _vector(self, values):
+        if self.backend == "numpy":
+            return np.array(values, dtype=float)
+        with mpmath.workdps(self.dps):
+            return np.array([mpmath.mpf(v) for v in values], dtype=object)
+
+    def _input(self, y):
+        if self.backend == "numpy":
+            return np.asarray(y, dtype=float)
+        if isinstance(y, mpmath.matrix):
+            y = [y[i] for i in range(y.rows * y.cols)]
+        return self._vector(y)
+
+    def _code(self, what, build):
+        key = (self.problem.key, self.backend, what)
+        if key not in _CODE:
+            exprs, extra = build()
+            args = [list(self.problem.state), list(self.problem.parameter_symbols.values()), *extra]
+            _CODE[key] = sp.lambdify(args, exprs, modules=self.backend, cse=True)
+        return _CODE[key]
+
+    def _call(self, fn, y, *extra):
+        if self.backend == "numpy":
+            return fn(self._input(y), self.constants, *extra)
+        with mpmath.workdps(self.dps):
+            return fn(self._input(y), self.constants, *extra)
+
+    # -- the functions ------------------------------------------------------------------------
+    def f(self, y):
+        """f(y)."""
+        return self._vector(self._call(self._f, y))
+
+    def jac(self, y):
+        """The Jacobian f'(y) (generated on first use)."""
+        fn = self._code("jac", lambda: (sp.Matrix(self.problem.f_expr).jacobian(self.problem.state).tolist(), []))
+        rows = self._call(fn, y)
+        if self.backend == "numpy":
+            return np.array(rows, dtype=float)
+        return np.array([self._vector(row) for row in rows], dtype=object)
+
+    def _invariant_expr(self, name):
+        if name not in self.problem.invariants:
+            raise ProblemError(f"problem {self.problem.name!r} has no invariant {name!r}; "
+                               f"known: {', '.join(self.problem.invariants) or 'none'}")
+        return self.problem.invariants[name]
+
+    def invariant(self, name, y):
+        """The invariant ``name`` at y (a float or an mpf)."""
+        fn = self._code(("invariant", name), lambda: (self._invariant_expr(name), []))
+        v = self._call(fn, y)
+        return float(v) if self.backend == "numpy" else self._vector([v])[0]
+
+    def gradient(self, name, y):
+        """The gradient of the invariant ``name`` at y (generated on first use)."""
+        fn = self._code(("gradient", name),
+                        lambda: ([sp.diff(self._invariant_expr(name), s) for s in self.problem.state], []))
+        return self._vector(self._call(fn, y))
+
+    def derivative(self, m):
+        """(y, u₁, …, u_m) -> f⁽ᵐ⁾(y)(u₁, …, u_m), the m-th derivative of f applied to m vectors:
+        ∂ᵐ/∂s₁…∂s_m f(y + s₁u₁ + … + s_m u_m) at s = 0, generated on first use."""
+        def build():
+            n = self.problem.dimension
+            us = [[sp.Dummy(f"u{k}_{j}", real=True) for j in range(n)] for k in range(m)]
+            ss = [sp.Dummy(f"s{k}", real=True) for k in range(m)]
+            shift = {y: y + sum(s * u[j] for s, u in zip(ss, us)) for j, y in enumerate(self.problem.state)}
+            out = []
+            for g in self.problem.f_expr:
+                g = g.xreplace(shift)
+                for s in ss:
+                    g = sp.diff(g, s).xreplace({s: 0})
+                out.append(g)
+            return out, us
+        fn = self._code(("derivative", m), build)
+        return lambda y, *us: self._vector(self._call(fn, y, *[self._input(u) for u in us]))
+
+    def elementary_differentials(self, order: int):
+        """A function y -> {tree: F(t)(y)} for every rooted tree t with |t| ≤ order, where
+        F(τ) = f and F([t₁ … t_m]) = f⁽ᵐ⁾(F(t₁), …, F(t_m)) (trees of ``analysis.trees``).
+        Only the derivatives f⁽ᵐ⁾ are generated symbolically; F(t) is then composed numerically,
+        children first, so no expression grows with the tree."""
+        trees = list(trees_up_to(order))
+        derivs = {m: self.derivative(m) for m in {len(t) for t in trees} if m}
+
+        def F(y):
+            out = {}
+            for t in trees:                       # by order: children come first
+                out[t] = self.f(y) if not t else derivs[len(t)](y, *(out[c] for c in t))
+            return out
+        return F
+
+
+# -- high-precision reference integration --------------------------------------------------------
+
+def _gbs_step(f, y, fy, H, k):
+    """One step of the Gragg-Bulirsch-Stoer method: the midpoint rule with n = 2, 4, …, 2k
+    substeps extrapolated to order 2k (Aitken-Neville in h²); returns (T_kk, T_kk − T_k,k−1)."""
+    prev = []
+    for j in range(1, k + 1):
+        n = 2 * j
+        h = H / n
+        z0, z1 = y, y + fy * h              # array * mpf: mpf * array is slow
+        for _ in range(n - 1):
+            z0, z1 = z1, z0 + f(z1) * (2 * h)
+        row = [z1]
+        for i in range(1, j):
+            row.append(row[i - 1] + (row[i - 1] - prev[i - 1]) / ((mpmath.mpf(n) / (n - 2 * i)) ** 2 - 1))
+        prev = row
+    return prev[-1], prev[-1] - prev[-2]
+
+
+def _integrate(f, y, t, tol, k):
+    s, H = mpmath.mpf(0), min(abs(t), mpmath.mpf(1) / 10) * mpmath.sign(t)
+    for _ in range(100000):
+        if s == t:
+            return y
+        last = abs(H) >= abs(t - s)
+        if last:
+            H = t - s
+        ynew, diff = _gbs_step(f, y, f(y), H, k)
+        floor = max(abs(v) for v in y) * mpmath.mpf(10) ** -6 + mpmath.eps
+        err = max(abs(d) / (abs(v) + floor) for d, v in zip(diff, y)) / tol
+        if not mpmath.isfinite(err):
+            raise ProblemError(f"reference integration failed: non-finite values at t = {mpmath.nstr(s, 8)}")
+        if err <= 1:
+            s, y = t if last else s + H, ynew
+        H *= min(4, max(mpmath.mpf(1) / 5, mpmath.mpf(9) / 10 * err ** (-mpmath.mpf(1) / (2 * k - 1))))
+    raise ProblemError(f"reference integration needs more than 100000 steps (stopped at t = {mpmath.nstr(s, 8)})")
+
+
+def extrapolation(problem: Problem, t, dps: int, k: int | None = None):
+    """The state at time t by the GBS extrapolation method (order 2k, by default k = dps/3 + 4
+    between 8 and 30, i.e. order 28 at 32 digits; adaptive steps) at
+    dps + 20 digits, run with local tolerances 10^-(dps+4) and 10^-(dps+8); the two results
+    must agree to 10^-dps (relative to the size of the state), else ProblemError."""
+    wp, k = dps + 20, k or max(8, min(30, dps // 3 + 4))
+    c = compile_problem(problem, "mpmath", dps=wp)
+    with mpmath.workdps(wp):
+        t = c._number(t)
+        coarse = _integrate(c.f, c.y0, t, mpmath.mpf(10) ** -(dps + 4), k)
+        fine = _integrate(c.f, c.y0, t, mpmath.mpf(10) ** -(dps + 8), k)
+        size = max(1, max(abs(v) for v in fine))
+        gap = max(abs(a - b) for a, b in zip(coarse, fine)) / size
+        if gap > mpmath.mpf(10) ** -dps:
+            raise ProblemError(f"reference solution of {problem.name!r} at t = {t}: two tolerances disagree "
+                               f"by {mpmath.nstr(gap, 3)} (relative), more than 1e-{dps}")
+        return fine
+
+
+def reference(problem: Problem, t, dps: int = 32, method: str = "auto") -> tuple:
+    """The solution at time t to ``dps`` digits, as a tuple of mpmath numbers.
+
+    ``method``: "exact" (the problem's closed form: harmonic oscillator, unperturbed Kepler
+    through Kepler's equation), "integrate" (``extrapolation``: GBS at dps + 20 digits, two
+    tolerances that must agree to 10^-dps relative), or "auto" (exact where available).
+    Results are cached in memory.
+
+    >>> from tableau_lab.numeric.problems import get_problem
+    >>> x = reference(get_problem("harmonic"), 1, dps=20)
+    >>> mpmath.nstr(x[0], 15), mpmath.nstr(x[1], 15)
+    ('0.54030230586814', '-0.841470984807897')
+    """
+    t = exact_value(t, "reference time")
+    if method not in ("auto", "exact", "integrate"):
+        raise ProblemError(f"method must be 'auto', 'exact' or 'integrate', not {method!r}")
+    key = (problem.key, t, int(dps), method)
+    if key not in _REFERENCES:
+        state = None
+        if method != "integrate" and problem.reference is not None:
+            state = problem.reference(problem, t, dps)
+        if state is None and method == "exact":
+            raise ProblemError(f"problem {problem.name!r} has no exact solution for these initial values")
+        if state is None:
+            state = extrapolation(problem, t, dps)
+        with mpmath.workdps(dps):
+            _REFERENCES[key] = tuple(mpmath.mpf(str(sp.N(v, dps + 10))) if isinstance(v, sp.Basic)
+                                     else +mpmath.mpf(v) for v in state)
+    return _REFERENCES[key]
