@@ -113,6 +113,70 @@ def _split(items):
     return [p.strip() for item in (items or []) for p in __import__("re").split(r";|,(?![^\[]*\])", item) if p.strip()]
 
 
+def _run(args) -> int:
+    from .exact.tableau_json import TableauError
+    from .experiments.runs import quick_run
+    from .numeric.integrate import IntegrationError
+    from .numeric.problems import ProblemError
+
+    if not args.method or not args.problem:
+        print("tableau-lab: error: run needs --method FILE and --problem NAME (scene files: planned)", file=sys.stderr)
+        return EXIT_INPUT
+    overrides = {}
+    try:
+        for item in args.set or []:
+            k, _, v = item.partition("=")
+            if not k or not v:
+                raise ValueError(f"--set {item!r}: write NAME=VALUE, e.g. e=0.6")
+            overrides[k.strip()] = _exact_number(v.strip(), f"--set {k}")
+        for key in ("q0", "p0", "y0"):
+            vals = getattr(args, key)
+            if vals is not None:
+                overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
+        if not args.h > 0:
+            raise ValueError(f"--h {args.h}: the step size must be positive")
+        if args.steps < 1:
+            raise ValueError(f"--steps {args.steps}: at least one step")
+        project = [p.strip() for p in args.project.split(",")] if args.project else []
+        res = quick_run(args.method, args.problem, args.h, args.steps, precision=args.precision, project=project,
+                        start=args.start, overrides=overrides)
+    except (TableauError, ProblemError, ValueError) as exc:
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except IntegrationError as exc:
+        print(f"tableau-lab: error: {args.method} on {args.problem}: {exc}", file=sys.stderr)
+        return EXIT_CLAIM
+    if args.json:
+        print(json.dumps(res, ensure_ascii=False))
+    else:
+        fin = ", ".join(f"{k} = [{', '.join(f'{x:.16g}' for x in v)}]" for k, v in res["final"].items())
+        print(f"{res['method']} on {res['problem']}: h = {res['h']:g}, {res['steps']} steps, {res['precision']}, "
+              f"start {res['start']}" + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
+        print(f"  final: {fin}")
+        print("  max |I − I(0)|: " + ", ".join(f"{k} {v:.3e}" for k, v in res["max_invariant_error"].items()))
+        print(f"  f evaluations {res['nfev']}, Newton iterations {res['newton_iterations']}, "
+              f"projection iterations {res['projection_iterations']}, {res['seconds']:.3f} s")
+    return EXIT_OK
+
+
+def _exact_number(text, what):
+    """A number from the command line, exactly: a decimal (0.6 is 3/5) or a tableau entry (2/3)."""
+    import re
+
+    import sympy as sp
+
+    from .exact.grammar import EntryError, parse_entry
+    if re.fullmatch(r"[+-]?(\d+\.\d*|\.\d+|\d+)([eE][+-]?\d{1,3})?", text.strip()):
+        return sp.Rational(text.strip())
+    try:
+        v = parse_entry(text)
+    except EntryError as exc:
+        raise ValueError(f"{what}: {exc}") from None
+    if v.free_symbols:
+        raise ValueError(f"{what}: {text!r} is not a number")
+    return v
+
+
 def _claim_kinds(key):
     from .exact.tableau_json import CLAIMS
     return CLAIMS[key][1]
@@ -163,6 +227,25 @@ def build_parser() -> argparse.ArgumentParser:
     sv.add_argument("--within", action="append", metavar="MATRICES",
                     help="with --locate: search only these matrices, e.g. 'A,B'")
     sv.set_defaults(run=_solve)
+    r = sub.add_parser("run", help="run a method on a problem (float64 or mpmath) and report the invariants",
+                       description="Integrate a built-in problem with a method file: the final state (through the "
+                                   "finishing method for GLMs), max |invariant − initial value|, f evaluations, "
+                                   "Newton and projection iterations, wall time. Exit 0: done; 1: the run failed "
+                                   "(message names step and time); 2: bad input.")
+    r.add_argument("--method", metavar="FILE", help="JSON tableau (no free parameters)")
+    r.add_argument("--problem", metavar="NAME",
+                   help="harmonic, pendulum, kepler, kepler_unperturbed, henon_heiles, fpu, outer_solar_system")
+    r.add_argument("--set", action="append", metavar="NAME=VALUE", help="problem parameter, e.g. e=0.9 (exact)")
+    r.add_argument("--q0", help="initial q, comma-separated"), r.add_argument("--p0", help="initial p")
+    r.add_argument("--y0", help="initial y (general problems)")
+    r.add_argument("--h", type=float, required=True, help="step size")
+    r.add_argument("--steps", type=int, required=True, help="number of steps")
+    r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
+    r.add_argument("--precision", default="float64", help="float64 (default) or mp:DIGITS, e.g. mp:32")
+    r.add_argument("--start", choices=("exact", "naive"), default="exact",
+                   help="GLM starting method: the computed one (default) or y^[0] = u y0")
+    r.add_argument("--json", action="store_true", help="one JSON object")
+    r.set_defaults(run=_run)
     return p
 
 

@@ -29,7 +29,7 @@ import numpy as np
 
 from .export import NumericMethod
 
-__all__ = ["integrate", "Run", "IntegrationError", "start_values", "finish"]
+__all__ = ["integrate", "Run", "IntegrationError", "start_values", "finish", "component_masks"]
 
 
 class IntegrationError(RuntimeError):
@@ -54,6 +54,7 @@ class Run:
     projection_iterations: int = 0
     seconds: float = 0.0
     completed: int = 0                                   # steps done
+    parasitic: list = field(default_factory=list)        # max |y^[n]_k|, k ≥ 2, at the records (GLMs)
 
     def max_invariant_error(self) -> dict:
         return {k: max((abs(float(x)) for x in v), default=0.0) for k, v in self.invariant_errors.items()}
@@ -136,40 +137,62 @@ class _Stepper:
         return self.h * (np.einsum("ij,jk->ik", nm.Aq, F) * self.mq + np.einsum("ij,jk->ik", nm.Ap, F) * self.mp) \
             if self.a.dtype is not object else self.h * ((nm.Aq @ F) * self.mq + (nm.Ap @ F) * self.mp)
 
-    def _newton(self, Ubar, n, t):
-        a, nm, h, s, d = self.a, self.nm, self.h, self.s, self.d
-        J = self.prob.jac(Ubar[0])
-        Jq, Jp = J * self.mq[:, None], J * self.mp[:, None]
-        M = np.eye(s * d, dtype=float if a.dtype is not object else object)
+    def _identity(self, k):
+        a = self.a
         if a.dtype is object:
-            M = np.array([[a.number(1) if i == j else a.number(0) for j in range(s * d)] for i in range(s * d)],
-                         dtype=object)
-        M = M - h * (np.kron(nm.Aq, Jq) + np.kron(nm.Ap, Jp))
-        Minv = a.lu(M)
-        Y = Ubar.copy()
-        F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-        prev = None
-        for it in range(60):
-            R = Ubar + self._rhs(F) - Y
-            dY = a.lu_solve(Minv, R.reshape(-1)).reshape(s, d)
-            Y = Y + dY
-            self.newton += 1
-            size = a.norm(dY.reshape(-1))
-            if not a.finite(dY.reshape(-1)):
-                break
+            return np.array([[a.number(1) if i == j else a.number(0) for j in range(k)] for i in range(k)], dtype=object)
+        return np.eye(k)
+
+    def _newton_matrix(self, Js):
+        """I − h Σ_j (A_q[:, j] ⊗ P_q J_j + A_p[:, j] ⊗ P_p J_j), J_j the Jacobian for stage j."""
+        nm, h, s, d = self.nm, self.h, self.s, self.d
+        M = self._identity(s * d)
+        for j, J in enumerate(Js):
+            Jq, Jp = J * self.mq[:, None], J * self.mp[:, None]
+            for i in range(s):
+                if nm.Aq[i, j] != 0 or nm.Ap[i, j] != 0:
+                    M[i * d:(i + 1) * d, j * d:(j + 1) * d] -= h * (nm.Aq[i, j] * Jq + nm.Ap[i, j] * Jp)
+        return M
+
+    def _newton(self, Ubar, n, t):
+        """Simplified Newton (one Jacobian, at the first stage input); if it stalls, full Newton
+        (Jacobians at the current stage values, refreshed each iteration); then fixed point."""
+        a, s, d = self.a, self.s, self.d
+        for full in (False, True):
+            J0 = self.prob.jac(Ubar[0])
+            Minv = None if full else self.a.lu(self._newton_matrix([J0] * s))
+            # attainable accuracy: round-off amplified by the conditioning of the stage system
+            amp = 1 + abs(float(self.h)) * float(np.max(np.abs(self.a.to_float(self.nm.Aq.reshape(-1))))) * s * float(
+                np.max(np.abs(self.a.to_float(J0.reshape(-1)))) if J0.size else 0.0)
+            Y = Ubar.copy()
             F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-            if size <= self.tol * (1 + a.norm(Y.reshape(-1))):
-                return F
-            if prev is not None and it > 3 and size > prev:
-                break                   # diverging: try fixed point
-            prev = size
+            prev = None
+            for it in range(60 if not full else 30):
+                if full:
+                    Minv = a.lu(self._newton_matrix([self.prob.jac(Y[j]) for j in range(s)]))
+                R = Ubar + self._rhs(F) - Y
+                dY = a.lu_solve(Minv, R.reshape(-1)).reshape(s, d)
+                Y = Y + dY
+                self.newton += 1
+                if not a.finite(dY.reshape(-1)):
+                    break
+                size = a.norm(dY.reshape(-1))
+                F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
+                scale = 1 + a.norm(Y.reshape(-1))
+                if size <= self.tol * scale:
+                    return F
+                if prev is not None and size >= 0.9 * prev and size <= 1000 * a.eps * scale * amp:
+                    return F                # stagnating at round-off level: converged to working precision
+                if prev is not None and it > 3 and size > prev:
+                    break                   # diverging
+                prev = size
         return self._fixed_point(Ubar, n, t)
 
     def _fixed_point(self, Ubar, n, t):
         a, s = self.a, self.s
         Y = Ubar.copy()
         F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-        size = float("inf")
+        size = prev = float("inf")
         for _ in range(200):
             Ynew = Ubar + self._rhs(F)
             size = a.norm((Ynew - Y).reshape(-1))
@@ -177,10 +200,12 @@ class _Stepper:
             if not a.finite(Y.reshape(-1)):
                 break
             F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-            if size <= self.tol * (1 + a.norm(Y.reshape(-1))):
+            scale = 1 + a.norm(Y.reshape(-1))
+            if size <= self.tol * scale or (size >= 0.9 * prev and size <= 1000 * a.eps * scale):
                 return F
+            prev = size
         raise IntegrationError(f"step {n} (t = {float(t):.6g}): the implicit stage equations did not converge "
-                               f"(simplified Newton and fixed-point iteration; last correction {size:.3g}, "
+                               f"(simplified and full Newton, then fixed-point iteration; last correction {size:.3g}, "
                                f"tolerance {self.tol:.3g}); try a smaller step size h = {float(self.h):.6g}")
 
     def step(self, Yin, n, t):
@@ -198,20 +223,37 @@ class _Stepper:
 
 
 def _project(prob, names, targets, y, a, n, t):
-    """y + ∇g(y)λ with g = invariants − targets, simplified Newton on λ; returns (y, iterations)."""
+    """y + ∇g(y)λ with g = invariants − targets, simplified Newton on λ; returns (y, iterations).
+    Converged when g is at the tolerance relative to the invariants' size, or when the
+    corrections stop shrinking with g already at round-off level (1000 ulp)."""
     G = np.array([prob.gradient(k, y) for k in names], dtype=a.dtype).T          # d × m
-    GtG = G.T @ G
-    inv = a.lu(GtG)
+    inv = a.lu(G.T @ G)
     lam = a.zeros(len(names))
-    z = y
-    for it in range(1, 51):
+    scale = 1 + max(abs(float(targets[k])) for k in names)
+    z, prev = y, None
+    for it in range(50):
         g = np.array([prob.invariant(k, z) - targets[k] for k in names], dtype=a.dtype)
+        res = a.norm(g) / scale
+        if res <= a.tol:
+            return z, it
         dl = -a.lu_solve(inv, g)
+        step = a.norm(dl)
+        if prev is not None and step >= prev and res <= 1000 * a.eps:
+            return z, it
+        prev = step
         lam = lam + dl
         z = y + G @ lam
-        if a.norm(dl) * max(1.0, a.norm(G.reshape(-1))) <= a.tol * (1 + a.norm(z)):
-            return z, it
-    raise IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge")
+    raise IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge "
+                           f"(residual {res:.3g} after 50 iterations)")
+
+
+def component_masks(prob, d: int):
+    """(P_q, P_p) as 0/1 vectors: q and p halves for a Hamiltonian problem, all q otherwise."""
+    problem = getattr(prob, "problem", None)
+    if problem is not None and problem.kind == "hamiltonian":
+        k = len(problem.q)
+        return ([1] * k + [0] * k, [0] * k + [1] * k)
+    return ([1] * d, [0] * d)
 
 
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
@@ -228,7 +270,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         y0 = np.array(list(y0), dtype=a.dtype)
         d = len(y0)
         if masks is None:
-            masks = (np.ones(d, dtype=a.dtype), np.zeros(d, dtype=a.dtype))
+            masks = component_masks(prob, d)
         masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
                       for m in masks)
         h = a.number(h) if a.dtype is object and not hasattr(h, "_mpf_") else h
@@ -249,6 +291,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             return sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
 
         def record(n, y):
+            if nm.r > 1:
+                run.parasitic.append(max(a.norm(Y[k]) for k in range(1, nm.r)))
             run.times.append(float(n * h))
             for k in names:
                 run.invariant_errors[k].append(prob.invariant(k, y) - targets[k])
@@ -269,6 +313,15 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 run.completed = n
                 if n % every == 0 or n == steps:
                     record(n, principal(Y))
+        except IntegrationError as exc:
+            if nm.r > 1 and len(run.parasitic) > 1:
+                k = int(np.argmin(run.parasitic))
+                raise IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
+                                       f"{run.parasitic[k]:.2e} at t = {run.times[k]:.4g}, "
+                                       f"{run.parasitic[-1]:.2e} at t = {run.times[-1]:.4g}"
+                                       + (" (growing: parasitism?)" if run.parasitic[-1] > 10 * run.parasitic[k] else ""),
+                                       ) from None
+            raise
         finally:
             run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
             run.seconds = time.perf_counter() - t0

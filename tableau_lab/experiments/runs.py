@@ -1,0 +1,150 @@
+r"""Quick runs and convergence studies: a method file, a problem, step sizes → numbers.
+
+``quick_run`` is what ``tableau-lab run --method FILE --problem NAME ...`` prints; ``convergence``
+measures the global error at a final time against the problem's high-precision reference for a
+range of step sizes and fits the order by least squares on the log–log points that lie above
+the round-off plateau.  A run that an instability destroys is kept as evidence (the step, the
+time, the message), never silently dropped.
+
+>>> r = quick_run("methods/gauss2.json", "harmonic", h=0.1, steps=100)
+>>> r["steps"], r["max_invariant_error"]["H"] < 1e-14
+(100, True)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..exact.tableau_json import load
+from ..numeric.codegen import compile_problem
+from ..numeric.export import to_numeric
+from ..numeric.integrate import IntegrationError, integrate
+from ..numeric.problems import get_problem, reference
+
+__all__ = ["quick_run", "convergence", "Convergence", "fit_order"]
+
+
+def _backend(precision: str):
+    if precision == "float64":
+        return "numpy", None
+    return "mpmath", int(precision.split(":")[1])
+
+
+def _setup(method, problem, precision, overrides):
+    m = load(method) if not hasattr(method, "kind") else method
+    P = get_problem(problem, **(overrides or {}))
+    backend, dps = _backend(precision)
+    cp = compile_problem(P, backend, dps)
+    nm = to_numeric(m, precision)
+    return m, P, cp, nm
+
+
+def quick_run(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None):
+    """One run; the result as a JSON-ready dict (final state through the finishing method)."""
+    m, P, cp, nm = _setup(method, problem, precision, overrides)
+    invs = tuple(P.invariants)
+    run = integrate(nm, cp, cp.y0, h, steps, start=start, project=tuple(project), invariants=invs)
+    final = [float(x) for x in run.final]
+    out = {"method": m.name, "problem": P.name, "h": float(h), "steps": steps, "precision": precision,
+           "start": run.start, "projection": list(project)}
+    if P.kind == "hamiltonian":
+        k = len(P.q)
+        out["final"] = {"q": final[:k], "p": final[k:]}
+    else:
+        out["final"] = {"y": final}
+    out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev, newton_iterations=run.newton_iterations,
+               projection_iterations=run.projection_iterations, seconds=round(run.seconds, 4))
+    return out
+
+
+def fit_order(hs, errs, floor: float):
+    """Least-squares slope of log err against log h over the points above 100·floor (the
+    round-off plateau); None with fewer than three such points."""
+    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs) if e is not None and e > 100 * floor]
+    if len(pts) < 3:
+        return None
+    x, y = np.array(pts).T
+    return float(np.polyfit(x, y, 1)[0])
+
+
+@dataclass
+class Convergence:
+    method: str
+    problem: str
+    precision: str
+    T: float
+    order: int                    # the computed order of the method
+    hs: list = field(default_factory=list)
+    errors: list = field(default_factory=list)   # None where the run failed
+    slope: float | None = None
+    failures: list = field(default_factory=list)  # (h, message)
+    nfev: list = field(default_factory=list)
+
+    @property
+    def verdict(self) -> str:
+        if self.slope is not None and abs(self.slope - self.order) <= 0.2:
+            return "order confirmed"
+        if self.failures:
+            return "destroyed by an instability: " + self.failures[0][1]
+        return "order NOT confirmed"
+
+    def to_json(self):
+        return {"method": self.method, "problem": self.problem, "precision": self.precision, "T": self.T,
+                "order": self.order, "h": self.hs, "error": self.errors, "slope": self.slope,
+                "verdict": self.verdict, "failures": [{"h": h, "message": msg} for h, msg in self.failures],
+                "nfev": self.nfev}
+
+
+def convergence(method, problem, T=10.0, steps=None, *, precision="float64", start="exact", overrides=None,
+                ref_dps: int = 40, n0: int = 50, max_steps: int = 1 << 15) -> Convergence:
+    """Global error at T against the problem's reference solution.  With ``steps`` given, those
+    step counts; otherwise n = n0, 2n0, 4n0, … until three successive local slopes agree to 0.1
+    (the asymptotic regime), the error reaches the round-off plateau, or ``max_steps``.  Runs that
+    fail (an instability, a stage solve that diverges) are recorded with their message; the slope
+    is fitted by least squares on the last points above the plateau, at most five."""
+    m, P, cp, nm = _setup(method, problem, precision, overrides)
+    a = nm.arith
+    ref = reference(P, T, max(ref_dps, a.dps + 8))
+    out = Convergence(m.name, P.name, precision, T, nm.order)
+    Texact = __import__("sympy").nsimplify(T)
+    ns = list(steps) if steps else []
+    n = n0
+    while True:
+        if steps:
+            if not ns:
+                break
+            n = ns.pop(0)
+        elif n > max_steps:
+            break
+        h = a.number(Texact / n)
+        try:
+            run = integrate(nm, cp, cp.y0, h, n, start=start)
+        except IntegrationError as exc:
+            out.hs.append(float(T) / n)
+            out.errors.append(None)
+            out.failures.append((float(T) / n, str(exc)))
+            out.nfev.append(None)
+            n *= 2
+            continue
+        with a.context():
+            err = float(max(abs(x - a.number(__import__("sympy").Float(str(r), a.dps + 8))) for x, r in zip(run.final, ref)))
+        out.hs.append(float(T) / n)
+        out.errors.append(err)
+        out.nfev.append(run.nfev)
+        if not steps and _settled(out.hs, out.errors, a.eps):
+            break
+        n *= 2
+    out.slope = fit_order(out.hs[-5:] if not steps else out.hs, out.errors[-5:] if not steps else out.errors, a.eps)
+    return out
+
+
+def _settled(hs, errs, floor) -> bool:
+    """Three successive local slopes within 0.1 of each other, or the round-off plateau reached."""
+    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs) if e is not None]
+    if errs and errs[-1] is not None and errs[-1] <= 100 * floor:
+        return True
+    if len(pts) < 4:
+        return False
+    sl = [(pts[i][1] - pts[i - 1][1]) / (pts[i][0] - pts[i - 1][0]) for i in range(len(pts) - 3, len(pts))]
+    return max(sl) - min(sl) < 0.1
