@@ -119,8 +119,16 @@ def _run(args) -> int:
     from .numeric.integrate import IntegrationError
     from .numeric.problems import ProblemError
 
+    if args.scenes:
+        if args.method or args.problem:
+            print("tableau-lab: error: give scene files or --method/--problem, not both", file=sys.stderr)
+            return EXIT_INPUT
+        return _run_scenes(args)
     if not args.method or not args.problem:
-        print("tableau-lab: error: run needs --method FILE and --problem NAME (scene files: planned)", file=sys.stderr)
+        print("tableau-lab: error: run needs scene files, or --method FILE and --problem NAME", file=sys.stderr)
+        return EXIT_INPUT
+    if args.h is None or args.steps is None:
+        print("tableau-lab: error: a quick run needs --h and --steps", file=sys.stderr)
         return EXIT_INPUT
     overrides = {}
     try:
@@ -159,22 +167,36 @@ def _run(args) -> int:
     return EXIT_OK
 
 
+def _run_scenes(args) -> int:
+    from .experiments.scene import SceneError, run_scene
+    from .exact.tableau_json import TableauError
+
+    status = EXIT_OK
+    for path in args.scenes:
+        try:
+            meta = run_scene(path, out_root=args.out)
+        except (SceneError, TableauError, ValueError) as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            status = EXIT_INPUT
+            continue
+        where = f"{args.out}/{meta['name']}"
+        print(f"== {path} → {where}/ ({'complete' if meta['complete'] else 'INCOMPLETE'})")
+        for r in meta["runs"]:
+            errs = ", ".join(f"{k} {v:.2e}" for k, v in r["max_invariant_error"].items())
+            print(f"  {r['label']}: {r['status']}, {r['completed_steps']} steps, max |ΔI|: {errs}, {r['seconds']:.2f} s"
+                  + (f"\n    {r['message']}" if r["message"] else ""))
+        print("  plots: " + ", ".join(meta["plots"]))
+        if not meta["complete"] and status == EXIT_OK:
+            status = EXIT_CLAIM
+    return status
+
+
 def _exact_number(text, what):
-    """A number from the command line, exactly: a decimal (0.6 is 3/5) or a tableau entry (2/3)."""
-    import re
-
-    import sympy as sp
-
-    from .exact.grammar import EntryError, parse_entry
-    if re.fullmatch(r"[+-]?(\d+\.\d*|\.\d+|\d+)([eE][+-]?\d{1,3})?", text.strip()):
-        return sp.Rational(text.strip())
+    from .exact.grammar import EntryError, parse_number
     try:
-        v = parse_entry(text)
+        return parse_number(text)
     except EntryError as exc:
         raise ValueError(f"{what}: {exc}") from None
-    if v.free_symbols:
-        raise ValueError(f"{what}: {text!r} is not a number")
-    return v
 
 
 def _claim_kinds(key):
@@ -227,19 +249,22 @@ def build_parser() -> argparse.ArgumentParser:
     sv.add_argument("--within", action="append", metavar="MATRICES",
                     help="with --locate: search only these matrices, e.g. 'A,B'")
     sv.set_defaults(run=_solve)
-    r = sub.add_parser("run", help="run a method on a problem (float64 or mpmath) and report the invariants",
-                       description="Integrate a built-in problem with a method file: the final state (through the "
+    r = sub.add_parser("run", help="run scenes, or a method on a problem (float64 or mpmath)",
+                       description="Run scene files (data, metadata and plots under reports/<name>/), or integrate "
+                                   "a built-in problem with a method file: the final state (through the "
                                    "finishing method for GLMs), max |invariant − initial value|, f evaluations, "
                                    "Newton and projection iterations, wall time. Exit 0: done; 1: the run failed "
                                    "(message names step and time); 2: bad input.")
+    r.add_argument("scenes", nargs="*", metavar="SCENE", help="scene files (JSON); see reports/scenes/")
+    r.add_argument("--out", default="reports", help="where scene outputs go (default reports/)")
     r.add_argument("--method", metavar="FILE", help="JSON tableau (no free parameters)")
     r.add_argument("--problem", metavar="NAME",
                    help="harmonic, pendulum, kepler, kepler_unperturbed, henon_heiles, fpu, outer_solar_system")
     r.add_argument("--set", action="append", metavar="NAME=VALUE", help="problem parameter, e.g. e=0.9 (exact)")
     r.add_argument("--q0", help="initial q, comma-separated"), r.add_argument("--p0", help="initial p")
     r.add_argument("--y0", help="initial y (general problems)")
-    r.add_argument("--h", type=float, required=True, help="step size")
-    r.add_argument("--steps", type=int, required=True, help="number of steps")
+    r.add_argument("--h", type=float, help="step size")
+    r.add_argument("--steps", type=int, help="number of steps")
     r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
     r.add_argument("--precision", default="float64", help="float64 (default) or mp:DIGITS, e.g. mp:32")
     r.add_argument("--start", choices=("exact", "naive"), default="exact",

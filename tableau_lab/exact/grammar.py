@@ -38,7 +38,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-__all__ = ["EntryError", "parse_entry", "format_entry", "format_matrix", "parameter", "LIMITS"]
+__all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS"]
 
 LIMITS = {
     "text_length": 2000,      # characters in one entry
@@ -323,3 +323,21 @@ def format_matrix(M) -> list:
     if M.cols == 1:
         return [str(format_entry(x)) for x in M]
     return [[str(format_entry(x)) for x in M.row(i)] for i in range(M.rows)]
+
+
+def parse_number(text: str) -> sp.Expr:
+    """A number typed by a user (command line, scene file), exactly: a decimal such as 0.6 or
+    1e-3 is read as the rational it denotes (3/5, 1/1000); anything else as a tableau entry
+    without names (2/3, sqrt(2)/2).
+
+    >>> parse_number("0.6"), parse_number("1/100"), parse_number("2.5e-2")
+    (3/5, 1/100, 1/40)
+    """
+    import re
+    text = str(text).strip()
+    if re.fullmatch(r"[+-]?(\d{1,30}\.\d{0,30}|\.\d{1,30}|\d{1,30})([eE][+-]?\d{1,3})?", text):
+        return sp.Rational(text)
+    v = parse_entry(text)
+    if v.free_symbols:
+        raise EntryError(f"{text!r} is not a number")
+    return v

@@ -258,7 +258,7 @@ def component_masks(prob, d: int):
 
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
-              masks=None, problem_name: str = "") -> Run:
+              masks=None, problem_name: str = "", progress=None) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
@@ -313,14 +313,21 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 run.completed = n
                 if n % every == 0 or n == steps:
                     record(n, principal(Y))
+                    if progress is not None:
+                        progress(n)
+        except KeyboardInterrupt as exc:
+            exc.partial = run                      # the records so far, for a valid incomplete file
+            raise
         except IntegrationError as exc:
+            exc.partial = run
             if nm.r > 1 and len(run.parasitic) > 1:
                 k = int(np.argmin(run.parasitic))
-                raise IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
+                err = IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
                                        f"{run.parasitic[k]:.2e} at t = {run.times[k]:.4g}, "
                                        f"{run.parasitic[-1]:.2e} at t = {run.times[-1]:.4g}"
-                                       + (" (growing: parasitism?)" if run.parasitic[-1] > 10 * run.parasitic[k] else ""),
-                                       ) from None
+                                       + (" (growing: parasitism?)" if run.parasitic[-1] > 10 * run.parasitic[k] else ""))
+                err.partial = run
+                raise err from None
             raise
         finally:
             run.nfev, run.newton_iterations = stepper.nfev, stepper.newton

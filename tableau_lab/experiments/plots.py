@@ -1,0 +1,92 @@
+"""Plots of scene data (matplotlib, Agg backend): invariant errors against time, orbits, the
+parasitic components of GLM inputs.  Reads the arrays a scene run produced; never runs
+anything itself."""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["draw"]
+
+
+def _figure():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, target: Path):
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".png")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=110, bbox_inches="tight")
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _floor(run) -> float:
+    """Exact zeros are drawn at a tenth of the precision's unit round-off."""
+    p = run["precision"]
+    return 1.1e-17 if p == "float64" else 10.0 ** (-int(p.split(":")[1]) - 1)
+
+
+def draw(scene, meta, arrays, out: Path) -> list:
+    """Draw the scene's plots into ``out``; returns the file names."""
+    plt = _figure()
+    names = []
+    runs = meta["runs"]
+    suffix = "" if meta["complete"] else ".incomplete"
+    title = scene.title + ("" if meta["complete"] else " (incomplete)")
+    for kind in scene.plots:
+        if kind == "invariants":
+            invs = [k for k in scene.problem.invariants if any(f"run{i}_{k}" in arrays for i in range(len(runs)))]
+            fig, axes = plt.subplots(len(invs), 1, figsize=(7, 2.6 * len(invs)), squeeze=False, sharex=True)
+            for ax, k in zip(axes[:, 0], invs):
+                for i, r in enumerate(runs):
+                    t, e = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_{k}")
+                    if t is None or e is None:
+                        continue
+                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), lw=0.8, label=r["label"])
+                ax.set_ylabel(f"|{k}(y) − {k}(y₀)|")
+                ax.grid(True, which="both", alpha=0.3)
+            axes[-1, 0].set_xlabel("t")
+            axes[0, 0].legend(fontsize=8)
+            axes[0, 0].set_title(title, fontsize=10)
+        elif kind in ("orbit", "state"):
+            fig, ax = plt.subplots(figsize=(5.5, 5))
+            for i, r in enumerate(runs):
+                y = arrays.get(f"run{i}_y")
+                if y is None:
+                    continue
+                d = y.shape[1] // 2 if scene.problem.kind == "hamiltonian" else 1
+                if kind == "orbit" and d >= 2:
+                    ax.plot(y[:, 0], y[:, 1], lw=0.6, label=r["label"])
+                    ax.set_xlabel("q₁"), ax.set_ylabel("q₂")
+                    ax.set_aspect("equal", adjustable="datalim")
+                else:
+                    ax.plot(y[:, 0], y[:, d], lw=0.6, label=r["label"])
+                    ax.set_xlabel("q"), ax.set_ylabel("p")
+            ax.legend(fontsize=8)
+            ax.set_title(title, fontsize=10)
+        elif kind == "parasitic":
+            fig, ax = plt.subplots(figsize=(7, 3))
+            for i, r in enumerate(runs):
+                t, v = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_parasitic")
+                if t is not None and v is not None:
+                    ax.semilogy(t[: len(v)], np.maximum(v, 1e-300), lw=0.8, label=r["label"])
+            ax.set_xlabel("t"), ax.set_ylabel("max |y^[n]_k|, k ≥ 2")
+            ax.legend(fontsize=8)
+            ax.set_title(title, fontsize=10)
+        else:  # pragma: no cover - validated in load_scene
+            continue
+        name = f"{scene.name}_{kind}{suffix}.png"
+        _save(fig, out / name)
+        plt.close(fig)
+        names.append(name)
+    return names

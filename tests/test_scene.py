@@ -1,0 +1,97 @@
+"""Scenes: files written atomically, metadata that matches a direct run, bad scenes refused
+before anything is written, failed and interrupted runs kept as data marked incomplete."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tableau_lab.cli import main
+from tableau_lab.experiments.runs import quick_run
+from tableau_lab.experiments.scene import SceneError, load_scene, run_scene
+
+METHODS = (Path(__file__).parent.parent / "methods").resolve()
+
+
+def _scene(tmp_path, **over):
+    d = {"format": "tableau_lab/scene/1", "name": "t1", "problem": {"name": "kepler", "set": {"e": "0.6"}},
+         "h": "1/100", "steps": 300,
+         "runs": [{"method": str(METHODS / "gauss2.json")},
+                  {"method": str(METHODS / "rk4.json"), "project": ["H", "L"]}],
+         "record_every": 10, "plots": ["invariants", "orbit"]}
+    d.update(over)
+    p = tmp_path / "scene.json"
+    p.write_text(json.dumps(d))
+    return p
+
+
+def test_scene_writes_data_meta_plots(tmp_path):
+    meta = run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
+    out = tmp_path / "out" / "t1"
+    assert meta["complete"] and (out / "data.npz").exists() and (out / "meta.json").exists()
+    assert {p.name for p in out.glob("*.png")} == {"t1_invariants.png", "t1_orbit.png"}
+    data = np.load(out / "data.npz")
+    assert len(data["run0_t"]) == 31 and data["run0_y"].shape == (31, 4)      # 300 steps, every 10, and t = 0
+    direct = quick_run(METHODS / "gauss2.json", "kepler", h=0.01, steps=300)
+    assert abs(meta["runs"][0]["max_invariant_error"]["H"] - direct["max_invariant_error"]["H"]) < 1e-15
+    assert meta["runs"][1]["max_invariant_error"]["L"] < 1e-14                  # projected onto H and L
+    assert json.loads((out / "meta.json").read_text())["h"] == "1/100"
+    assert not list(out.glob(".*"))                                            # no temporary files left
+
+
+@pytest.mark.parametrize("over, match", [
+    ({"problem": "nope"}, "unknown problem"),
+    ({"h": "-1/100"}, "h must be a positive"),
+    ({"h": 0.01}, "exact strings"),
+    ({"color": "red"}, "unknown keys"),
+    ({"steps": None, "T": "1/3"}, "exactly one of steps and T"),
+    ({"runs": [{"method": "missing.json"}]}, "no file missing.json"),
+    ({"runs": [{"method": str(METHODS / "rk4.json"), "project": ["Q"]}]}, "not invariants"),
+    ({"runs": [{"method": str(METHODS / "rk4.json"), "precision": "mp:2"}]}, "precision"),
+    ({"plots": ["pie"]}, "unknown plots"),
+    ({"problem": {"name": "kepler", "set": {"q0": ["0", "0"]}}}, "not finite"),
+    ({"name": "../evil"}, "file-name-safe"),
+])
+def test_bad_scenes_refused_and_nothing_written(tmp_path, capsys, over, match):
+    d = _scene(tmp_path, **{k: v for k, v in over.items() if v is not None})
+    if over.get("steps", 1) is None:
+        raw = json.loads(d.read_text())
+        raw.pop("steps")
+        raw["T"] = over["T"]
+        raw["steps"] = 300
+        d.write_text(json.dumps(raw))
+    with pytest.raises(SceneError, match=match):
+        load_scene(d)
+    assert main(["run", str(d), "--out", str(tmp_path / "out")]) == 2
+    assert match.split()[0] in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_failed_run_kept_as_incomplete_data(tmp_path, capsys):
+    p = _scene(tmp_path, problem="pendulum", h="20", steps=10, record_every=1,
+               runs=[{"method": str(METHODS / "gauss2.json")}], plots=["invariants"])
+    assert main(["run", str(p), "--out", str(tmp_path / "out")]) == 1
+    out = tmp_path / "out" / "t1"
+    assert not (out / "data.npz").exists() and (out / "data.incomplete.npz").exists()
+    meta = json.loads((out / "meta.incomplete.json").read_text())
+    assert meta["runs"][0]["status"] == "failed" and "step 3 (t = 60)" in meta["runs"][0]["message"]
+    assert len(np.load(out / "data.incomplete.npz")["run0_t"]) == 3                 # t = 0, 20, 40
+
+
+def test_ctrl_c_leaves_valid_incomplete_file(tmp_path, monkeypatch):
+    from tableau_lab.numeric import integrate as I
+    calls = {"n": 0}
+    real = I._Stepper.step
+
+    def step(self, *a):
+        calls["n"] += 1
+        if calls["n"] == 150:
+            raise KeyboardInterrupt
+        return real(self, *a)
+    monkeypatch.setattr(I._Stepper, "step", step)
+    with pytest.raises(KeyboardInterrupt):
+        run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
+    out = tmp_path / "out" / "t1"
+    meta = json.loads((out / "meta.incomplete.json").read_text())
+    assert meta["runs"][0]["status"] == "interrupted" and meta["runs"][0]["completed_steps"] == 149
+    assert len(np.load(out / "data.incomplete.npz")["run0_t"]) == 15               # records up to step 140
