@@ -141,12 +141,13 @@ def _run(args) -> int:
             vals = getattr(args, key)
             if vals is not None:
                 overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
-        if not args.h > 0:
+        h = _exact_number(args.h, "--h")
+        if not h > 0:
             raise ValueError(f"--h {args.h}: the step size must be positive")
         if args.steps < 1:
             raise ValueError(f"--steps {args.steps}: at least one step")
         project = [p.strip() for p in args.project.split(",")] if args.project else []
-        res = quick_run(args.method, args.problem, args.h, args.steps, precision=args.precision, project=project,
+        res = quick_run(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
                         start=args.start, overrides=overrides)
     except (TableauError, ProblemError, ValueError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -157,7 +158,8 @@ def _run(args) -> int:
     if args.json:
         print(json.dumps(res, ensure_ascii=False))
     else:
-        fin = ", ".join(f"{k} = [{', '.join(f'{x:.16g}' for x in v)}]" for k, v in res["final"].items())
+        fin = ", ".join(f"{k} = [{', '.join(x if isinstance(x, str) else f'{x:.16g}' for x in v)}]"
+                        for k, v in res["final"].items())
         print(f"{res['method']} on {res['problem']}: h = {res['h']:g}, {res['steps']} steps, {res['precision']}, "
               f"start {res['start']}" + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
         print(f"  final: {fin}")
@@ -263,7 +265,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--set", action="append", metavar="NAME=VALUE", help="problem parameter, e.g. e=0.9 (exact)")
     r.add_argument("--q0", help="initial q, comma-separated"), r.add_argument("--p0", help="initial p")
     r.add_argument("--y0", help="initial y (general problems)")
-    r.add_argument("--h", type=float, help="step size")
+    r.add_argument("--h", help="step size, read exactly (0.01 is 1/100)")
     r.add_argument("--steps", type=int, help="number of steps")
     r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
     r.add_argument("--precision", default="float64", help="float64 (default) or mp:DIGITS, e.g. mp:32")

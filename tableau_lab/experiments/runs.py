@@ -45,7 +45,11 @@ def quick_run(method, problem, h, steps, *, precision="float64", project=(), sta
     m, P, cp, nm = _setup(method, problem, precision, overrides)
     invs = tuple(P.invariants)
     run = integrate(nm, cp, cp.y0, h, steps, start=start, project=tuple(project), invariants=invs)
-    final = [float(x) for x in run.final]
+    if precision == "float64":
+        final = [float(x) for x in run.final]
+    else:                                     # all digits of a multiprecision run, as strings
+        import mpmath
+        final = [mpmath.nstr(x, nm.arith.dps, strip_zeros=False) for x in run.final]
     out = {"method": m.name, "problem": P.name, "h": float(h), "steps": steps, "precision": precision,
            "start": run.start, "projection": list(project)}
     if P.kind == "hamiltonian":

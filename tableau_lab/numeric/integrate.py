@@ -273,7 +273,11 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             masks = component_masks(prob, d)
         masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
                       for m in masks)
-        h = a.number(h) if a.dtype is object and not hasattr(h, "_mpf_") else h
+        import sympy as sp
+        if isinstance(h, (sp.Basic, int)):
+            h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
+        elif a.dtype is object and not hasattr(h, "_mpf_"):
+            h = a.number(sp.Rational(repr(float(h))))   # a float: the decimal it prints as
         run = Run(nm.name, problem_name, a.name, float(h), steps, start if nm.r > 1 else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
