@@ -150,7 +150,7 @@ def load_scene(path) -> Scene:
         start = r.get("start", data.get("start", "exact"))
         if start not in ("exact", "naive"):
             raise SceneError(f"{path}: {where}.start must be exact or naive")
-        out_runs.append({"method": mpath, "project": tuple(project), "precision": prec, "start": start,
+        out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project), "precision": prec, "start": start,
                          "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}" if project else "")})
     every = data.get("record_every", max(1, steps // 1000))
     if not isinstance(every, int) or every < 1:
@@ -228,7 +228,7 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
             arrays[f"{key}_y"] = np.array(run.values)
         if run.parasitic:
             arrays[f"{key}_parasitic"] = np.array(run.parasitic)
-        meta_runs.append({"label": r["label"], "method": m.name, "file": str(r["method"]), "precision": r["precision"],
+        meta_runs.append({"label": r["label"], "method": m.name, "file": r["as_written"], "precision": r["precision"],
                           "start": run.start, "projection": list(r["project"]), "status": status, "message": message,
                           "completed_steps": run.completed, "nfev": run.nfev, "newton_iterations": run.newton_iterations,
                           "projection_iterations": run.projection_iterations, "seconds": round(run.seconds, 3),
