@@ -68,11 +68,14 @@ def test_bad_scenes_refused_and_nothing_written(tmp_path, capsys, over, match):
 
 
 def test_failed_run_kept_as_incomplete_data(tmp_path, capsys):
+    good = _scene(tmp_path, problem="pendulum", h="1/10", steps=10, runs=[{"method": str(METHODS / "gauss2.json")}])
+    assert main(["run", str(good), "--out", str(tmp_path / "out")]) == 0          # an earlier complete run
     p = _scene(tmp_path, problem="pendulum", h="20", steps=10, record_every=1,
                runs=[{"method": str(METHODS / "gauss2.json")}], plots=["invariants"])
     assert main(["run", str(p), "--out", str(tmp_path / "out")]) == 1
     out = tmp_path / "out" / "t1"
     assert not (out / "data.npz").exists() and (out / "data.incomplete.npz").exists()
+    assert not (out / "meta.json").exists() and not (out / "t1_orbit.png").exists()   # nothing stale left
     meta = json.loads((out / "meta.incomplete.json").read_text())
     assert meta["runs"][0]["status"] == "failed" and "step 3 (t = 60)" in meta["runs"][0]["message"]
     assert len(np.load(out / "data.incomplete.npz")["run0_t"]) == 3                 # t = 0, 20, 40

@@ -241,6 +241,8 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
             "complete": all(r["status"] == "completed" for r in meta_runs) and len(meta_runs) == len(sc.runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
+    for stale in list(out.glob("data*.npz")) + list(out.glob("meta*.json")) + list(out.glob(f"{sc.name}_*.png")):
+        stale.unlink()                      # a previous run's files must not contradict this one's
     _atomic_write(out / f"data{suffix}.npz", lambda tmp: np.savez_compressed(open(tmp, "wb"), **arrays))
     _atomic_write(out / f"meta{suffix}.json", lambda tmp: Path(tmp).write_text(json.dumps(meta, indent=1, ensure_ascii=False)))
     meta["plots"] = draw(sc, meta, arrays, out) if meta_runs else []
