@@ -90,3 +90,26 @@ def draw(scene, meta, arrays, out: Path) -> list:
         plt.close(fig)
         names.append(name)
     return names
+
+
+def draw_roundoff(result: dict, target: Path, title: str) -> None:
+    """RMS round-off (float64 − the same method at high precision) against the step number,
+    with and without compensated summation, and the √n reference slope."""
+    plt = _figure()
+    fig, ax = plt.subplots(figsize=(6.5, 3.6))
+    n = np.array(result["n"], dtype=float)
+    keep = n > 0
+    for key, style in (("plain", "-"), ("compensated", "-")):
+        v = np.array(result[key])
+        ax.loglog(n[keep], np.maximum(v[keep], 1e-20), style, lw=0.9,
+                  label=f"{key} summation (fitted exponent {result['slope_' + key]:.2f})")
+    ref = np.array(result["plain"])[keep]
+    if len(ref):
+        ax.loglog(n[keep], ref[-1] * np.sqrt(n[keep] / n[keep][-1]), "k:", lw=0.8, label="√n (Brouwer's law)")
+    ax.set_xlabel("steps n"), ax.set_ylabel("RMS |y_float64 − y_exact arithmetic|")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title, fontsize=10)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    _save(fig, target)
+    plt.close(fig)

@@ -225,7 +225,7 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
         for k, v in run.invariant_errors.items():
             arrays[f"{key}_{k}"] = np.array([float(x) for x in v])
         if want_states and run.values:
-            arrays[f"{key}_y"] = np.array(run.values)
+            arrays[f"{key}_y"] = np.array([nm.arith.to_float(v) for v in run.values])
         if run.parasitic:
             arrays[f"{key}_parasitic"] = np.array(run.parasitic)
         meta_runs.append({"label": r["label"], "method": m.name, "file": r["as_written"], "precision": r["precision"],

@@ -46,7 +46,7 @@ class Run:
     start: str
     projected: tuple
     times: list = field(default_factory=list)           # recorded times
-    values: list = field(default_factory=list)          # recorded (finished) states, if asked
+    values: list = field(default_factory=list)          # recorded (finished) states at the working precision
     invariant_errors: dict = field(default_factory=dict)  # name -> [I(y) − I(y0)] at the records
     final: object = None                                 # finished state at the end
     nfev: int = 0
@@ -101,7 +101,7 @@ def finish(nm: NumericMethod, prob, Y, h):
 
 
 class _Stepper:
-    def __init__(self, nm: NumericMethod, prob, h, d, masks):
+    def __init__(self, nm: NumericMethod, prob, h, d, masks, compensated: bool = True):
         self.nm, self.prob, self.h = nm, prob, h
         self.a = nm.arith
         self.mq, self.mp = masks
@@ -109,7 +109,7 @@ class _Stepper:
         self.nfev = 0
         self.newton = 0
         self.first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
-        self.comp = np.zeros(d, dtype=self.a.dtype) if self.first_is_increment else None
+        self.comp = np.zeros(d, dtype=self.a.dtype) if self.first_is_increment and compensated else None
         if self.comp is not None and self.a.dtype is object:
             self.comp = self.a.zeros(d)
         self.tol = self.a.tol
@@ -258,13 +258,14 @@ def component_masks(prob, d: int):
 
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
-              masks=None, problem_name: str = "", progress=None) -> Run:
+              masks=None, problem_name: str = "", progress=None, compensated: bool = True) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
     ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
-    if ``record_states``; memory grows with the records only."""
+    if ``record_states``; memory grows with the records only.  ``compensated=False`` turns the
+    Kahan summation of the principal increment off (to measure what it buys)."""
     a = nm.arith
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
@@ -282,7 +283,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
-        stepper = _Stepper(nm, prob, h, d, masks)
+        stepper = _Stepper(nm, prob, h, d, masks, compensated)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)
@@ -301,7 +302,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             for k in names:
                 run.invariant_errors[k].append(prob.invariant(k, y) - targets[k])
             if record_states:
-                run.values.append(a.to_float(y))
+                run.values.append(y.copy())          # at the working precision
 
         record(0, principal(Y))
         try:
