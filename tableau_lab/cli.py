@@ -222,6 +222,39 @@ def _roundoff(args) -> int:
     return EXIT_OK
 
 
+def _convergence(args) -> int:
+    from pathlib import Path
+
+    from .exact.tableau_json import TableauError
+    from .experiments.plots import draw_convergence
+    from .experiments.runs import convergence
+    from .experiments.scene import _atomic_write
+    from .numeric.problems import ProblemError
+
+    results, status = [], EXIT_OK
+    for path in args.files:
+        try:
+            c = convergence(path, args.problem, T=float(_exact_number(args.T, "--T")), precision=args.precision,
+                            max_steps=args.max_steps, start=args.start)
+        except (TableauError, ProblemError, ValueError) as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            status = EXIT_INPUT
+            continue
+        results.append(c.to_json())
+        slope = "—" if c.slope is None else f"{c.slope:5.2f}"
+        print(f"{c.method[:44]:44s} p = {c.order}  slope {slope}  n ≤ {int(c.T / min(c.hs)):6d}  {c.verdict[:70]}",
+              flush=True)
+        if not c.verdict.startswith(("order confirmed", "destroyed")) and status == EXIT_OK:
+            status = EXIT_CLAIM
+    if results:
+        name = f"convergence_{args.problem}_{args.precision.replace(':', '')}"
+        out = Path(args.out)
+        _atomic_write(out / f"{name}.json", lambda tmp: Path(tmp).write_text(json.dumps(results, indent=1)))
+        draw_convergence(results, out / f"{name}.png", f"{args.problem}, T = {args.T}, {args.precision}")
+        print(f"wrote {out / name}.json and .png")
+    return status
+
+
 def _exact_number(text, what):
     from .exact.grammar import EntryError, parse_number
     try:
@@ -315,6 +348,19 @@ def build_parser() -> argparse.ArgumentParser:
     ro.add_argument("--digits", type=int, default=32)
     ro.add_argument("--out", default="reports/roundoff")
     ro.set_defaults(run=_roundoff)
+    cv = sub.add_parser("convergence", help="measured order: global error at T against h, least-squares slope",
+                        description="For each method file: the global error at T against a high-precision "
+                                    "reference, for n = 50, 100, 200, ... steps until the local slopes settle or "
+                                    "round-off is reached; the least-squares slope is compared with the computed "
+                                    "order. Failed runs are kept as evidence. Exit 1 if an order is not confirmed.")
+    cv.add_argument("files", nargs="+", metavar="FILE")
+    cv.add_argument("--problem", required=True)
+    cv.add_argument("--T", default="10")
+    cv.add_argument("--precision", default="float64")
+    cv.add_argument("--max-steps", type=int, default=1 << 15)
+    cv.add_argument("--start", choices=("exact", "naive"), default="exact")
+    cv.add_argument("--out", default="reports/convergence")
+    cv.set_defaults(run=_convergence)
     return p
 
 

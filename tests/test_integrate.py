@@ -124,3 +124,11 @@ def test_roundoff_separated_brouwer_and_compensation():
     assert 0.3 < r["slope_plain"] < 0.8
     assert r["compensated"][-1] < r["plain"][-1] / 5
     assert max(r["plain"]) < 1e-13                     # round-off, not method error (that is ~1e-9 here)
+
+
+def test_convergence_cli_writes_report(tmp_path, capsys):
+    assert main(["convergence", str(METHODS / "rk4.json"), str(METHODS / "implicit_midpoint.json"),
+                 "--problem", "harmonic", "--out", str(tmp_path)]) == 0
+    data = json.loads((tmp_path / "convergence_harmonic_float64.json").read_text())
+    assert [round(d["slope"]) for d in data] == [4, 2] and (tmp_path / "convergence_harmonic_float64.png").exists()
+    assert main(["convergence", str(METHODS / "rk4.json"), "--problem", "nope", "--out", str(tmp_path)]) == 2

@@ -98,3 +98,17 @@ def test_ctrl_c_leaves_valid_incomplete_file(tmp_path, monkeypatch):
     meta = json.loads((out / "meta.incomplete.json").read_text())
     assert meta["runs"][0]["status"] == "interrupted" and meta["runs"][0]["completed_steps"] == 149
     assert len(np.load(out / "data.incomplete.npz")["run0_t"]) == 15               # records up to step 140
+
+
+def test_user_defined_problem_in_a_scene(tmp_path):
+    """A problem written in the scene (safe grammar): a harmonic oscillator with k = 4, whose
+    exact energy is conserved by Gauss2 to round-off, and a malicious entry refused."""
+    define = {"name": "osc", "q": ["x"], "p": ["v"], "H": "v^2/2 + k*x^2/2", "parameters": {"k": "4"},
+              "q0": ["1"], "p0": ["0"]}
+    p = _scene(tmp_path, problem={"define": define}, runs=[{"method": str(METHODS / "gauss2.json")}],
+               plots=["invariants", "state"])
+    meta = run_scene(p, out_root=tmp_path / "out", progress=False)
+    assert meta["complete"] and meta["runs"][0]["max_invariant_error"]["H"] < 1e-14
+    bad = _scene(tmp_path, problem={"define": {**define, "H": "__import__('os').system('touch x')"}})
+    with pytest.raises(SceneError, match="problem"):
+        load_scene(bad)

@@ -113,3 +113,23 @@ def draw_roundoff(result: dict, target: Path, title: str) -> None:
     target.parent.mkdir(parents=True, exist_ok=True)
     _save(fig, target)
     plt.close(fig)
+
+
+def draw_convergence(results: list, target: Path, title: str) -> None:
+    """Global error against h (log–log) for several methods, with the fitted slopes."""
+    plt = _figure()
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for c in results:
+        pts = [(h, e) for h, e in zip(c["h"], c["error"]) if e is not None]
+        if not pts:
+            continue
+        h, e = np.array(pts).T
+        slope = "—" if c["slope"] is None else f"{c['slope']:.2f}"
+        ax.loglog(h, e, "o-", ms=3, lw=0.8, label=f"{c['method']} (p = {c['order']}, slope {slope})")
+    ax.set_xlabel("h"), ax.set_ylabel("global error at T")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=6, loc="best")
+    ax.set_title(title, fontsize=10)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    _save(fig, target)
+    plt.close(fig)
