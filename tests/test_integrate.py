@@ -132,3 +132,12 @@ def test_convergence_cli_writes_report(tmp_path, capsys):
     data = json.loads((tmp_path / "convergence_harmonic_float64.json").read_text())
     assert [round(d["slope"]) for d in data] == [4, 2] and (tmp_path / "convergence_harmonic_float64.png").exists()
     assert main(["convergence", str(METHODS / "rk4.json"), "--problem", "nope", "--out", str(tmp_path)]) == 2
+
+
+def test_effective_order_realised_by_processing_and_lost_without():
+    """Butcher's (5.7d): with the computed starting (processing) and finishing methods the
+    measured order is the effective order 5; started with the identity it is the classical 4."""
+    c = convergence(METHODS / "butcher_effective5.json", "pendulum", T=10)
+    n = convergence(METHODS / "butcher_effective5.json", "pendulum", T=10, start="naive")
+    assert (c.order, n.order) == (5, 4)
+    assert abs(c.slope - 5) <= 0.2 and abs(n.slope - 4) <= 0.2

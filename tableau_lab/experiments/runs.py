@@ -78,7 +78,7 @@ class Convergence:
     problem: str
     precision: str
     T: float
-    order: int                    # the computed order of the method
+    order: int                    # the computed order of the method (with this start)
     hs: list = field(default_factory=list)
     errors: list = field(default_factory=list)   # None where the run failed
     slope: float | None = None
@@ -110,7 +110,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
     m, P, cp, nm = _setup(method, problem, precision, overrides)
     a = nm.arith
     ref = reference(P, T, max(ref_dps, a.dps + 8))
-    out = Convergence(m.name, P.name, precision, T, nm.order)
+    out = Convergence(m.name, P.name, precision, T, nm.order if start == "exact" else nm.order_identity)
     Texact = __import__("sympy").nsimplify(T)
     ns = list(steps) if steps else []
     n = n0

@@ -7,8 +7,8 @@ A_p = Â; a GLM has A_q = A_p = A.  For a problem that is not Hamiltonian every 
 q-component.  Coefficients are rounded once from their exact values (``sympy.N`` at the working
 precision plus guard digits), never through an intermediate float.
 
-For GLMs the starting method ξ(t) and the finishing method α⁻¹(t) of the order analysis are
-exported too, so that a run can start with y^[0]_k = u_k y₀ + Σ_t ξ_k(t) h^|t|/σ(t) F(t)(y₀)
+For GLMs, and for RK methods whose effective order exceeds their classical order, the
+starting method ξ(t) and the finishing method α⁻¹(t) of the order analysis are exported too, so that a run can start with y^[0]_k = u_k y₀ + Σ_t ξ_k(t) h^|t|/σ(t) F(t)(y₀)
 and report z + Σ_t α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n].
 
 >>> from tableau_lab.exact.tableau_json import load
@@ -45,10 +45,11 @@ class NumericMethod:
     c: np.ndarray
     u: np.ndarray
     w: np.ndarray
-    order: int
-    starting: dict       # tree -> array of r numbers ξ(t) (GLM; empty for RK)
+    order: int           # with the exported starting method (GLM order / RK effective order if processed)
+    starting: dict       # tree -> array of r numbers ξ(t) (GLM; RK only when effective > classical)
     finishing: dict      # tree -> number α⁻¹(t) (GLM; empty for RK)
     exact: object = None  # the exact method
+    order_identity: int = 0   # with the identity / naive start (θ ≡ 0): RK classical order
 
     @property
     def s(self) -> int:
@@ -82,11 +83,13 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     a = arith(precision)
     Aq, Ap, U, Bq, Bp, V, c = _exact_parts(m)
     xi, beta, order, u, w = {}, {}, 0, [1], [1]
+    order_identity = None
     if m.kind == "glm":
         from ..analysis.glm_order import glm_order
         from ..analysis.trees import trees_up_to
         res = glm_order(m)
         order, u, w = res.order, res.u, res.w
+        order_identity = res.order_identity_start
         if starting:
             from ..analysis.trees import bracket
             by_name = {bracket(t): t for t in trees_up_to(order)}
@@ -94,14 +97,24 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
             beta = {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name}
     elif m.kind == "rk":
         from ..analysis.rk_order import rk_order
-        order = rk_order(m, effective=False).order
+        res = rk_order(m)
+        order = order_identity = res.order
+        if starting and res.effective is not None and res.effective_order > res.order:
+            # effective order (Butcher 1969): process with the starting method θ, report through α⁻¹
+            from ..analysis.trees import bracket, trees_up_to
+            eff = res.effective
+            order = eff.order
+            by_name = {bracket(t): t for t in trees_up_to(order)}
+            xi = {by_name[k]: a.array(v) for k, v in eff.starting.items() if k in by_name}
+            beta = {by_name[k]: a.number(v) for k, v in eff.finishing.items() if k in by_name}
     else:
         from ..analysis.prk_order import prk_order
         order = prk_order(m).order
     with a.context():
         return NumericMethod(name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
                              Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),
-                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m)
+                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m,
+                             order_identity=order if order_identity is None else order_identity)
 
 
 def roundtrip_error(m: Method, precision: str = "float64") -> float:

@@ -279,7 +279,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
             h = a.number(sp.Rational(repr(float(h))))   # a float: the decimal it prints as
-        run = Run(nm.name, problem_name, a.name, float(h), steps, start if nm.r > 1 else "identity", tuple(project))
+        run = Run(nm.name, problem_name, a.name, float(h), steps,
+                  start if (nm.r > 1 or nm.starting) else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
@@ -289,7 +290,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         every = record_every or max(1, steps // 1000)
 
         def principal(Y):
-            if nm.r == 1:
+            if nm.r == 1 and not (nm.finishing and start == "exact"):
                 return Y[0]
             if start == "exact":
                 return finish(nm, prob, Y, h)
