@@ -90,7 +90,8 @@ class Convergence:
         if self.slope is not None and abs(self.slope - self.order) <= 0.2:
             return "order confirmed"
         if self.failures:
-            return "destroyed by an instability: " + self.failures[0][1]
+            h, msg = self.failures[-1]             # the smallest step size that still failed
+            return f"destroyed by an instability (h = {h:.3g}): " + msg
         return "order NOT confirmed"
 
     def to_json(self):
