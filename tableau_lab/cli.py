@@ -255,6 +255,35 @@ def _convergence(args) -> int:
     return status
 
 
+def _report(args) -> int:
+    from pathlib import Path
+
+    from .exact.tableau_json import TableauError, load
+    from .report.latex import ReportError, compile_pdf, library_document, method_document, write_report
+
+    methods, status = [], EXIT_OK
+    for path in args.files:
+        try:
+            methods.append((path, load(path)))
+        except TableauError as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            status = EXIT_INPUT
+    if not methods:
+        return status
+    out = Path(args.out)
+    jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else
+            [(out / Path(p).stem, method_document(m)) for p, m in methods])
+    for target, (tex, facts) in jobs:
+        tex_path = write_report(tex, facts, target)
+        try:
+            pdf = compile_pdf(tex_path, required=args.pdf)
+        except ReportError as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            return EXIT_INPUT
+        print(f"wrote {tex_path}" + (f" and {pdf}" if pdf else " (no pdflatex: .tex only)"))
+    return status
+
+
 def _exact_number(text, what):
     from .exact.grammar import EntryError, parse_number
     try:
@@ -361,6 +390,15 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--start", choices=("exact", "naive"), default="exact")
     cv.add_argument("--out", default="reports/convergence")
     cv.set_defaults(run=_convergence)
+    rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
+                        description="For each method: the tableau, the G-symplecticity proof step by step, the "
+                                    "symplecticity matrix, the order conditions and starting method, parasitism; "
+                                    "NAME.tex, NAME.json (the facts stated) and NAME.pdf under --out.")
+    rp.add_argument("files", nargs="+", metavar="FILE")
+    rp.add_argument("--out", default="reports/proofs")
+    rp.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
+    rp.add_argument("--library", action="store_true", help="one document for all files, with a summary table")
+    rp.set_defaults(run=_report)
     return p
 
 

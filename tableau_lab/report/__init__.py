@@ -1,0 +1,1 @@
+"""Faces: LaTeX proof reports (reads analyses and data files, never the integrator)."""

@@ -1,0 +1,65 @@
+"""LaTeX reports: the facts a document states are read back from its sidecar JSON and checked
+against an independent exact computation; every library method's report compiles (pdflatex, as
+.ci/run installs it) without errors and without overfull lines."""
+import json
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+import sympy as sp
+
+from tableau_lab.cli import main
+from tableau_lab.exact.field import is_zero
+from tableau_lab.exact.grammar import parse_entry
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.report.latex import method_document
+
+METHODS = Path(__file__).parent.parent / "methods"
+LIBRARY = sorted(METHODS.glob("*.json"))
+
+
+def test_example4_report_states_the_corrected_D_and_BtGB(tmp_path):
+    assert main(["report", str(METHODS / "example4_glm.json"), "--out", str(tmp_path)]) == 0
+    facts = json.loads((tmp_path / "example4_glm.json").read_text())
+    tex = (tmp_path / "example4_glm.tex").read_text()
+    assert facts["D"] == ["1/2", "1/2"]                       # the seed prints diag(1/2, -1/2): ERRATA 4
+    m = load(METHODS / "example4_glm.json")
+    G = sp.Matrix([[parse_entry(x) for x in row] for row in facts["G"]])
+    BtGB = sp.Matrix(m.B).T * G * sp.Matrix(m.B)               # recomputed here, plain sympy
+    for i in range(2):
+        for j in range(2):
+            assert is_zero(parse_entry(facts["BtGB"][i][j]) - BtGB[i, j])
+    assert is_zero(BtGB[0, 1] + sp.sqrt(3) / 6)                 # −√3/6, not +√3/6
+    assert r"- \frac{\sqrt{3}}{6}" in tex and r"\frac{1}{2}" in tex
+    assert facts["order"] == 4 and facts["g_symplectic"] is True
+
+
+@pytest.mark.parametrize("name", ["glm43", "gauss3", "stormer_verlet", "glm43_printed"])
+def test_report_facts_match_verify(name):
+    from tableau_lab.analysis.verify import verify
+    m = load(METHODS / f"{name}.json")
+    _, facts = method_document(m)
+    v = verify(m)
+    assert facts.get("g_symplectic", None) == (None if v.g_symplectic is None else v.g_symplectic.holds)
+    assert facts["order"] == v.order.order
+
+
+def test_missing_pdflatex_with_pdf_is_an_error(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(shutil, "which", lambda name: None)
+    assert main(["report", str(METHODS / "gauss2.json"), "--out", str(tmp_path), "--pdf"]) == 2
+    assert "pdflatex is not installed" in capsys.readouterr().err
+    assert main(["report", str(METHODS / "gauss2.json"), "--out", str(tmp_path)]) == 0   # .tex only
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed (.ci/run installs it)")
+def test_every_report_compiles_without_overfull_lines(tmp_path):
+    files = [str(p) for p in LIBRARY]
+    assert main(["report", *files, "--out", str(tmp_path), "--pdf"]) == 0
+    assert main(["report", *files, "--out", str(tmp_path), "--pdf", "--library"]) == 0
+    for log in tmp_path.glob("*.log"):
+        text = log.read_text(errors="replace")
+        assert "! " not in text.split("Output written")[0][-2000:] or "Output written" in text
+        widths = [float(w) for w in re.findall(r"Overfull \\hbox \(([\d.]+)pt too wide\)", text)]
+        assert not widths or max(widths) < 1.0, (log.name, widths)
+    assert len(list(tmp_path.glob("*.pdf"))) == len(files) + 1
