@@ -84,21 +84,28 @@ class Convergence:
     slope: float | None = None
     failures: list = field(default_factory=list)  # (h, message)
     nfev: list = field(default_factory=list)
+    growth: list = field(default_factory=list)    # GLMs: max/min of the non-principal input components
 
     @property
     def verdict(self) -> str:
         if self.slope is not None and abs(self.slope - self.order) <= 0.2:
             return "order confirmed"
-        if self.failures:
+        last_failed = bool(self.errors) and self.errors[-1] is None
+        grew = bool(self.growth) and self.growth[-1] is not None and self.growth[-1] > 1e3
+        if self.failures and (last_failed or grew):
             h, msg = self.failures[-1]             # the smallest step size that still failed
             return f"destroyed by an instability (h = {h:.3g}): " + msg
-        return "order NOT confirmed"
+        if grew:
+            return (f"destroyed by an instability: the non-principal input components grew by a factor "
+                    f"{self.growth[-1]:.2g} in the run with the smallest h (parasitism)")
+        note = f"; runs failed for h ≥ {min(h for h, _ in self.failures):.3g}" if self.failures else ""
+        return f"order NOT confirmed (pre-asymptotic up to n = {int(round(self.T / min(self.hs)))}{note})"
 
     def to_json(self):
         return {"method": self.method, "problem": self.problem, "precision": self.precision, "T": self.T,
                 "order": self.order, "h": self.hs, "error": self.errors, "slope": self.slope,
                 "verdict": self.verdict, "failures": [{"h": h, "message": msg} for h, msg in self.failures],
-                "nfev": self.nfev}
+                "nfev": self.nfev, "parasitic_growth": self.growth}
 
 
 def convergence(method, problem, T=10.0, steps=None, *, precision="float64", start="exact", overrides=None,
@@ -130,6 +137,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
             out.errors.append(None)
             out.failures.append((float(T) / n, str(exc)))
             out.nfev.append(None)
+            out.growth.append(None)
             n *= 2
             continue
         with a.context():
@@ -137,6 +145,8 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
         out.hs.append(float(T) / n)
         out.errors.append(err)
         out.nfev.append(run.nfev)
+        par = [x for x in run.parasitic if x > 0]
+        out.growth.append(float(max(par) / min(par)) if len(par) > 1 else None)
         if not steps and _settled(out.hs, out.errors, a.eps):
             break
         n *= 2
