@@ -272,7 +272,7 @@ def _report(args) -> int:
         return status
     out = Path(args.out)
     jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else
-            [(out / Path(p).stem, method_document(m)) for p, m in methods])
+            [(out / Path(p).stem, method_document(m, _figures_of(p, out))) for p, m in methods])
     for target, (tex, facts) in jobs:
         tex_path = write_report(tex, facts, target)
         try:
@@ -282,6 +282,25 @@ def _report(args) -> int:
             return EXIT_INPUT
         print(f"wrote {tex_path}" + (f" and {pdf}" if pdf else " (no pdflatex: .tex only)"))
     return status
+
+
+def _figures_of(method_path, out, reports="reports", most=2):
+    """Invariant plots of scenes (under reports/) that ran this method file: (path relative to
+    the report's directory, caption)."""
+    import os
+    from pathlib import Path
+    found = []
+    for meta in sorted(Path(reports).glob("*/meta.json")):
+        try:
+            data = json.loads(meta.read_text())
+        except (OSError, ValueError):
+            continue
+        labels = [r["label"] for r in data.get("runs", []) if Path(r.get("file", "")).name == Path(method_path).name]
+        png = meta.parent / f"{data.get('name')}_invariants.png"
+        if labels and png.exists():
+            found.append((os.path.relpath(png, out), f"{data.get('title', '')} ({', '.join(labels)}; scene "
+                                                       f"{data.get('scene', '')})"))
+    return found[:most]
 
 
 def _exact_number(text, what):

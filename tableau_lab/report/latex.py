@@ -211,6 +211,11 @@ def _order_section(m: Method, C: _Constants, facts: dict) -> str:
     return "\n".join(out)
 
 
+def _parse(text):
+    from ..exact.grammar import parse_entry
+    return parse_entry(text)
+
+
 def _tree(bracket: str) -> str:
     out = bracket.replace("τ", r"\tau ")
     for d, sup in zip("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"):
@@ -263,7 +268,7 @@ def _body(m: Method, figures, C=None) -> tuple[str, dict]:
         parts.append(C.flush())
     for path, caption in figures:
         parts.append(rf"\begin{{figure}}[h]\centering\includegraphics[width=0.9\linewidth]{{{path}}}"
-                     rf"\caption*{{{_escape(caption)}}}\end{{figure}}")
+                     rf"\caption{{{_escape(caption)}}}\end{{figure}}")
     return "\n".join(p for p in parts if p), facts
 
 
@@ -280,12 +285,19 @@ def _document(methods, figures, title, summary=False) -> tuple[str, dict]:
     bodies = [(m, *_body(m, figures)) for m in methods]
     if summary:
         rows = []
+        C = _Constants()
         for m, _, f in bodies:
             sym = "yes" if f.get("symplectic") or f.get("g_symplectic") else "no"
+            gd = "--"
+            if f.get("G") is not None:
+                G = sp.Matrix([[_parse(x) for x in row] for row in f["G"]])
+                gd = (rf"$G = {C.matrix(G)}$, $D = \operatorname{{diag}}(" + ", ".join(C.tex(_parse(x)) for x in f["D"])
+                      + ")$")
             rows.append(" & ".join([_escape(m.name), m.kind, str(m.s), str(getattr(m, "r", 1)),
-                                    str(f.get("order", "--")), sym]) + r" \\")
-        out.append(r"{\small\begin{longtable}{p{6cm}lccccc} \toprule method & kind & $s$ & $r$ & order & "
-                   r"(G-)symplectic \\ \midrule " + "\n".join(rows) + r" \bottomrule \end{longtable}}")
+                                    str(f.get("order", "--")), sym, gd]) + r" \\")
+        out.append(r"{\scriptsize\begin{longtable}{p{3.6cm}lcccc p{6.4cm}} \toprule method & kind & $s$ & $r$ & "
+                   r"order & (G-)sympl. & $G$, $D$ \\ \midrule " + "\n".join(rows)
+                   + r" \bottomrule \end{longtable}}" + C.flush())
     for m, body, f in bodies:
         if len(methods) > 1:
             out.append(rf"\clearpage\section{{{_escape(m.name)}}}")
