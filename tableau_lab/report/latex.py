@@ -66,6 +66,23 @@ def _escape(text: str) -> str:
     return "".join(c if ord(c) < 128 or c in "$" else "?" for c in out)
 
 
+def _chunks(e, width: int = 70) -> list[str]:
+    """The LaTeX of e cut at its top-level sums into pieces of about ``width`` characters."""
+    e = sp.sympify(e)
+    terms = list(e.args) if e.is_Add else [e]
+    chunks, cur = [], ""
+    for k, term in enumerate(terms):
+        t = sp.latex(term)
+        piece = t if k == 0 else (t if t.startswith("-") else "+ " + t)
+        if cur and len(cur) + len(piece) > width:
+            chunks.append(cur)
+            cur = piece
+        else:
+            cur = (cur + " " + piece).strip()
+    chunks.append(cur)
+    return chunks
+
+
 class _Constants:
     """Named constants for long entries: κ_k, defined once each."""
 
@@ -96,17 +113,7 @@ class _Constants:
             return ""
         lines = []
         for name, e in self.items:
-            terms = list(e.args) if e.is_Add else [e]
-            chunks, cur = [], ""
-            for k, term in enumerate(terms):
-                t = sp.latex(term)
-                piece = t if k == 0 else (t if t.startswith("-") else "+ " + t)
-                if cur and len(cur) + len(piece) > 70:
-                    chunks.append(cur)
-                    cur = piece
-                else:
-                    cur = (cur + " " + piece).strip()
-            chunks.append(cur)
+            chunks = _chunks(e)
             lines.append(f"{name} &= {chunks[0]}" + "".join(rf" \\ &\quad {c}" for c in chunks[1:]))
         self.items = []
         return "\n\nwhere\n\\begin{align*}\n" + " \\\\\n".join(lines) + "\n\\end{align*}\n"
@@ -146,6 +153,7 @@ def _g_section(m: Method, res, C: _Constants, facts: dict) -> str:
            rf"{res.equations} homogeneous linear equations in {res.unknowns} unknowns, of rank {res.rank}, "
            rf"solved exactly over the number field of the tableau: the solution family has dimension "
            rf"{res.dimension}."]
+    out.append(_system(g, C))
     if res.basis:
         out.append("A basis of the family:")
         for k, (G, D) in enumerate(res.basis, 1):
@@ -175,6 +183,29 @@ def _g_section(m: Method, res, C: _Constants, facts: dict) -> str:
                + ("definite" if res.definite else "indefinite") + ". The method is G-symplectic.")]
     out.append(C.flush())
     return "\n".join(out)
+
+
+def _system(g, C: _Constants, most: int = 16) -> str:
+    """The linear equations in the entries of G and D (listed when there are at most ``most``)."""
+    r, s = g.r, g.s
+    G = sp.Matrix(r, r, lambda i, j: sp.Symbol(f"g_{{{min(i, j) + 1}{max(i, j) + 1}}}"))
+    D = sp.diag(*[sp.Symbol(f"d_{{{i + 1}}}") for i in range(s)])
+    A, U, B, V = (sp.Matrix(x) for x in (g.A, g.U, g.B, g.V))
+    eqs = []
+    for M, sym in ((V.T * G * V - G, True), (D * U - B.T * G * V, False), (D * A + A.T * D - B.T * G * B, True)):
+        for i in range(M.rows):
+            for j in range(i if sym else 0, M.cols):
+                e = sp.expand(M[i, j])
+                if e == 0:
+                    continue
+                e = sp.Add(*[normal_form(c) * x for x, c in e.as_coefficients_dict().items()])
+                if e != 0 and e not in eqs and -e not in eqs:
+                    eqs.append(e)
+    if not eqs or len(eqs) > most:
+        return ""
+    body = r" \\ ".join("&" + r" \\ &\quad ".join(_chunks(e, 120)) + " = 0" for e in eqs)
+    return (f"Written out, the {len(eqs)} distinct nonzero equations are\n\\begin{{align*}} {body} \\end{{align*}}\n"
+            + C.flush())
 
 
 def _order_section(m: Method, C: _Constants, facts: dict) -> str:
