@@ -6,7 +6,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
+from pathlib import Path
 
 from . import __version__
 
@@ -94,7 +96,7 @@ def _solve(args) -> int:
         for r in res.requirements:
             if r.name in CLAIM_OF:
                 key, val = CLAIM_OF[r.name]
-            elif r.name in ("order", "stage-order"):
+            elif r.name in ("order", "stage-order", "effective-order"):
                 key, val = r.name.replace("-", "_"), r.value
             else:
                 continue
@@ -110,7 +112,8 @@ def _solve(args) -> int:
 
 
 def _split(items):
-    return [p.strip() for item in (items or []) for p in __import__("re").split(r";|,(?![^\[]*\])", item) if p.strip()]
+    """'A[2,1],U[2,2]' → ['A[2,1]', 'U[2,2]'] (commas inside brackets kept), over repeated options."""
+    return [p.strip() for item in (items or []) for p in re.split(r";|,(?![^\[]*\])", item) if p.strip()]
 
 
 def _run(args) -> int:
@@ -194,8 +197,6 @@ def _run_scenes(args) -> int:
 
 
 def _roundoff(args) -> int:
-    from pathlib import Path
-
     from .exact.tableau_json import TableauError
     from .experiments.plots import draw_roundoff
     from .experiments.runs import roundoff
@@ -209,32 +210,40 @@ def _roundoff(args) -> int:
     except (TableauError, ProblemError, ValueError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    out = Path(args.out)
-    name = f"roundoff_{Path(args.method).stem}_{args.problem}"
-    from .experiments.scene import _atomic_write
-    _atomic_write(out / f"{name}.json", lambda tmp: Path(tmp).write_text(json.dumps(
-        {"method": args.method, "problem": args.problem, "h": str(h), "steps": args.steps, "starts": args.starts,
-         "digits": args.digits, **res})))
-    draw_roundoff(res, out / f"{name}.png", f"Round-off alone: {Path(args.method).stem} on {args.problem}, h = {h}")
+    data = {"method": args.method, "problem": args.problem, "h": str(h), "steps": args.steps,
+            "starts": args.starts, "digits": args.digits, **res}
+    where = _json_and_plot(args.out, f"roundoff_{Path(args.method).stem}_{args.problem}", data, lambda png: draw_roundoff(
+        res, png, f"Round-off alone: {Path(args.method).stem} on {args.problem}, h = {h}"))
     print(f"round-off after {args.steps} steps (RMS over {args.starts} starts): plain {res['plain'][-1]:.2e} "
           f"(exponent {res['slope_plain']:.2f}), compensated {res['compensated'][-1]:.2e} "
-          f"(exponent {res['slope_compensated']:.2f}); wrote {out / name}.json and .png")
+          f"(exponent {res['slope_compensated']:.2f}); wrote {where}.json and .png")
     return EXIT_OK
 
 
-def _convergence(args) -> int:
-    from pathlib import Path
+def _json_and_plot(out, name, data, draw):
+    """Write out/name.json (atomically) and out/name.png (by ``draw(png_path)``); returns out/name."""
+    from .files import atomic_write_text
+    base = Path(out) / name
+    atomic_write_text(base.with_suffix(".json"), json.dumps(data, indent=1))
+    draw(base.with_suffix(".png"))
+    return base
 
+
+def _convergence(args) -> int:
     from .exact.tableau_json import TableauError
     from .experiments.plots import draw_convergence
     from .experiments.runs import convergence
-    from .experiments.scene import _atomic_write
     from .numeric.problems import ProblemError
 
+    try:
+        T = float(_exact_number(args.T, "--T"))
+    except ValueError as exc:
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     results, status = [], EXIT_OK
     for path in args.files:
         try:
-            c = convergence(path, args.problem, T=float(_exact_number(args.T, "--T")), precision=args.precision,
+            c = convergence(path, args.problem, T=T, precision=args.precision,
                             max_steps=args.max_steps, start=args.start)
         except (TableauError, ProblemError, ValueError) as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -247,17 +256,13 @@ def _convergence(args) -> int:
         if not c.verdict.startswith(("order confirmed", "destroyed")) and status == EXIT_OK:
             status = EXIT_CLAIM
     if results:
-        name = f"convergence_{args.problem}_{args.precision.replace(':', '')}"
-        out = Path(args.out)
-        _atomic_write(out / f"{name}.json", lambda tmp: Path(tmp).write_text(json.dumps(results, indent=1)))
-        draw_convergence(results, out / f"{name}.png", f"{args.problem}, T = {args.T}, {args.precision}")
-        print(f"wrote {out / name}.json and .png")
+        where = _json_and_plot(args.out, f"convergence_{args.problem}_{args.precision.replace(':', '')}", results,
+                               lambda png: draw_convergence(results, png, f"{args.problem}, T = {args.T}, {args.precision}"))
+        print(f"wrote {where}.json and .png")
     return status
 
 
 def _report(args) -> int:
-    from pathlib import Path
-
     from .exact.tableau_json import TableauError, load
     from .report.latex import ReportError, compile_pdf, library_document, method_document, write_report
 
@@ -288,7 +293,6 @@ def _figures_of(method_path, out, reports="reports", most=2):
     """Invariant plots of scenes (under reports/) that ran this method file: (path relative to
     the report's directory, caption)."""
     import os
-    from pathlib import Path
     found = []
     for meta in sorted(Path(reports).glob("*/meta.json")):
         try:
@@ -342,7 +346,7 @@ def build_parser() -> argparse.ArgumentParser:
     sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
                         description="Treat the named unknowns of a tableau as parameters and find every solution "
                                     "family (exactly: Gröbner bases, radicals) of the required conditions; each "
-                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, "
+                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, effective-order=P, "
                                     "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
                                     "Exit 0: solved; 1: no (real, radical) solution; 2: bad input.")
     sv.add_argument("file", metavar="FILE", help="JSON tableau with unknowns (names) in its entries")

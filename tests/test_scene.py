@@ -44,7 +44,7 @@ def test_scene_writes_data_meta_plots(tmp_path):
     ({"h": "-1/100"}, "h must be a positive"),
     ({"h": 0.01}, "exact strings"),
     ({"color": "red"}, "unknown keys"),
-    ({"steps": None, "T": "1/3"}, "exactly one of steps and T"),
+    ({"T": "1/3"}, "exactly one of steps and T"),              # steps given too
     ({"runs": [{"method": "missing.json"}]}, "no file missing.json"),
     ({"runs": [{"method": str(METHODS / "rk4.json"), "project": ["Q"]}]}, "not invariants"),
     ({"runs": [{"method": str(METHODS / "rk4.json"), "precision": "mp:2"}]}, "precision"),
@@ -53,13 +53,7 @@ def test_scene_writes_data_meta_plots(tmp_path):
     ({"name": "../evil"}, "file-name-safe"),
 ])
 def test_bad_scenes_refused_and_nothing_written(tmp_path, capsys, over, match):
-    d = _scene(tmp_path, **{k: v for k, v in over.items() if v is not None})
-    if over.get("steps", 1) is None:
-        raw = json.loads(d.read_text())
-        raw.pop("steps")
-        raw["T"] = over["T"]
-        raw["steps"] = 300
-        d.write_text(json.dumps(raw))
+    d = _scene(tmp_path, **over)
     with pytest.raises(SceneError, match=match):
         load_scene(d)
     assert main(["run", str(d), "--out", str(tmp_path / "out")]) == 2

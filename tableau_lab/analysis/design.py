@@ -38,6 +38,7 @@ holds wherever its branch conditions (listed) do not vanish.
 """
 from __future__ import annotations
 
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -45,9 +46,9 @@ import sympy as sp
 
 from ..exact.field import is_zero, normal_form
 from ..exact.grammar import EntryError, format_entry, parse_entry
-from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
+from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
-from ..exact.tableau_json import TableauError, entries, from_dict, parse, read, to_dict
+from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
 
@@ -75,6 +76,9 @@ def parse_requirements(items) -> tuple[Requirement, ...]:
     """``["g-symplectic", "order=4", "a11 = b1/2"]`` (items may also be comma-separated)."""
     out = []
     for item in items:
+        if isinstance(item, Requirement):
+            out.append(item)
+            continue
         for part in (p.strip() for p in str(item).split(",")):
             if not part:
                 continue
@@ -225,6 +229,8 @@ class _Problem:
         self.params = _unknown_order(m, extra_unknowns)
         self.aux: list = []
         self.branches = [[]]
+        consts = [x for M in m.matrices().values() if M is not None for x in M]
+        consts += [s for _, s in extra_eqs]
         for r in reqs:
             if r.name == "equation":
                 stray = sorted(str(x) for x in (r.value[0] - r.value[1]).free_symbols if x not in self.params)
@@ -234,10 +240,6 @@ class _Problem:
                     raise DesignError(f"equation {r.text!r} names {', '.join(stray)}, not an unknown of the tableau "
                                       f"(unknowns: {', '.join(map(str, self.params)) or 'none'})"
                                       + (f"; did you mean the condition {hint[0]!r}?" if hint else ""))
-        consts = [x for M in m.matrices().values() if M is not None for x in M]
-        consts += [s for _, s in extra_eqs]
-        for r in reqs:
-            if r.name == "equation":
                 consts += list(r.value)
         if any(r.name == "g-symplectic" for r in reqs):
             self._g_unknowns()
@@ -253,13 +255,12 @@ class _Problem:
 
     # unknowns for G (symmetric) and D (diagonal), det inverse z
     def _glm(self):
-        """(A, U, B, V) of the method seen as a GLM, unvalidated (unknowns may break consistency)."""
-        m = self.m
-        if m.kind == "rk":
-            return sp.Matrix(m.A), sp.ones(m.s, 1), sp.Matrix(m.b).T, sp.Matrix([[1]])
-        if m.kind == "glm":
-            return tuple(sp.Matrix(X) for X in (m.A, m.U, m.B, m.V))
-        raise DesignError("g-symplectic applies to RK methods and GLMs; for a partitioned RK method use symplectic")
+        """(A, U, B, V), unvalidated: unknowns may break consistency until they are solved for."""
+        try:
+            return glm_parts(self.m)
+        except ValueError:
+            raise DesignError("g-symplectic applies to RK methods and GLMs; for a partitioned RK method "
+                              "use symplectic") from None
 
     def _g_unknowns(self):
         A, U, B, V = self._glm()
@@ -292,24 +293,20 @@ class _Problem:
                         + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh))])
             raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
         if r.name == "symmetric":
-            if m.kind == "glm":
-                from .symmetry import symmetry_conditions
-                try:
-                    cands = symmetry_conditions(m)
-                except ValueError as exc:
-                    raise DesignError(f"symmetric: {exc}") from None
-                # one branch per involution L: the union of their solutions
-                self.branches = [gb + [(f"symmetric, L = diag({', '.join(str(L[i, i]) for i in range(L.rows))}),"
-                                          f" condition {k + 1}", e) for k, e in enumerate(conds) if e != 0]
-                                   for gb in self.branches for L, conds in cands]
-                return []
-            if m.kind != "rk":
+            if m.kind == "prk":
                 raise DesignError("symmetric is implemented for RK methods and GLMs, not partitioned methods")
-            A, b, s = self._mat(m.A), self._vec(m.b), m.s
-            out = [(f"symmetric b[{i + 1}]", b[i] - b[s - 1 - i]) for i in range(s // 2)]
-            out += [(f"symmetric A[{i + 1},{j + 1}]", A[i][j] + A[s - 1 - i][s - 1 - j] - b[j])
-                    for i in range(s) for j in range(s)]
-            return out
+            from .symmetry import symmetry_conditions
+            try:
+                cands = symmetry_conditions(m)
+            except ValueError as exc:
+                raise DesignError(f"symmetric: {exc}") from None
+            if len(cands) == 1:                    # RK (r = 1): L = 1, plain equations
+                return [(f"symmetric, condition {k + 1}", self.sys.frac(e)) for k, e in enumerate(cands[0][1]) if e != 0]
+            # one branch per involution L: the union of their solutions
+            self.branches = [gb + [(f"symmetric, L = diag({', '.join(str(L[i, i]) for i in range(L.rows))}),"
+                                    f" condition {k + 1}", e) for k, e in enumerate(conds) if e != 0]
+                             for gb in self.branches for L, conds in cands]
+            return []
         if r.name == "stage-order":
             if m.kind != "rk":
                 raise DesignError("stage-order is implemented for RK methods (C(q))")
@@ -401,37 +398,37 @@ def _rebuild(m: Method, values: dict) -> Method:
 
 
 def _verify(meth: Method, reqs, values) -> dict:
+    """Each requirement checked on the rebuilt method by the ordinary analyses (one order
+    analysis for all order requirements; the effective order only when one asks for it)."""
     from .order import order
     from .parasitism import growth_parameters
+    from .rk_order import rk_order
+    from .symmetry import symmetric
     from .symplectic import g_symplectic, rk_symplectic
-    out = {}
-    for r in reqs:
-        if r.name == "symplectic":
-            out[str(r)] = rk_symplectic(meth).holds
-        elif r.name == "g-symplectic":
-            out[str(r)] = g_symplectic(meth).holds
-        elif r.name == "order":
-            res = order(meth, max_order=r.value)
-            out[str(r)] = res.order >= r.value
-        elif r.name == "effective-order":
-            out[str(r)] = order(meth, max_order=r.value).effective_order >= r.value
-        elif r.name == "stage-order":
-            out[str(r)] = order(meth, max_order=r.value).stage_order >= r.value
-        elif r.name == "parasitism-free":
-            out[str(r)] = growth_parameters(meth).free
-        elif r.name == "symmetric":
-            from .symmetry import symmetric
-            out[str(r)] = symmetric(meth).holds
-        elif r.name == "equation":
-            out[str(r)] = is_zero(sp.sympify(r.value[0] - r.value[1]).subs(values))
-    return out
+    orders = [r.value for r in reqs if r.name in ("order", "effective-order", "stage-order")]
+    o = None
+    if orders:
+        if meth.kind == "rk":
+            o = rk_order(meth, max(orders), effective=any(r.name == "effective-order" for r in reqs))
+        else:
+            o = order(meth, max_order=max(orders))
+    checks = {
+        "symplectic": lambda r: rk_symplectic(meth).holds,
+        "g-symplectic": lambda r: g_symplectic(meth).holds,
+        "order": lambda r: o.order >= r.value,
+        "effective-order": lambda r: o.effective_order >= r.value,
+        "stage-order": lambda r: o.stage_order >= r.value,
+        "parasitism-free": lambda r: growth_parameters(meth).free,
+        "symmetric": lambda r: symmetric(meth).holds,
+        "equation": lambda r: is_zero(sp.sympify(r.value[0] - r.value[1]).subs(values)),
+    }
+    return {str(r): checks[r.name](r) for r in reqs}
 
 
 def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> DesignResult:
     """All solution families of the requirements for the unknowns of ``m``, each re-verified."""
     t0 = time.perf_counter()
-    reqs = parse_requirements(requirements) if not all(isinstance(r, Requirement) for r in requirements) \
-        else tuple(requirements)
+    reqs = parse_requirements(requirements)
     prob = _Problem(m, reqs, extra_equations, extra_unknowns)
     sysm = prob.sys
     if not prob.params:
@@ -457,11 +454,12 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
         for br in sysm.explicit_parametrisation(comp, list(reversed(prob.params)))[1]:
             conds = _conditions(br.conditions, params)
             covered.append((comp, conds))
-            sol = _solution(m, prob, br, conds, note)
+            symvals = {p: br.values[p] for p in prob.params if p in br.values}
+            sol = _solution(m, prob, br, symvals, conds, note)
             if sol.real and not sol.implicit:
                 try:
-                    meth = _rebuild(m, {sp.Symbol(k, real=True): v for k, v in sol.parameters.items()})
-                    ver = _verify(meth, reqs, {sp.Symbol(k, real=True): v for k, v in sol.parameters.items()})
+                    meth = _rebuild(m, symvals)
+                    ver = _verify(meth, reqs, symvals)
                 except (MethodError, ValueError) as exc:  # pragma: no cover - a solution that is no method
                     rejected.append(Solution(**{**sol.__dict__, "label": f"{sol.label}: {exc}"}))
                     continue
@@ -505,8 +503,7 @@ def _conditions(conds, params) -> list:
     return out
 
 
-def _solution(m, prob, br, conds, note) -> Solution:
-    symvals = {p: br.values[p] for p in prob.params if p in br.values}
+def _solution(m, prob, br, symvals, conds, note) -> Solution:
     aux = {"G": prob.G.subs(br.values), "D": prob.D.subs(br.values)} if prob.aux else {}
     return Solution(label=note + _label(m, symvals, br.free), parameters={p.name: v for p, v in symvals.items()},
                     free=tuple(x for x in br.free if x in prob.params), conditions=tuple(conds),
@@ -554,8 +551,6 @@ def _symbols(extra):
     return out
 
 
-__all__ += ["TableauError"]
-
 
 # ------------------------------------------------------------------ repair of misprinted tableaux
 
@@ -585,11 +580,10 @@ class RepairResult(Result):
         lines.append(f"suspects {', '.join(self.suspects)}: {self.design.status}")
         for i, sol in enumerate(self.design.solutions, 1):
             lines.append(f"repair {i}" + (f" (free: {', '.join(map(str, sol.free))})" if sol.free else "") + ":")
+            changed = self.changes(i)
             for e in self.suspects:
-                new = sol.parameters.get(_var(e).name, _var(e))
-                old = self.printed[e]
-                same = not sp.sympify(new).free_symbols and is_zero(new - old)
-                lines.append(f"    {e}: printed {format_entry(old)}" + ("  (correct)" if same else f"  →  {format_entry(new)}"))
+                lines.append(f"    {e}: printed {format_entry(self.printed[e])}"
+                             + (f"  →  {format_entry(changed[e][1])}" if e in changed else "  (correct)"))
             for k, M in sol.auxiliary.items():
                 lines.append(f"    {k} = {_inline(M)}")
             lines.append("    re-verified: " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items()))
@@ -620,7 +614,7 @@ class RepairResult(Result):
         return "" if self.design is None else self.design.to_latex()
 
 
-_ENTRY = __import__("re").compile(r"^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*(?:,|\]\s*\[)\s*(\d+)\s*\]\s*$|^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*\]\s*$")
+_ENTRY = re.compile(r"^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*(?:,|\]\s*\[)\s*(\d+)\s*\]\s*$|^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*\]\s*$")
 
 
 def _var(entry: str) -> sp.Symbol:
@@ -659,9 +653,7 @@ def _canonical(text: str, m: Method) -> str:
 def solvable(m: Method, requirements) -> bool:
     """Whether the requirements have any (complex) solution for the unknowns of m: one Gröbner
     basis per normalisation branch, no parametrisation."""
-    reqs = parse_requirements(requirements) if not all(isinstance(r, Requirement) for r in requirements) \
-        else tuple(requirements)
-    prob = _Problem(m, reqs)
+    prob = _Problem(m, parse_requirements(requirements))
     base = [f.numer for _, f in prob.labelled]
     return any(prob.sys.consistent(base + [prob.sys.poly(e) for _, e in br]) for br in prob.branches)
 
@@ -685,20 +677,16 @@ def repair(m: Method, requirements, suspects=(), locate: bool = False, within=No
                           f"{', '.join(map(str, m.parameters))}: use solve)")
     reqs = parse_requirements(requirements)
     printed = {}
-    located, tried = (), 0
+    located, tried, skipped = (), 0, []
     if locate:
-        keys = [k for k, M in m.matrices().items() if M is not None and k not in ("c", "V")]
-        if within:
-            bad = [k for k in within if k not in keys and k != "V"]
-            if bad:
-                raise DesignError(f"--within {', '.join(bad)}: not a matrix of this tableau ({', '.join(keys)})")
-            keys = [k for k in keys if k in within] + (["V"] if "V" in within else [])
-        cands = [f"{k}[{i + 1},{j + 1}]" for k in keys for M in [m.matrices()[k]]
-                 for i in range(M.rows) for j in range(M.cols)]
-        if m.kind == "rk":
-            cands = [c if not c.startswith("b[") else c.replace(",1]", "]") for c in cands]
+        mats = {k: M for k, M in m.matrices().items() if M is not None and k != "c"}
+        bad = [k for k in within or () if k not in mats]
+        if bad:
+            raise DesignError(f"--within {', '.join(bad)}: not a matrix of this tableau ({', '.join(mats)})")
+        keys = [k for k in mats if k in within] if within else [k for k in mats if k != "V"]
+        cands = [f"{k}[{i + 1},{j + 1}]" for k in keys for i in range(mats[k].rows) for j in range(mats[k].cols)]
         base = {_canonical(s, m) for s in suspects}
-        found, skipped = [], []
+        found = []
         for c in cands:
             cc = _canonical(c, m)
             if cc in base:
@@ -726,7 +714,7 @@ def repair(m: Method, requirements, suspects=(), locate: bool = False, within=No
         key, i, j = specs[c]
         printed[c] = m.matrices()[key][i, j]
     design = solve(_with_unknowns(m, specs), reqs)
-    return RepairResult(m.name, tuple(specs), printed, design, located, tried, tuple(skipped) if locate else ())
+    return RepairResult(m.name, tuple(specs), printed, design, located, tried, tuple(skipped))
 
 
 __all__ += ["repair", "RepairResult", "solvable"]

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..exact.field import is_zero
-from ..exact.methods import Method
+from ..exact.methods import Method, glm_parts
 from .results import Result, matrix_latex, matrix_text
 
 __all__ = ["symmetric", "SymmetryResult", "symmetry_conditions"]
@@ -51,15 +51,10 @@ class SymmetryResult(Result):
                 if self.holds else "The method is not symmetric.")
 
 
-def _parts(m: Method):
-    if m.kind == "rk":
-        return sp.Matrix(m.A), sp.ones(m.s, 1), sp.Matrix(m.b).T, sp.Matrix([[1]])
-    return tuple(sp.Matrix(x) for x in (m.A, m.U, m.B, m.V))
-
-
 def symmetry_conditions(m: Method) -> list[tuple[sp.Matrix, list]]:
-    """For each candidate involution L, the entries (exact expressions) that must vanish."""
-    A, U, B, V = _parts(m)
+    """For each candidate involution L, the entries (exact expressions) that must vanish.
+    For an RK method (L = 1) they are aᵢⱼ + a_{s+1−i,s+1−j} − bⱼ and bᵢ − b_{s+1−i}."""
+    A, U, B, V = glm_parts(m)
     s, r = A.rows, V.rows
     if V.free_symbols:
         raise ValueError("symmetry needs a numeric V (V⁻¹ is formed)")
@@ -77,8 +72,6 @@ def symmetry_conditions(m: Method) -> list[tuple[sp.Matrix, list]]:
 
 def symmetric(m: Method) -> SymmetryResult:
     """Whether m is symmetric (for some diagonal sign involution L when r > 1)."""
-    if m.kind == "prk":
-        return SymmetryResult(m.name, False, None, "not implemented for partitioned methods")
     try:
         cands = symmetry_conditions(m)
     except ValueError as exc:

@@ -205,6 +205,7 @@ class FastField:
         import flint
 
         self.K = K
+        self._rationals: dict = {}
         if K.is_QQ:
             self.zero, self.one = flint.fmpq(0), flint.fmpq(1)
             self.lift = lambda a: flint.fmpq(int(a.numerator), int(a.denominator))
@@ -222,8 +223,12 @@ class FastField:
             self.lift = self.drop = lambda a: a
 
     def rational(self, q) -> object:
-        """A rational number (int, sympy Rational) as a fast element."""
-        return self.lift(self.K.convert(sp.Rational(q)))
+        """A rational number (int, sympy Rational) as a fast element (converted once each: the
+        order analyses ask for the same 1/γ(t) many times)."""
+        q = sp.Rational(q)
+        if q not in self._rationals:
+            self._rationals[q] = self.lift(self.K.convert(q))
+        return self._rationals[q]
 
     def is_zero(self, x) -> bool:
         return not x

@@ -28,7 +28,8 @@ import sympy as sp
 
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
 
-__all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency"]
+__all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency",
+           "glm_parts"]
 
 
 class MethodError(ValueError):
@@ -286,14 +287,15 @@ class GeneralLinearMethod(Method):
                 raise MethodError("c is not given and cannot be derived: the method is not preconsistent "
                                   "(no u with V u = u and U u = 1)")
             return c
+        # with unknowns (design) consistency is a condition on them, not a property of the entries
+        symbolic = any(X.free_symbols for X in (self.A, self.U, self.B, self.V))
         K = field_of([self.A, self.U, self.B, self.V, u] + ([c] if c is not None else []))
         ones = sp.ones(s, 1)
         rhs_v = list(self.B * ones - u)
         if c is not None:
             # c is consistent iff some v has (I - V) v = B 1 - u and U v = c - A 1.
             M = to_dm(sp.Matrix.vstack(sp.eye(r) - self.V, self.U), K)
-            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None and not (
-                    any(X.free_symbols for X in (self.A, self.U, self.B, self.V))):
+            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None and not symbolic:
                 raise MethodError("c is not consistent with the method: no v with (I - V) v = B·1 - u "
                                   "and c = A·1 + U v (stage order 1 fails for every starting method)")
             return c
@@ -304,10 +306,8 @@ class GeneralLinearMethod(Method):
             rows = sp.Matrix.vstack(rows, w.T)
             rhs = rhs_v + [0]
         v = solve_linear(to_dm(rows, K), rhs)
-        if v is None and any(X.free_symbols for X in (self.A, self.U, self.B, self.V)):
-            # unknowns (design): consistency is a condition on them, not a property of the entries;
-            # c = A·1 stands in until the unknowns are solved for
-            v = [K.zero] * r
+        if v is None and symbolic:
+            v = [K.zero] * r          # c = A·1 stands in until the unknowns are solved for
         if v is None:
             raise MethodError("c is not given and cannot be derived: the method is not consistent "
                               "((I - V) v = B·1 - u has no solution)")
@@ -338,3 +338,14 @@ def _left_eigenvector(V, u, K):
         return None
     x = solve_linear(M, [0] * r + [1])
     return None if x is None else sp.Matrix([K.to_sympy(v) for v in x])
+
+
+def glm_parts(m: Method) -> tuple:
+    """(A, U, B, V) of an RK method or a GLM as mutable sympy matrices, without the validation of
+    :meth:`as_glm` (a tableau with unknowns need not be consistent yet): an RK method is
+    U = 1, B = bᵀ, V = [1]."""
+    if m.kind == "rk":
+        return sp.Matrix(m.A), sp.ones(m.s, 1), sp.Matrix(m.b).T, sp.Matrix([[1]])
+    if m.kind == "glm":
+        return tuple(sp.Matrix(X) for X in (m.A, m.U, m.B, m.V))
+    raise ValueError(f"{m.name}: a partitioned RK method has no single GLM form")

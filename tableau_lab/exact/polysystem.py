@@ -30,7 +30,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-import mpmath
 import sympy as sp
 from sympy.polys.groebnertools import groebner
 from sympy.polys.orderings import lex
@@ -64,10 +63,13 @@ class PolynomialSystem:
     of the constants that appear (``constants``: expressions whose radicals must be in it)."""
 
     def __init__(self, unknowns, constants=()):
-        self.unknowns = list(unknowns)
         self.K = field_of([sp.sympify(c) for c in constants] or [sp.Integer(0)])
         if not (self.K.is_QQ or self.K.is_Algebraic):
             raise SystemError_("the constants of a system must be numbers (no free symbols)")
+        self._order(unknowns)
+
+    def _order(self, unknowns):
+        self.unknowns = list(unknowns)
         self.R = PolyRing(self.unknowns, self.K, lex)
         self.F = self.R.to_field()
         self._index = {s: i for i, s in enumerate(self.unknowns)}
@@ -128,17 +130,15 @@ class PolynomialSystem:
                 continue
             seen.add(key)
             split = None
-            for g in G:
-                facs = [f for f, _ in g.factor_list()[1] if not f.is_ground]
-                if len(facs) > 1 or (facs and g.factor_list()[1][0][1] > 1 and len(facs) == 1):
-                    split = facs
+            for g in G:          # a product, or a power of one factor: one system per factor
+                factors = [(f, e) for f, e in g.factor_list()[1] if not f.is_ground]
+                if len(factors) > 1 or any(e > 1 for _, e in factors):
+                    split = [f for f, _ in factors]
                     break
             if split:
                 stack.extend(G + [f] for f in split)
-            elif G:
-                out.append(G)
             else:
-                out.append([])
+                out.append(G)
         return self._minimal(out)
 
     def _contains(self, big, small) -> bool:
@@ -169,10 +169,8 @@ class PolynomialSystem:
     def reorder(self, unknowns) -> "PolynomialSystem":
         """The same system with another variable order (constants shared)."""
         other = PolynomialSystem.__new__(PolynomialSystem)
-        other.unknowns, other.K = list(unknowns), self.K
-        other.R = PolyRing(other.unknowns, self.K, lex)
-        other.F = other.R.to_field()
-        other._index = {s: i for i, s in enumerate(other.unknowns)}
+        other.K = self.K
+        other._order(unknowns)
         return other
 
     def explicit_parametrisation(self, G, movable) -> tuple["PolynomialSystem", list[Branch]]:
@@ -234,9 +232,10 @@ class PolynomialSystem:
             br.implicit[x] = q
             return [br]
         out = []
-        for r in sorted(dict.fromkeys(roots), key=lambda r: (not _is_real(r), complex(sp.N(r, 30)).real)):
+        real = {r: _is_real(r) for r in dict.fromkeys(roots)}
+        for r in sorted(real, key=lambda r: (not real[r], complex(sp.N(r, 30)).real)):
             nb = Branch(values=dict(br.values), free=list(br.free), conditions=list(br.conditions),
-                        implicit=dict(br.implicit), real=br.real and _is_real(r))
+                        implicit=dict(br.implicit), real=real[r])
             out.extend(self._check(x, _nf(r) if nb.real else r, subs, nb))
         return out
 
@@ -250,21 +249,15 @@ class PolynomialSystem:
 
 
 def _is_real(r) -> bool:
-    if not r.has(sp.I):
-        return True
-    with mpmath.workdps(60):
-        return abs(complex(sp.N(sp.im(r), 50))) < 1e-40
+    """A root in radicals is real when its imaginary part vanishes (to 50 digits: roots of a
+    polynomial over QQ<α> are separated far more widely than that)."""
+    return not r.has(sp.I) or abs(complex(sp.N(sp.im(r), 50))) < 1e-40
 
 
 def _zero(e) -> bool:
-    e = sp.sympify(e)
-    if e.has(sp.I):
-        return sp.N(e, 50) == 0 or abs(complex(sp.N(e, 50))) < 1e-40
-    return is_zero(e)
+    """Exact zero test (complex branches are never parametrised, so no i reaches here)."""
+    return is_zero(sp.sympify(e))
 
 
 def _nf(e):
-    e = sp.sympify(e)
-    if e.has(sp.I):
-        return e
-    return normal_form(e)
+    return normal_form(sp.sympify(e))

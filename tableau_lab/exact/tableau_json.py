@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import sympy as sp
 
+from ..files import atomic_write_text
 from .grammar import LIMITS, EntryError, format_entry, parse_entry
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
 
@@ -283,14 +283,4 @@ def dumps(m: Method) -> str:
 
 def save(m: Method, path: str | os.PathLike) -> None:
     """Write a tableau file atomically (no half-written file on failure)."""
-    path = Path(path)
-    text = dumps(m)
-    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write_text(path, dumps(m))

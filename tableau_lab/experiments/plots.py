@@ -3,11 +3,12 @@ parasitic components of GLM inputs.  Reads the arrays a scene run produced; neve
 anything itself."""
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from ..files import atomic_write
+from ..numeric.arith import arith
 
 __all__ = ["draw"]
 
@@ -20,20 +21,12 @@ def _figure():
 
 
 def _save(fig, target: Path):
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".png")
-    os.close(fd)
-    try:
-        fig.savefig(tmp, dpi=110, bbox_inches="tight")
-        os.replace(tmp, target)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    atomic_write(target, lambda tmp: fig.savefig(tmp, dpi=110, bbox_inches="tight"), suffix=".png")
 
 
 def _floor(run) -> float:
     """Exact zeros are drawn at a tenth of the precision's unit round-off."""
-    p = run["precision"]
-    return 1.1e-17 if p == "float64" else 10.0 ** (-int(p.split(":")[1]) - 1)
+    return arith(run["precision"]).eps / 10
 
 
 def draw(scene, meta, arrays, out: Path) -> list:
@@ -110,7 +103,6 @@ def draw_roundoff(result: dict, target: Path, title: str) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     ax.set_title(title, fontsize=10)
-    target.parent.mkdir(parents=True, exist_ok=True)
     _save(fig, target)
     plt.close(fig)
 
@@ -130,6 +122,5 @@ def draw_convergence(results: list, target: Path, title: str) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=6, loc="best")
     ax.set_title(title, fontsize=10)
-    target.parent.mkdir(parents=True, exist_ok=True)
     _save(fig, target)
     plt.close(fig)

@@ -12,11 +12,15 @@ time, the message), never silently dropped.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
+import mpmath
 import numpy as np
+import sympy as sp
 
 from ..exact.tableau_json import load
+from ..numeric.arith import arith
 from ..numeric.codegen import compile_problem
 from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
@@ -25,19 +29,16 @@ from ..numeric.problems import get_problem, reference
 __all__ = ["quick_run", "convergence", "Convergence", "fit_order", "roundoff"]
 
 
-def _backend(precision: str):
-    if precision == "float64":
-        return "numpy", None
-    return "mpmath", int(precision.split(":")[1])
+def compiled(problem, precision: str):
+    """The problem's generated code for the arithmetic of ``precision``."""
+    a = arith(precision)
+    return compile_problem(problem, a.backend, None if a.backend == "numpy" else a.dps)
 
 
 def _setup(method, problem, precision, overrides):
     m = load(method) if not hasattr(method, "kind") else method
     P = get_problem(problem, **(overrides or {}))
-    backend, dps = _backend(precision)
-    cp = compile_problem(P, backend, dps)
-    nm = to_numeric(m, precision)
-    return m, P, cp, nm
+    return m, P, compiled(P, precision), to_numeric(m, precision)
 
 
 def quick_run(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None):
@@ -48,7 +49,6 @@ def quick_run(method, problem, h, steps, *, precision="float64", project=(), sta
     if precision == "float64":
         final = [float(x) for x in run.final]
     else:                                     # all digits of a multiprecision run, as strings
-        import mpmath
         final = [mpmath.nstr(x, nm.arith.dps, strip_zeros=False) for x in run.final]
     out = {"method": m.name, "problem": P.name, "h": float(h), "steps": steps, "precision": precision,
            "start": run.start, "projection": list(project)}
@@ -119,7 +119,9 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
     a = nm.arith
     ref = reference(P, T, max(ref_dps, a.dps + 8))
     out = Convergence(m.name, P.name, precision, T, nm.order if start == "exact" else nm.order_identity)
-    Texact = __import__("sympy").nsimplify(T)
+    Texact = sp.nsimplify(T)
+    with a.context():                          # the reference at the working precision, once
+        ref = [a.number(sp.Float(str(r), a.dps + 8)) for r in ref]
     ns = list(steps) if steps else []
     n = n0
     while True:
@@ -141,7 +143,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
             n *= 2
             continue
         with a.context():
-            err = float(max(abs(x - a.number(__import__("sympy").Float(str(r), a.dps + 8))) for x, r in zip(run.final, ref)))
+            err = float(max(abs(x - r) for x, r in zip(run.final, ref)))
         out.hs.append(float(T) / n)
         out.errors.append(err)
         out.nfev.append(run.nfev)
@@ -172,37 +174,26 @@ def roundoff(method, problem, h, steps, *, starts=4, every=None, dps: int = 32, 
     near the problem's (relative perturbations of 10 %), recorded every ``every`` steps.  Returns
     {"n": [...], "compensated": [...], "plain": [...], "slope_compensated", "slope_plain"}: the
     growth exponents fitted on log-log data (Brouwer's law predicts 1/2 for a random walk)."""
-    import sympy as sp
-    from ..exact.tableau_json import load as load_method
-    m = load_method(method) if not hasattr(method, "kind") else method
-    P = get_problem(problem, **(overrides or {}))
+    m, P, cp64, nm64 = _setup(method, problem, "float64", overrides)
+    # the reference runs the float64 method exactly as represented (its rounded coefficients,
+    # step size and initial value, converted exactly) at dps digits: the difference is the
+    # arithmetic round-off alone, not the representation of 1/6 or 0.01 in binary
+    nm_mp, cp_mp = _exactly(nm64, arith(f"mp:{dps}")), compiled(P, f"mp:{dps}")
     every = every or max(1, steps // 50)
     rng = np.random.default_rng(seed)
-    hx = sp.nsimplify(h)
-    acc = {"compensated": None, "plain": None}
-    for k in range(starts):
+    h64 = float(sp.nsimplify(h))
+    acc = {"compensated": 0.0, "plain": 0.0}
+    for _ in range(starts):
         factors = [sp.Rational(int(x), 1000) for x in 1000 + rng.integers(-100, 101, size=P.dimension)]
-        y0 = [v * f for v, f in zip(P.initial_values, factors)]
-        nm64 = to_numeric(m, "float64")
-        cp64 = compile_problem(P, "numpy")
-        y064 = np.array([float(v) for v in y0])
-        h64 = float(hx)
-        # the reference runs the float64 method exactly as represented (its rounded coefficients,
-        # step size and initial value, converted exactly) at dps digits: the difference is the
-        # arithmetic round-off alone, not the representation of 1/6 or 0.01 in binary
-        nm_mp = _exactly(nm64, to_numeric(m, f"mp:{dps}"))
-        cp_mp = compile_problem(P, "mpmath", dps)
-        import mpmath
+        y064 = np.array([float(v * f) for v, f in zip(P.initial_values, factors)])
         with nm_mp.arith.context():
-            y0m = [mpmath.mpf(float(v)) for v in y064]
-            ref = integrate(nm_mp, cp_mp, y0m, mpmath.mpf(h64), steps, record_every=every, record_states=True)
+            ref = integrate(nm_mp, cp_mp, [mpmath.mpf(v) for v in y064], mpmath.mpf(h64), steps,
+                            record_every=every, record_states=True)
         for key, comp in (("compensated", True), ("plain", False)):
             run = integrate(nm64, cp64, y064, h64, steps, record_every=every, record_states=True, compensated=comp)
-            import mpmath
             with mpmath.workdps(dps):           # the difference is taken at the reference's precision
-                d2 = np.array([float(sum((mpmath.mpf(float(x)) - y) ** 2 for x, y in zip(a, b)))
-                               for a, b in zip(run.values, ref.values)])
-            acc[key] = d2 if acc[key] is None else acc[key] + d2
+                acc[key] = acc[key] + np.array([float(sum((mpmath.mpf(x) - y) ** 2 for x, y in zip(a, b)))
+                                                for a, b in zip(run.values, ref.values)])
     n = np.arange(len(acc["plain"])) * every
     out = {"n": n.tolist()}
     for key in acc:
@@ -213,15 +204,13 @@ def roundoff(method, problem, h, steps, *, starts=4, every=None, dps: int = 32, 
     return out
 
 
-def _exactly(nm64, nm_mp):
-    """nm_mp with every coefficient replaced by the exact value of nm64's float64 coefficient."""
-    import dataclasses
-
-    import mpmath
-    with nm_mp.arith.context():
+def _exactly(nm64, a):
+    """nm64 in the arithmetic ``a``: every float64 coefficient converted exactly (no new
+    rounding from the exact tableau, no second order analysis)."""
+    with a.context():
         conv = lambda X: np.vectorize(lambda x: mpmath.mpf(float(x)), otypes=[object])(X)  # noqa: E731
         return dataclasses.replace(
-            nm_mp, Aq=conv(nm64.Aq), Ap=conv(nm64.Ap), U=conv(nm64.U), Bq=conv(nm64.Bq), Bp=conv(nm64.Bp),
+            nm64, arith=a, Aq=conv(nm64.Aq), Ap=conv(nm64.Ap), U=conv(nm64.U), Bq=conv(nm64.Bq), Bp=conv(nm64.Bp),
             V=conv(nm64.V), c=conv(nm64.c), u=conv(nm64.u), w=conv(nm64.w),
             starting={t: conv(v) for t, v in nm64.starting.items()},
             finishing={t: mpmath.mpf(float(v)) for t, v in nm64.finishing.items()})

@@ -22,9 +22,7 @@ for is computed: no invariant gradients without projection, no states unless a p
 from __future__ import annotations
 
 import json
-import os
 import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +30,7 @@ import numpy as np
 import sympy as sp
 
 from .. import __version__
+from ..files import atomic_write, atomic_write_text
 
 __all__ = ["SceneError", "load_scene", "run_scene", "Scene"]
 
@@ -163,26 +162,13 @@ def load_scene(path) -> Scene:
                  every, plots, data)
 
 
-def _atomic_write(target: Path, write):
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        write(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
     """Run every run of a scene, write data, metadata and plots; returns the metadata."""
     from ..exact.tableau_json import load
-    from ..numeric.codegen import compile_problem
     from ..numeric.export import to_numeric
     from ..numeric.integrate import IntegrationError, integrate
     from .plots import draw
+    from .runs import compiled
 
     sc = load_scene(path)
     out = Path(out_root) / sc.name
@@ -192,9 +178,7 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
     for i, r in enumerate(sc.runs):
         m = load(r["method"])
         nm = to_numeric(m, r["precision"])
-        backend = "numpy" if r["precision"] == "float64" else "mpmath"
-        cp = compile_problem(sc.problem, backend, None if backend == "numpy" else nm.arith.dps)
-        h = float(sc.h) if backend == "numpy" else nm.arith.number(sc.h)
+        cp = compiled(sc.problem, r["precision"])
         bar = None
         if show:
             from tqdm import tqdm
@@ -207,7 +191,7 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
                 last[0] = n
         status, message = "completed", ""
         try:
-            run = integrate(nm, cp, cp.y0, h, sc.steps, start=r["start"], project=r["project"],
+            run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
                             invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
                             record_states=want_states, problem_name=sc.problem.name, progress=tick)
         except (IntegrationError, KeyboardInterrupt) as exc:
@@ -243,8 +227,8 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
     suffix = "" if meta["complete"] else ".incomplete"
     for stale in list(out.glob("data*.npz")) + list(out.glob("meta*.json")) + list(out.glob(f"{sc.name}_*.png")):
         stale.unlink()                      # a previous run's files must not contradict this one's
-    _atomic_write(out / f"data{suffix}.npz", lambda tmp: np.savez_compressed(open(tmp, "wb"), **arrays))
-    _atomic_write(out / f"meta{suffix}.json", lambda tmp: Path(tmp).write_text(json.dumps(meta, indent=1, ensure_ascii=False)))
+    atomic_write(out / f"data{suffix}.npz", lambda tmp: np.savez_compressed(tmp, **arrays), suffix=".npz")
+    atomic_write_text(out / f"meta{suffix}.json", json.dumps(meta, indent=1, ensure_ascii=False))
     meta["plots"] = draw(sc, meta, arrays, out) if meta_runs else []
     if interrupted:
         raise KeyboardInterrupt

@@ -31,6 +31,7 @@ class Arith:
     name = "float64"
     dps = 16
     dtype = float
+    backend = "numpy"          # the code generated for problems (numeric/codegen.py)
 
     @property
     def eps(self) -> float:
@@ -42,8 +43,9 @@ class Arith:
         return 10 * self.eps
 
     def number(self, e):
-        """An exact sympy number at this precision (rounded once, from the exact value)."""
-        return float(sp.N(sp.sympify(e), 30))
+        """An exact sympy number at this precision (a rational is rounded once, exactly)."""
+        e = sp.sympify(e)
+        return float(e) if e.is_Rational else float(sp.N(e, 30))
 
     def array(self, values):
         return np.array([self.number(v) if isinstance(v, sp.Basic) else v for v in values], dtype=self.dtype)
@@ -84,6 +86,7 @@ class Arith:
 
 class MpArith(Arith):
     dtype = object
+    backend = "mpmath"
 
     def __init__(self, dps: int):
         self.dps = dps

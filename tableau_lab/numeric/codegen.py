@@ -22,6 +22,7 @@ import numpy as np
 import sympy as sp
 
 from tableau_lab.analysis.trees import trees_up_to
+from .arith import arith
 from .problems import Problem, ProblemError, exact_value, get_problem
 
 __all__ = ["compile_problem", "CompiledProblem", "reference", "extrapolation"]
@@ -59,11 +60,7 @@ class CompiledProblem:
 
     # -- conversions --------------------------------------------------------------------------
     def _number(self, x):
-        x = sp.sympify(x)
-        if self.backend == "numpy":
-            return float(x) if x.is_Rational else float(sp.N(x, 30))
-        with mpmath.workdps(self.dps):
-            return mpmath.mpf(x.p) / x.q if x.is_Rational else mpmath.mpf(str(sp.N(x, self.dps + 10)))
+        return arith("float64" if self.backend == "numpy" else f"mp:{self.dps}").number(x)
 
     def _vector(self, values):
         if self.backend == "numpy":

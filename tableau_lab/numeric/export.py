@@ -75,6 +75,15 @@ def _exact_parts(m: Method):
     return (g.A, g.A, g.U, g.B, g.B, g.V, g.c)
 
 
+def _series(res, a):
+    """The starting ξ(t) and finishing α⁻¹(t) coefficients of a GLM order result, numeric,
+    keyed by tree, for |t| ≤ its order."""
+    from ..analysis.trees import bracket, trees_up_to
+    by_name = {bracket(t): t for t in trees_up_to(res.order)}
+    return ({by_name[k]: a.array(v) for k, v in res.starting.items() if k in by_name},
+            {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name})
+
+
 def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> NumericMethod:
     """The numeric form of ``m`` at ``precision`` ("float64" or "mp:DIGITS")."""
     if m.parameters:
@@ -86,27 +95,19 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     order_identity = None
     if m.kind == "glm":
         from ..analysis.glm_order import glm_order
-        from ..analysis.trees import trees_up_to
         res = glm_order(m)
         order, u, w = res.order, res.u, res.w
         order_identity = res.order_identity_start
         if starting:
-            from ..analysis.trees import bracket
-            by_name = {bracket(t): t for t in trees_up_to(order)}
-            xi = {by_name[k]: a.array(v) for k, v in res.starting.items() if k in by_name}
-            beta = {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name}
+            xi, beta = _series(res, a)
     elif m.kind == "rk":
         from ..analysis.rk_order import rk_order
         res = rk_order(m)
         order = order_identity = res.order
         if starting and res.effective is not None and res.effective_order > res.order:
             # effective order (Butcher 1969): process with the starting method θ, report through α⁻¹
-            from ..analysis.trees import bracket, trees_up_to
-            eff = res.effective
-            order = eff.order
-            by_name = {bracket(t): t for t in trees_up_to(order)}
-            xi = {by_name[k]: a.array(v) for k, v in eff.starting.items() if k in by_name}
-            beta = {by_name[k]: a.number(v) for k, v in eff.finishing.items() if k in by_name}
+            order = res.effective.order
+            xi, beta = _series(res.effective, a)
     else:
         from ..analysis.prk_order import prk_order
         order = prk_order(m).order

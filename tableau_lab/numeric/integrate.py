@@ -26,7 +26,9 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+import sympy as sp
 
+from ..analysis.trees import order as tree_order, symmetry
 from .export import NumericMethod
 
 __all__ = ["integrate", "Run", "IntegrationError", "start_values", "finish", "component_masks"]
@@ -60,43 +62,34 @@ class Run:
         return {k: max((abs(float(x)) for x in v), default=0.0) for k, v in self.invariant_errors.items()}
 
 
-def _symmetry(t):
-    from ..analysis.trees import symmetry
-    return symmetry(t)
-
-
-def _order(t):
-    from ..analysis.trees import order
-    return order(t)
-
-
 def start_values(nm: NumericMethod, prob, y0, h, start: str = "exact"):
     """y^[0] (r × d): u y₀ plus, with ``start="exact"``, the starting method's B-series terms."""
     a = nm.arith
     Y = np.array([nm.u[k] * y0 for k in range(nm.r)], dtype=a.dtype)
     if start == "naive" or not nm.starting:
         return Y
-    p = max((_order(t) for t in nm.starting), default=0)
+    p = max((tree_order(t) for t in nm.starting), default=0)
     F = prob.elementary_differentials(p)(y0)
     for t, xi in nm.starting.items():
-        coef = h ** _order(t) / _symmetry(t)
+        coef = h ** tree_order(t) / symmetry(t)
         for k in range(nm.r):
             if xi[k] != 0:
                 Y[k] = Y[k] + (xi[k] * coef) * F[t]
     return Y
 
 
-def finish(nm: NumericMethod, prob, Y, h):
-    """The approximation of y(t) from y^[n]: z + Σ α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n]."""
-    z = sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
-    if not nm.finishing:
+def finish(nm: NumericMethod, prob, Y, h, series: bool = True):
+    """The approximation of y(t) from y^[n]: z + Σ α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n]
+    (only z with ``series=False``, as after a naive start)."""
+    z = Y[0] if nm.r == 1 else sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
+    if not (series and nm.finishing):
         return z
-    p = max(_order(t) for t in nm.finishing)
+    p = max(tree_order(t) for t in nm.finishing)
     F = prob.elementary_differentials(p)(z)
     out = z.copy()
     for t, beta in nm.finishing.items():
         if beta != 0:
-            out = out + (beta * h ** _order(t) / _symmetry(t)) * F[t]
+            out = out + (beta * h ** tree_order(t) / symmetry(t)) * F[t]
     return out
 
 
@@ -108,11 +101,12 @@ class _Stepper:
         self.s, self.r, self.d = nm.s, nm.r, d
         self.nfev = 0
         self.newton = 0
-        self.first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
-        self.comp = np.zeros(d, dtype=self.a.dtype) if self.first_is_increment and compensated else None
-        if self.comp is not None and self.a.dtype is object:
-            self.comp = self.a.zeros(d)
+        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        self.comp = self.a.zeros(d) if first_is_increment and compensated else None
         self.tol = self.a.tol
+        if not nm.explicit:                        # per method, not per step
+            self.eye = self._identity(nm.s * d)
+            self.hA = abs(float(h)) * nm.s * float(np.max(np.abs(self.a.to_float(nm.Aq.reshape(-1)))))
 
     def f(self, y):
         self.nfev += 1
@@ -133,9 +127,7 @@ class _Stepper:
         return self._newton(Ubar, n, t)
 
     def _rhs(self, F):
-        nm = self.nm
-        return self.h * (np.einsum("ij,jk->ik", nm.Aq, F) * self.mq + np.einsum("ij,jk->ik", nm.Ap, F) * self.mp) \
-            if self.a.dtype is not object else self.h * ((nm.Aq @ F) * self.mq + (nm.Ap @ F) * self.mp)
+        return self.h * ((self.nm.Aq @ F) * self.mq + (self.nm.Ap @ F) * self.mp)
 
     def _identity(self, k):
         a = self.a
@@ -146,7 +138,7 @@ class _Stepper:
     def _newton_matrix(self, Js):
         """I − h Σ_j (A_q[:, j] ⊗ P_q J_j + A_p[:, j] ⊗ P_p J_j), J_j the Jacobian for stage j."""
         nm, h, s, d = self.nm, self.h, self.s, self.d
-        M = self._identity(s * d)
+        M = self.eye.copy()
         for j, J in enumerate(Js):
             Jq, Jp = J * self.mq[:, None], J * self.mp[:, None]
             for i in range(s):
@@ -158,12 +150,11 @@ class _Stepper:
         """Simplified Newton (one Jacobian, at the first stage input); if it stalls, full Newton
         (Jacobians at the current stage values, refreshed each iteration); then fixed point."""
         a, s, d = self.a, self.s, self.d
+        J0 = self.prob.jac(Ubar[0])
+        # attainable accuracy: round-off amplified by the conditioning of the stage system
+        amp = 1 + self.hA * (float(np.max(np.abs(a.to_float(J0.reshape(-1))))) if J0.size else 0.0)
         for full in (False, True):
-            J0 = self.prob.jac(Ubar[0])
-            Minv = None if full else self.a.lu(self._newton_matrix([J0] * s))
-            # attainable accuracy: round-off amplified by the conditioning of the stage system
-            amp = 1 + abs(float(self.h)) * float(np.max(np.abs(self.a.to_float(self.nm.Aq.reshape(-1))))) * s * float(
-                np.max(np.abs(self.a.to_float(J0.reshape(-1)))) if J0.size else 0.0)
+            Minv = None if full else a.lu(self._newton_matrix([J0] * s))
             Y = Ubar.copy()
             F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
             prev = None
@@ -274,7 +265,6 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             masks = component_masks(prob, d)
         masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
                       for m in masks)
-        import sympy as sp
         if isinstance(h, (sp.Basic, int)):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
@@ -290,11 +280,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         every = record_every or max(1, steps // 1000)
 
         def principal(Y):
-            if nm.r == 1 and not (nm.finishing and start == "exact"):
-                return Y[0]
-            if start == "exact":
-                return finish(nm, prob, Y, h)
-            return sum((nm.w[k] * Y[k] for k in range(nm.r)), 0 * Y[0])
+            return finish(nm, prob, Y, h, series=start == "exact")
 
         def record(n, y):
             if nm.r > 1:
