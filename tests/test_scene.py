@@ -86,6 +86,7 @@ def test_ctrl_c_leaves_valid_incomplete_file(tmp_path, monkeypatch):
             raise KeyboardInterrupt
         return real(self, *a)
     monkeypatch.setattr(I._Stepper, "step", step)
+    monkeypatch.setattr(I, "_use_kernel", lambda *a: False)       # the pure loop
     with pytest.raises(KeyboardInterrupt):
         run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
     out = tmp_path / "out" / "t1"
@@ -106,3 +107,26 @@ def test_user_defined_problem_in_a_scene(tmp_path):
     bad = _scene(tmp_path, problem={"define": {**define, "H": "__import__('os').system('touch x')"}})
     with pytest.raises(SceneError, match="problem"):
         load_scene(bad)
+
+
+def test_ctrl_c_in_the_compiled_loop_leaves_valid_incomplete_file(tmp_path, monkeypatch):
+    """The compiled loop runs in chunks; Ctrl-C between chunks keeps the records so far."""
+    from tableau_lab.numeric import kernels as K
+    real = K.drive
+
+    def drive(*a, record, **kw):
+        seen = []
+
+        def rec(n, Y):
+            if len(seen) == 12:
+                raise KeyboardInterrupt
+            seen.append(n)
+            record(n, Y)
+        return real(*a, record=rec, **{**kw, "chunk": 20})
+    monkeypatch.setattr(K, "drive", drive)
+    with pytest.raises(KeyboardInterrupt):
+        run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
+    meta = json.loads((tmp_path / "out" / "t1" / "meta.incomplete.json").read_text())
+    assert meta["runs"][0]["status"] == "interrupted"
+    t = np.load(tmp_path / "out" / "t1" / "data.incomplete.npz")["run0_t"]
+    assert len(t) == 13 and np.all(np.diff(t) > 0)            # t = 0 and the 12 records before the interrupt

@@ -70,10 +70,7 @@ def _exact(v, where, path):
         raise SceneError(f"{path}: {where}: {exc}") from None
 
 
-def load_scene(path) -> Scene:
-    """Read and validate a scene file (problem built, methods found; nothing run)."""
-    from ..numeric.problems import ProblemError, get_problem, problem_from_dict
-    path = Path(path)
+def _read_json(path):
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except OSError as exc:
@@ -82,15 +79,12 @@ def load_scene(path) -> Scene:
         raise SceneError(f"{path}: not valid JSON: {exc}") from None
     if not isinstance(data, dict):
         raise SceneError(f"{path}: a scene is one JSON object")
-    unknown = set(data) - KEYS
-    if unknown:
-        raise SceneError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(KEYS)})")
-    if data.get("format", FORMAT) != FORMAT:
-        raise SceneError(f"{path}: format {data.get('format')!r} is not {FORMAT!r}")
-    name = data.get("name")
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
-        raise SceneError(f"{path}: name must be a non-empty file-name-safe string (letters, digits, - _ .)")
-    prob = data.get("problem")
+    return data
+
+
+def _problem(prob, path):
+    """The problem of a scene: a name, {"name": ..., "set": {...}} or {"define": {...}}."""
+    from ..numeric.problems import ProblemError, get_problem, problem_from_dict
     try:
         if isinstance(prob, str):
             problem = get_problem(prob)
@@ -109,6 +103,22 @@ def load_scene(path) -> Scene:
             raise SceneError(f"{path}: problem must be a name, {{\"name\": ..., \"set\": {{...}}}} or {{\"define\": {{...}}}}")
     except ProblemError as exc:
         raise SceneError(f"{path}: problem: {exc}") from None
+    return problem
+
+
+def load_scene(path) -> Scene:
+    """Read and validate a scene file (problem built, methods found; nothing run)."""
+    path = Path(path)
+    data = _read_json(path)
+    unknown = set(data) - KEYS
+    if unknown:
+        raise SceneError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(KEYS)})")
+    if data.get("format", FORMAT) != FORMAT:
+        raise SceneError(f"{path}: format {data.get('format')!r} is not {FORMAT!r}")
+    name = data.get("name")
+    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
+        raise SceneError(f"{path}: name must be a non-empty file-name-safe string (letters, digits, - _ .)")
+    problem = _problem(data.get("problem"), path)
     h = _exact(data.get("h"), "h", path) if "h" in data else None
     if h is None or not h > 0:
         raise SceneError(f"{path}: h must be a positive exact number, got {data.get('h')!r}")

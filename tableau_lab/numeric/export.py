@@ -50,6 +50,9 @@ class NumericMethod:
     finishing: dict      # tree -> number α⁻¹(t) (GLM; empty for RK)
     exact: object = None  # the exact method
     order_identity: int = 0   # with the identity / naive start (θ ≡ 0): RK classical order
+    E: np.ndarray | None = None       # stage predictor ℓ_j(1 + c_i) (distinct c, implicit methods)
+    Aq_inv: np.ndarray | None = None  # A_q⁻¹, A_p⁻¹ when A_q, A_p are invertible: hF = A⁻¹(Y − Ū)
+    Ap_inv: np.ndarray | None = None
 
     @property
     def s(self) -> int:
@@ -84,6 +87,43 @@ def _series(res, a):
             {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name})
 
 
+def _floats(rows, dps):
+    """mpmath rows → a sympy Matrix of Floats with all ``dps`` digits (sympy would round an
+    mpf to 15 digits)."""
+    return sp.Matrix([[sp.Float(x, dps) for x in row] for row in rows])
+
+
+def _newton_data(Aq, Ap, c, a):
+    """The stage predictor E (E[i, j] = ℓ_j(1 + c_i), ℓ_j the Lagrange basis on the nodes c:
+    the previous step's stage derivatives extrapolated to the new stages, as in Hairer's GNI
+    codes) and A_q⁻¹, A_p⁻¹ (stage derivatives from the stage increments, so a converged
+    Newton iteration needs no further f-evaluation).  Each is evaluated at 20 digits beyond
+    the working precision from the exact entries and rounded once; None where c has repeated
+    nodes or A is singular (decided exactly)."""
+    import mpmath
+    from ..exact.field import normal_form
+    from .arith import arith as _arith
+    wp = _arith(f"mp:{max(a.dps, 16) + 20}")
+    s = len(c)
+    E = None
+    if all(normal_form(c[i] - c[j]) != 0 for i in range(s) for j in range(i)):
+        with wp.context():
+            cn = [wp.number(x) for x in c]
+            E = [[mpmath.fprod((1 + cn[i] - cn[k]) / (cn[j] - cn[k]) for k in range(s) if k != j)
+                  for j in range(s)] for i in range(s)]
+        E = a.matrix(_floats(E, wp.dps))
+    invs = []
+    for A in (Aq, Ap):
+        A = sp.Matrix(A)
+        if normal_form(A.det()) == 0:
+            invs.append(None)
+            continue
+        with wp.context():
+            Ai = mpmath.inverse(wp.matrix(A).tolist())
+            invs.append(a.matrix(_floats(Ai.tolist(), wp.dps)))
+    return E, invs[0], invs[1]
+
+
 def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> NumericMethod:
     """The numeric form of ``m`` at ``precision`` ("float64" or "mp:DIGITS")."""
     if m.parameters:
@@ -111,8 +151,11 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     else:
         from ..analysis.prk_order import prk_order
         order = prk_order(m).order
+    E = Aqi = Api = None
+    if not all(sp.Matrix(X)[i, j] == 0 for X in (Aq, Ap) for i in range(len(c)) for j in range(i, len(c))):
+        E, Aqi, Api = _newton_data(Aq, Ap, list(c), a)
     with a.context():
-        return NumericMethod(name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
+        return NumericMethod(E=E, Aq_inv=Aqi, Ap_inv=Api, name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
                              Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),
                              u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m,
                              order_identity=order if order_identity is None else order_identity)

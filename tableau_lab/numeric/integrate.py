@@ -57,6 +57,7 @@ class Run:
     seconds: float = 0.0
     completed: int = 0                                   # steps done
     parasitic: list = field(default_factory=list)        # max |y^[n]_k|, k ≥ 2, at the records (GLMs)
+    compile_seconds: float = 0.0                         # compiled kernel: first call (compile or cache load)
 
     def max_invariant_error(self) -> dict:
         return {k: max((abs(float(x)) for x in v), default=0.0) for k, v in self.invariant_errors.items()}
@@ -104,6 +105,7 @@ class _Stepper:
         first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
         self.comp = self.a.zeros(d) if first_is_increment and compensated else None
         self.tol = self.a.tol
+        self.Fprev = None                          # the last step's stage derivatives (predictor)
         if not nm.explicit:                        # per method, not per step
             self.eye = self._identity(nm.s * d)
             self.hA = abs(float(h)) * nm.s * float(np.max(np.abs(self.a.to_float(nm.Aq.reshape(-1)))))
@@ -147,37 +149,56 @@ class _Stepper:
         return M
 
     def _newton(self, Ubar, n, t):
-        """Simplified Newton (one Jacobian, at the first stage input); if it stalls, full Newton
-        (Jacobians at the current stage values, refreshed each iteration); then fixed point."""
+        """Simplified Newton (one Jacobian, at the first stage input), started from the previous
+        step's stage derivatives extrapolated to the new stages (``nm.E``; GNI's start) and
+        stopped by Hairer's estimate θ/(1 − θ)·‖ΔY‖ ≤ tol, θ the contraction rate; if it
+        stalls, again from Ū, then full Newton (Jacobians at the current stage values,
+        refreshed each iteration); then fixed point.  Returns the stage derivatives: from the
+        increments, A⁻¹(Y − Ū)/h, when A is invertible (no f-evaluation after convergence)."""
         a, s, d = self.a, self.s, self.d
         J0 = self.prob.jac(Ubar[0])
         # attainable accuracy: round-off amplified by the conditioning of the stage system
         amp = 1 + self.hA * (float(np.max(np.abs(a.to_float(J0.reshape(-1))))) if J0.size else 0.0)
-        for full in (False, True):
-            Minv = None if full else a.lu(self._newton_matrix([J0] * s))
-            Y = Ubar.copy()
-            F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-            prev = None
+        # iterate on the increments Z = Y − Ū (small, so A⁻¹Z keeps its relative precision)
+        starts = [a.zeros(s, d)]
+        if self.Fprev is not None and self.nm.E is not None:
+            starts.insert(0, self._rhs(self.nm.E @ self.Fprev))
+        tries = [(Z0, False) for Z0 in starts] + [(starts[-1], True)]
+        Minv = None
+        scale = 1 + a.norm(Ubar.reshape(-1))
+        for Z0, full in tries:
+            if Minv is None and not full:
+                Minv = a.lu(self._newton_matrix([J0] * s))
+            Z, prev = Z0.copy(), None
             for it in range(60 if not full else 30):
-                if full:
-                    Minv = a.lu(self._newton_matrix([self.prob.jac(Y[j]) for j in range(s)]))
-                R = Ubar + self._rhs(F) - Y
-                dY = a.lu_solve(Minv, R.reshape(-1)).reshape(s, d)
-                Y = Y + dY
-                self.newton += 1
-                if not a.finite(dY.reshape(-1)):
-                    break
-                size = a.norm(dY.reshape(-1))
+                Y = Ubar + Z
                 F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-                scale = 1 + a.norm(Y.reshape(-1))
-                if size <= self.tol * scale:
-                    return F
-                if prev is not None and size >= 0.9 * prev and size <= 1000 * a.eps * scale * amp:
-                    return F                # stagnating at round-off level: converged to working precision
+                M = a.lu(self._newton_matrix([self.prob.jac(Y[j]) for j in range(s)])) if full else Minv
+                dZ = a.lu_solve(M, (self._rhs(F) - Z).reshape(-1)).reshape(s, d)
+                Z = Z + dZ
+                self.newton += 1
+                if not a.finite(dZ.reshape(-1)):
+                    break
+                size = a.norm(dZ.reshape(-1))
+                # to an ulp of the increments themselves: A⁻¹Z/h feeds the output unscaled by h
+                if _converged(size, prev, a.eps * a.norm(Z.reshape(-1)), 1000 * a.eps * scale * amp):
+                    return self._derivatives(Z, Ubar)
                 if prev is not None and it > 3 and size > prev:
                     break                   # diverging
                 prev = size
         return self._fixed_point(Ubar, n, t)
+
+    def _derivatives(self, Z, Ubar):
+        """The stage derivatives f(Yᵢ) of converged stages Y = Ū + Z: A⁻¹Z/h per component
+        class when A_q and A_p are invertible, else evaluated.  Kept for the next step's start."""
+        nm = self.nm
+        if nm.Aq_inv is not None and nm.Ap_inv is not None:
+            F = (1 / self.h) * ((nm.Aq_inv @ Z) * self.mq + (nm.Ap_inv @ Z) * self.mp)
+        else:
+            Y = Ubar + Z
+            F = np.array([self.f(Y[i]) for i in range(self.s)], dtype=self.a.dtype)
+        self.Fprev = F
+        return F
 
     def _fixed_point(self, Ubar, n, t):
         a, s = self.a, self.s
@@ -193,6 +214,7 @@ class _Stepper:
             F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
             scale = 1 + a.norm(Y.reshape(-1))
             if size <= self.tol * scale or (size >= 0.9 * prev and size <= 1000 * a.eps * scale):
+                self.Fprev = F
                 return F
             prev = size
         raise IntegrationError(f"step {n} (t = {float(t):.6g}): the implicit stage equations did not converge "
@@ -211,6 +233,17 @@ class _Stepper:
             self.comp = (Yin[0] - y1) + x
             Yout[0] = y1
         return Yout
+
+
+def _converged(size, prev, tol, floor) -> bool:
+    """Stop a contracting iteration: the correction is below tol, or Hairer's error estimate
+    θ/(1 − θ)·‖Δ‖ (θ = ‖Δ‖/‖Δ_prev‖) is, or it stagnates (θ ≥ 0.9) at the round-off floor."""
+    if size <= tol:
+        return True
+    if prev is None or prev == 0:
+        return False
+    theta = size / prev
+    return (theta < 1 and theta / (1 - theta) * size <= tol) or (theta >= 0.9 and size <= floor)
 
 
 def _project(prob, names, targets, y, a, n, t):
@@ -247,16 +280,32 @@ def component_masks(prob, d: int):
     return ([1] * d, [0] * d)
 
 
+def _use_kernel(kernel, a, nm, prob) -> bool:
+    if kernel not in ("auto", "compiled", "python"):
+        raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
+    ok = a.name == "float64" and getattr(prob, "backend", None) == "numpy" and hasattr(prob, "problem")
+    if kernel == "compiled" and not ok:
+        raise ValueError("the compiled kernel runs float64 on a generated problem (compile_problem(..., 'numpy'))")
+    if kernel == "python" or not ok:
+        return False
+    from .kernels import available
+    return available()
+
+
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
-              masks=None, problem_name: str = "", progress=None, compensated: bool = True) -> Run:
+              masks=None, problem_name: str = "", progress=None, compensated: bool = True,
+              kernel: str = "auto") -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
     ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
     if ``record_states``; memory grows with the records only.  ``compensated=False`` turns the
-    Kahan summation of the principal increment off (to measure what it buys)."""
+    Kahan summation of the principal increment off (to measure what it buys).
+    ``kernel``: "compiled" runs the float64 step loop compiled (:mod:`kernels`), "python" the
+    loop here, "auto" the compiled one when the arithmetic is float64 and the problem is a
+    generated one (same algorithm; results agree to round-off)."""
     a = nm.arith
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
@@ -282,7 +331,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         def principal(Y):
             return finish(nm, prob, Y, h, series=start == "exact")
 
-        def record(n, y):
+        def record(n, Y):
+            y = principal(Y)
             if nm.r > 1:
                 run.parasitic.append(max(a.norm(Y[k]) for k in range(1, nm.r)))
             run.times.append(float(n * h))
@@ -291,12 +341,21 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             if record_states:
                 run.values.append(y.copy())          # at the working precision
 
-        record(0, principal(Y))
+        def project_step(y, n):
+            return _project(prob, tuple(project), targets, y, a, n, n * h)
+
+        record(0, Y)
         try:
-            for n in range(1, steps + 1):
+            if _use_kernel(kernel, a, nm, prob):
+                from .kernels import drive
+                Y = drive(nm, prob, Y, h, steps, every, masks=masks, project=tuple(project), targets=targets,
+                          stepper=stepper, record=record, progress=progress, run=run, compensated=compensated,
+                          project_step=project_step if project else None)
+                stepper.nfev, stepper.newton = run.nfev, run.newton_iterations
+            for n in range(run.completed + 1, steps + 1):
                 Y = stepper.step(Y, n, n * h)
                 if project:
-                    Y[0], its = _project(prob, tuple(project), targets, Y[0], a, n, n * h)
+                    Y[0], its = project_step(Y[0], n)
                     run.projection_iterations += its
                 if not a.finite(Y.reshape(-1)):
                     raise IntegrationError(f"step {n} (t = {float(n * h):.6g}): the solution is not finite "
@@ -304,7 +363,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                                            "problem is singular here")
                 run.completed = n
                 if n % every == 0 or n == steps:
-                    record(n, principal(Y))
+                    record(n, Y)
                     if progress is not None:
                         progress(n)
         except KeyboardInterrupt as exc:
@@ -322,8 +381,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 raise err from None
             raise
         finally:
-            run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
-            run.seconds = time.perf_counter() - t0
+            if not run.nfev or stepper.nfev > run.nfev:
+                run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
+            run.seconds = time.perf_counter() - t0 - run.compile_seconds
         run.final = principal(Y)
     return run
 

@@ -1,0 +1,173 @@
+r"""Compiled float64 step loops: numba code generated from a problem's symbols, cached on disk.
+
+One module per problem (its f, Jacobian, invariants and gradients, then the loop of
+:mod:`kernel_source`) is written under the cache directory (``$TABLEAU_LAB_CACHE``, else
+``~/.cache/tableau_lab``) with a name that hashes its text, and numba caches the machine code
+beside it: the compile cost is paid once per problem (and loop version), not per run and not
+per method — the method enters as arrays.  :func:`drive` runs the loop in chunks between
+which Python records, reports progress and lets Ctrl-C through; a step the loop cannot finish
+is redone by the pure-Python stepper (full Newton, fixed point) or fails with its message.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> from tableau_lab.numeric.export import to_numeric
+>>> from tableau_lab.numeric.codegen import compile_problem
+>>> from tableau_lab.numeric.integrate import integrate
+>>> cp = compile_problem("pendulum")
+>>> nm = to_numeric(load("methods/gauss2.json"))
+>>> fast = integrate(nm, cp, cp.y0, 0.01, 1000, kernel="compiled")
+>>> slow = integrate(nm, cp, cp.y0, 0.01, 1000, kernel="python")
+>>> bool(abs(fast.final - slow.final).max() < 1e-13), fast.nfev == slow.nfev
+(True, True)
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..files import atomic_write_text
+from .kernel_source import HEADER, LOOP, problem_source
+
+__all__ = ["available", "kernel_module", "drive", "cache_dir", "compile_seconds"]
+
+_MODULES: dict = {}
+_COMPILE: dict = {}        # module name -> seconds of the first (compiling or cache-loading) call
+
+
+def available() -> bool:
+    """numba importable."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:        # pragma: no cover - numba is a dependency
+        return False
+    return True
+
+
+def cache_dir() -> Path:
+    root = os.environ.get("TABLEAU_LAB_CACHE") or Path.home() / ".cache" / "tableau_lab"
+    return Path(root) / "kernels"
+
+
+def kernel_module(problem):
+    """The compiled module of ``problem`` (a :class:`~.problems.Problem`): generated, written
+    and imported on first use; numba compiles on the first call or loads its disk cache."""
+    names = tuple(problem.invariants)
+    source = HEADER + "\n" + problem_source(problem, names) + "\n" + LOOP
+    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
+    name = f"tableau_lab_kernel_{digest}"
+    if name in _MODULES:
+        return _MODULES[name]
+    path = cache_dir() / f"{name}.py"
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(path, source)
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    mod.invariant_index = {k: i for i, k in enumerate(names)}
+    _MODULES[name] = mod
+    return mod
+
+
+def compile_seconds(mod) -> float:
+    """Seconds the first call of ``mod``'s loop took (numba compile, or loading its disk cache)."""
+    return _COMPILE.get(mod.__name__, 0.0)
+
+
+def _f64(x):
+    return np.ascontiguousarray(np.asarray(x, dtype=float))
+
+
+class _Pack:
+    """The method, problem and run constants as the loop's float64 / int64 arrays."""
+
+    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated):
+        self.s, self.r = nm.s, nm.r
+        self.h = float(h)
+        self.mats = [_f64(x) for x in (nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V)]
+        self.mq, self.mp = _f64(masks[0]), _f64(masks[1])
+        z = np.zeros((nm.s, nm.s))
+        self.E = _f64(nm.E) if nm.E is not None else z
+        invertible = nm.Aq_inv is not None and nm.Ap_inv is not None
+        self.Aqi = _f64(nm.Aq_inv) if invertible else z
+        self.Api = _f64(nm.Ap_inv) if invertible else z
+        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        self.flags = np.array([int(nm.explicit), int(nm.E is not None), int(invertible),
+                               int(first_is_increment and compensated), 0], dtype=np.int64)
+        self.c = _f64([float(v) for v in cp.constants])
+        self.hA = abs(self.h) * nm.s * float(np.max(np.abs(self.mats[0]))) if not nm.explicit else 0.0
+        self.proj = np.array([mod.invariant_index[k] for k in project], dtype=np.int64)
+        self.target = _f64([float(targets[k]) for k in project])
+
+
+def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, record, progress, run,
+          compensated=True, project_step=None, chunk=1 << 16):
+    """Steps 1..steps of the compiled loop from the input vector Y (r × d); ``record(n, Y)`` at
+    the record steps, ``progress(n)`` after each chunk; returns the final Y.  ``stepper`` (the
+    pure path) redoes a step the loop hands back; ``project_step(Y0, n)`` → (Y0, iterations)
+    projects after it."""
+    from .integrate import IntegrationError
+    mod = kernel_module(cp.problem)
+    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated)
+    Y = _f64(Y).copy()
+    comp = np.zeros(Y.shape[1]) if stepper.comp is None else _f64(stepper.comp).copy()
+    Fprev = np.zeros((pk.s, Y.shape[1]))
+    stats = np.zeros(6)
+    eps = float(np.finfo(float).eps)
+    rec = np.empty((chunk // every + 2, pk.r, Y.shape[1]))
+    recn = np.empty(chunk // every + 2, dtype=np.int64)
+    n = 0
+
+    def call(n0, n1):
+        return mod.run_(Y, pk.h, n0, n1, steps, every, *pk.mats, pk.mq, pk.mp, pk.E, pk.Aqi, pk.Api, pk.flags,
+                        pk.c, eps, pk.hA, pk.proj, pk.target, comp, Fprev, rec, recn, stats)
+
+    if mod.__name__ not in _COMPILE:
+        t0 = time.perf_counter()
+        call(0, 0)
+        _COMPILE[mod.__name__] = time.perf_counter() - t0
+        run.compile_seconds = _COMPILE[mod.__name__]
+    while n < steps:
+        n1 = min(steps, n + chunk)
+        status = call(n, n1)
+        for k in range(int(stats[3])):
+            record(int(recn[k]), rec[k])
+        run.nfev, run.newton_iterations, run.projection_iterations = int(stats[0]), int(stats[1]), int(stats[2])
+        run.completed = n1 if status == 0 else int(stats[4]) - 1
+        if status == 0:
+            n = n1
+        else:
+            n = int(stats[4])
+            t = n * pk.h
+            if status == 2:
+                raise IntegrationError(f"step {n} (t = {t:.6g}): the solution is not finite (NaN or overflow): the "
+                                       "method is unstable at this step size, or the problem is singular here")
+            if status == 3:
+                raise IntegrationError(f"step {n} (t = {t:.6g}): projection onto {', '.join(project)} did not "
+                                       f"converge (residual {stats[5]:.3g} after 50 iterations)")
+            # the pure path redoes this step: full Newton, then fixed point (or its error)
+            stepper.comp = comp.copy() if pk.flags[3] else None
+            stepper.Fprev = None
+            stepper.nfev, stepper.newton = int(stats[0]), int(stats[1])
+            Y[:, :] = stepper.step(Y, n, t)
+            if project_step is not None:
+                Y[0], its = project_step(Y[0], n)
+                stats[2] += its
+            stats[0], stats[1] = stepper.nfev, stepper.newton
+            if stepper.comp is not None:
+                comp[:] = stepper.comp
+            if stepper.Fprev is not None:
+                Fprev[:, :] = stepper.Fprev
+                pk.flags[4] = 1
+            run.completed = n
+            if n % every == 0 or n == steps:
+                record(n, Y)
+        if progress is not None:
+            progress(n)
+    return Y
