@@ -230,6 +230,20 @@ def _json_and_plot(out, name, data, draw):
 
 
 def _convergence(args) -> int:
+    from contextlib import ExitStack
+
+    from .experiments.executor import SchedulerError, executor
+
+    with ExitStack() as stack:                 # one executor (pool or cluster) for every file
+        try:
+            ex = stack.enter_context(executor(args.scheduler, args.workers))
+        except (SchedulerError, ValueError) as exc:
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            return EXIT_INPUT
+        return _convergence_runs(args, ex)
+
+
+def _convergence_runs(args, ex) -> int:
     from .exact.tableau_json import TableauError
     from .experiments.plots import draw_convergence
     from .experiments.runs import convergence
@@ -244,7 +258,7 @@ def _convergence(args) -> int:
     for path in args.files:
         try:
             c = convergence(path, args.problem, T=T, precision=args.precision,
-                            max_steps=args.max_steps, start=args.start)
+                            max_steps=args.max_steps, start=args.start, scheduler=ex)
         except (TableauError, ProblemError, ValueError) as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
@@ -411,6 +425,11 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--precision", default="float64")
     cv.add_argument("--max-steps", type=int, default=1 << 15)
     cv.add_argument("--start", choices=("exact", "naive"), default="exact")
+    cv.add_argument("--scheduler", metavar="ADDRESS",
+                    help="run the step sizes on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786), "
+                         "or 'serial' (in this process); default: a process pool on this machine")
+    cv.add_argument("--workers", type=int, metavar="N", help="processes of the local pool (default: every core; "
+                                                             "1: in this process)")
     cv.add_argument("--out", default="reports/convergence")
     cv.set_defaults(run=_convergence)
     rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",

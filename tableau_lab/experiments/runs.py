@@ -13,7 +13,9 @@ time, the message), never silently dropped.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import mpmath
 import numpy as np
@@ -25,6 +27,7 @@ from ..numeric.codegen import compile_problem
 from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
 from ..numeric.problems import get_problem, reference
+from .executor import executor
 
 __all__ = ["quick_run", "convergence", "Convergence", "fit_order", "roundoff"]
 
@@ -109,51 +112,85 @@ class Convergence:
 
 
 def convergence(method, problem, T=10.0, steps=None, *, precision="float64", start="exact", overrides=None,
-                ref_dps: int = 40, n0: int = 50, max_steps: int = 1 << 15) -> Convergence:
+                ref_dps: int = 40, n0: int = 50, max_steps: int = 1 << 15, scheduler=None,
+                workers: int | None = None) -> Convergence:
     """Global error at T against the problem's reference solution.  With ``steps`` given, those
     step counts; otherwise n = n0, 2n0, 4n0, … until three successive local slopes agree to 0.1
     (the asymptotic regime), the error reaches the round-off plateau, or ``max_steps``.  Runs that
     fail (an instability, a stage solve that diverges) are recorded with their message; the slope
-    is fitted by least squares on the last points above the plateau, at most five."""
-    m, P, cp, nm = _setup(method, problem, precision, overrides)
+    is fitted by least squares on the last points above the plateau, at most five.
+
+    The runs go through :func:`~tableau_lab.experiments.executor.executor` (``scheduler``,
+    ``workers``: a local process pool by default, "serial", a Dask scheduler's address, or an
+    open executor); the result is the same, bit for bit, whichever ran them."""
+    m, P, _, nm = _setup(method, problem, precision, overrides)
     a = nm.arith
     ref = reference(P, T, max(ref_dps, a.dps + 8))
     out = Convergence(m.name, P.name, precision, T, nm.order if start == "exact" else nm.order_identity)
     Texact = sp.nsimplify(T)
     with a.context():                          # the reference at the working precision, once
         ref = [a.number(sp.Float(str(r), a.dps + 8)) for r in ref]
-    ns = list(steps) if steps else []
-    n = n0
-    while True:
+    task = functools.partial(convergence_run, nm, P, Texact, start)
+    with executor(scheduler, workers) as ex:
+        def runs(ns):
+            return ex.map(task, ns, describe=lambda n: f"n = {n}, h = {float(T) / n:.3g}", desc=m.name)
         if steps:
-            if not ns:
+            for n, point in zip(steps, runs(list(steps))):
+                _add_point(out, n, point, ref)
+        n = n0
+        while not steps and n <= max_steps:
+            # as many step counts at once as the executor runs; those past the stopping point
+            # are dropped, so every executor gives the serial loop's result
+            batch = []
+            while len(batch) < ex.workers and n <= max_steps:
+                batch.append(n)
+                n *= 2
+            if any(_add_point(out, k, point, ref) and _settled(out.hs, out.errors, a.eps)
+                   for k, point in zip(batch, runs(batch))):
                 break
-            n = ns.pop(0)
-        elif n > max_steps:
-            break
-        h = a.number(Texact / n)
-        try:
-            run = integrate(nm, cp, cp.y0, h, n, start=start)
-        except IntegrationError as exc:
-            out.hs.append(float(T) / n)
-            out.errors.append(None)
-            out.failures.append((float(T) / n, str(exc)))
-            out.nfev.append(None)
-            out.growth.append(None)
-            n *= 2
-            continue
-        with a.context():
-            err = float(max(abs(x - r) for x, r in zip(run.final, ref)))
-        out.hs.append(float(T) / n)
-        out.errors.append(err)
-        out.nfev.append(run.nfev)
-        par = [x for x in run.parasitic if x > 0]
-        out.growth.append(float(max(par) / min(par)) if len(par) > 1 else None)
-        if not steps and _settled(out.hs, out.errors, a.eps):
-            break
-        n *= 2
     out.slope = fit_order(out.hs[-5:] if not steps else out.hs, out.errors[-5:] if not steps else out.errors, a.eps)
     return out
+
+
+class ConvergencePoint(NamedTuple):
+    """What one run of a convergence study hands back, whichever executor ran it."""
+    final: object               # the finished state at T (working precision); None if the run failed
+    nfev: int | None
+    parasitic: list             # GLMs: max |y^[n]_k|, k ≥ 2, at the records
+    failure: str | None         # the IntegrationError's message
+
+
+def convergence_run(nm, problem, T, start, n) -> ConvergencePoint:
+    """One run of a convergence study: n steps of size T/n (T exact) of the numeric method
+    ``nm`` on ``problem`` (a Problem).  The executor's task: a module-level function of
+    picklable arguments; the problem's code is generated once per worker process (cached)."""
+    a = nm.arith
+    cp = compiled(problem, a.name)
+    try:
+        run = integrate(nm, cp, cp.y0, a.number(T / n), n, start=start)
+    except IntegrationError as exc:
+        return ConvergencePoint(None, None, [], str(exc))
+    return ConvergencePoint(run.final, run.nfev, list(run.parasitic), None)
+
+
+def _add_point(out: Convergence, n: int, point: ConvergencePoint, ref) -> bool:
+    """Append the run with n steps to ``out`` (the error against ``ref`` at the working
+    precision); True when the run succeeded."""
+    h = float(out.T) / n
+    out.hs.append(h)
+    if point.failure is not None:
+        out.errors.append(None)
+        out.failures.append((h, point.failure))
+        out.nfev.append(None)
+        out.growth.append(None)
+        return False
+    a = arith(out.precision)
+    with a.context():
+        out.errors.append(float(max(abs(x - r) for x, r in zip(point.final, ref))))
+    out.nfev.append(point.nfev)
+    par = [x for x in point.parasitic if x > 0]
+    out.growth.append(float(max(par) / min(par)) if len(par) > 1 else None)
+    return True
 
 
 def _settled(hs, errs, floor) -> bool:
