@@ -137,11 +137,31 @@ class MpArith(Arith):
         return mpmath.workdps(self.dps)
 
 
+class DDArith(MpArith):
+    """Double-double: the compiled loop computes in pairs of float64 (about 32 digits, u² =
+    2^-106); everything around it (starting values, finishing, records, a step handed back
+    to Python) runs in mpmath at 32 digits."""
+
+    def __init__(self):
+        super().__init__(32)
+        self.name = "dd"
+
+    @property
+    def eps(self) -> float:
+        return 2.0 ** -104
+
+    @property
+    def tol(self) -> float:
+        return 10 * self.eps
+
+
 @lru_cache(maxsize=None)
 def arith(precision: str = "float64") -> Arith:
-    """``"float64"`` or ``"mp:DIGITS"`` (e.g. ``"mp:32"``)."""
+    """``"float64"``, ``"dd"`` (double-double, compiled) or ``"mp:DIGITS"`` (e.g. ``"mp:32"``)."""
     if precision == "float64":
         return Arith()
+    if precision == "dd":
+        return DDArith()
     if isinstance(precision, str) and precision.startswith("mp:"):
         try:
             dps = int(precision[3:])
@@ -149,4 +169,4 @@ def arith(precision: str = "float64") -> Arith:
             dps = 0
         if 5 <= dps <= 10000:
             return MpArith(dps)
-    raise ValueError(f"precision {precision!r}: use float64 or mp:DIGITS with 5 <= DIGITS <= 10000 (e.g. mp:32)")
+    raise ValueError(f"precision {precision!r}: use float64, dd or mp:DIGITS with 5 <= DIGITS <= 10000 (e.g. mp:32)")

@@ -283,9 +283,13 @@ def component_masks(prob, d: int):
 def _use_kernel(kernel, a, nm, prob) -> bool:
     if kernel not in ("auto", "compiled", "python"):
         raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
+    if a.name == "dd":                     # double-double exists only compiled
+        if not hasattr(prob, "problem"):
+            raise ValueError("precision dd runs compiled: it needs a generated problem (compile_problem)")
+        return True
     ok = a.name == "float64" and getattr(prob, "backend", None) == "numpy" and hasattr(prob, "problem")
     if kernel == "compiled" and not ok:
-        raise ValueError("the compiled kernel runs float64 on a generated problem (compile_problem(..., 'numpy'))")
+        raise ValueError("the compiled kernel runs float64 or dd on a generated problem (compile_problem)")
     if kernel == "python" or not ok:
         return False
     from .kernels import available

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ..files import atomic_write_text
-from .kernel_source import HEADER, LOOP, problem_source
+from .kernel_source import COMMON, DD_HEADER, DD_LOOP, HEADER, LOOP, dd_problem_source, problem_source
 
 __all__ = ["available", "kernel_module", "drive", "cache_dir", "compile_seconds"]
 
@@ -41,11 +41,7 @@ _COMPILE: dict = {}        # module name -> seconds of the first (compiling or c
 
 def available() -> bool:
     """numba importable."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:        # pragma: no cover - numba is a dependency
-        return False
-    return True
+    return importlib.util.find_spec("numba") is not None
 
 
 def cache_dir() -> Path:
@@ -53,11 +49,15 @@ def cache_dir() -> Path:
     return Path(root) / "kernels"
 
 
-def kernel_module(problem):
-    """The compiled module of ``problem`` (a :class:`~.problems.Problem`): generated, written
-    and imported on first use; numba compiles on the first call or loads its disk cache."""
+def kernel_module(problem, kind: str = "f64"):
+    """The compiled module of ``problem`` (a :class:`~.problems.Problem`) for ``kind`` "f64" or
+    "dd": generated, written and imported on first use; numba compiles on the first call or
+    loads its disk cache."""
     names = tuple(problem.invariants)
-    source = HEADER + "\n" + problem_source(problem, names) + "\n" + LOOP
+    if kind == "dd":
+        source = DD_HEADER + "\n" + dd_problem_source(problem, names) + "\n" + COMMON + DD_LOOP
+    else:
+        source = HEADER + "\n" + problem_source(problem, names) + "\n" + LOOP
     digest = hashlib.sha256(source.encode()).hexdigest()[:20]
     name = f"tableau_lab_kernel_{digest}"
     if name in _MODULES:
@@ -85,25 +85,42 @@ def _f64(x):
 
 
 class _Pack:
-    """The method, problem and run constants as the loop's float64 / int64 arrays."""
+    """The method, problem and run constants as the loop's arrays: float64, or double-double
+    (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
-    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated):
-        self.s, self.r = nm.s, nm.r
-        self.h = float(h)
-        self.mats = [_f64(x) for x in (nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V)]
-        self.mq, self.mp = _f64(masks[0]), _f64(masks[1])
-        z = np.zeros((nm.s, nm.s))
-        self.E = _f64(nm.E) if nm.E is not None else z
+    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False):
+        from .ddmath import to_dd, to_dd_array
+        num = (lambda x: to_dd_array(np.asarray(x, dtype=object))) if dd else _f64
+        self.s, self.r, self.dd = nm.s, nm.r, dd
+        self.h = to_dd(h) if dd else float(h)
+        self.hinv = to_dd(1 / h) if dd else None
+        self.mats = [num(x) for x in (nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V)]
+        self.mq, self.mp = _f64([float(x) for x in masks[0]]), _f64([float(x) for x in masks[1]])
+        if not np.all(self.mq + self.mp == 1):
+            raise ValueError("the compiled loop needs complementary 0/1 component masks")
+        z = num(np.zeros((nm.s, nm.s)))
+        self.E = num(nm.E) if nm.E is not None else z
         invertible = nm.Aq_inv is not None and nm.Ap_inv is not None
-        self.Aqi = _f64(nm.Aq_inv) if invertible else z
-        self.Api = _f64(nm.Ap_inv) if invertible else z
+        self.Aqi = num(nm.Aq_inv) if invertible else z
+        self.Api = num(nm.Ap_inv) if invertible else z
         first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
         self.flags = np.array([int(nm.explicit), int(nm.E is not None), int(invertible),
-                               int(first_is_increment and compensated), 0], dtype=np.int64)
-        self.c = _f64([float(v) for v in cp.constants])
-        self.hA = abs(self.h) * nm.s * float(np.max(np.abs(self.mats[0]))) if not nm.explicit else 0.0
+                               int(first_is_increment and compensated and not dd), 0], dtype=np.int64)
+        self.c = num(list(cp.constants)) if dd else _f64([float(v) for v in cp.constants])
+        if dd and not len(cp.constants):
+            self.c = np.zeros((0, 2))
+        hmax = float(np.max(np.abs(np.asarray(nm.Aq, dtype=float))))
+        self.hA = abs(float(h)) * nm.s * hmax if not nm.explicit else 0.0
         self.proj = np.array([mod.invariant_index[k] for k in project], dtype=np.int64)
-        self.target = _f64([float(targets[k]) for k in project])
+        self.target = num([targets[k] for k in project]) if dd else _f64([float(targets[k]) for k in project])
+        if dd and not project:
+            self.target = np.zeros((0, 2))
+        self.eps = 2.0 ** -104 if dd else float(np.finfo(float).eps)
+
+    def args(self):
+        head = (self.h, self.hinv) if self.dd else (self.h,)
+        return head, (*self.mats, self.mq, self.mp, self.E, self.Aqi, self.Api, self.flags, self.c, self.eps,
+                      self.hA, self.proj, self.target)
 
 
 def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, record, progress, run,
@@ -111,22 +128,31 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     """Steps 1..steps of the compiled loop from the input vector Y (r × d); ``record(n, Y)`` at
     the record steps, ``progress(n)`` after each chunk; returns the final Y.  ``stepper`` (the
     pure path) redoes a step the loop hands back; ``project_step(Y0, n)`` → (Y0, iterations)
-    projects after it."""
+    projects after it.  With ``nm.arith`` double-double the loop runs in dd and Y, the records
+    and the pure path are mpmath numbers at 32 digits."""
     from .integrate import IntegrationError
-    mod = kernel_module(cp.problem)
-    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated)
-    Y = _f64(Y).copy()
-    comp = np.zeros(Y.shape[1]) if stepper.comp is None else _f64(stepper.comp).copy()
-    Fprev = np.zeros((pk.s, Y.shape[1]))
+    dd = nm.arith.name == "dd"
+    if dd:
+        from .ddmath import from_dd_array, to_dd_array
+        to_loop, from_loop = (lambda x: to_dd_array(np.asarray(x, dtype=object))), from_dd_array
+    else:
+        to_loop, from_loop = (lambda x: _f64(x).copy()), (lambda x: x.copy())
+    mod = kernel_module(cp.problem, "dd" if dd else "f64")
+    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd)
+    head, tail = pk.args()
+    Y = to_loop(Y)
+    r, d = Y.shape[:2]
+    comp = np.zeros(d) if stepper.comp is None or dd else _f64(stepper.comp).copy()
+    Fprev = np.zeros((pk.s, *Y.shape[1:]))
     stats = np.zeros(6)
-    eps = float(np.finfo(float).eps)
-    rec = np.empty((chunk // every + 2, pk.r, Y.shape[1]))
+    rec = np.empty((chunk // every + 2, *Y.shape))
     recn = np.empty(chunk // every + 2, dtype=np.int64)
     n = 0
 
     def call(n0, n1):
-        return mod.run_(Y, pk.h, n0, n1, steps, every, *pk.mats, pk.mq, pk.mp, pk.E, pk.Aqi, pk.Api, pk.flags,
-                        pk.c, eps, pk.hA, pk.proj, pk.target, comp, Fprev, rec, recn, stats)
+        if dd:
+            return mod.run_(Y, *head, n0, n1, steps, every, *tail, Fprev, rec, recn, stats)
+        return mod.run_(Y, *head, n0, n1, steps, every, *tail, comp, Fprev, rec, recn, stats)
 
     if mod.__name__ not in _COMPILE:
         t0 = time.perf_counter()
@@ -137,14 +163,14 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
         n1 = min(steps, n + chunk)
         status = call(n, n1)
         for k in range(int(stats[3])):
-            record(int(recn[k]), rec[k])
+            record(int(recn[k]), from_loop(rec[k]))
         run.nfev, run.newton_iterations, run.projection_iterations = int(stats[0]), int(stats[1]), int(stats[2])
         run.completed = n1 if status == 0 else int(stats[4]) - 1
         if status == 0:
             n = n1
         else:
             n = int(stats[4])
-            t = n * pk.h
+            t = n * float(h)
             if status == 2:
                 raise IntegrationError(f"step {n} (t = {t:.6g}): the solution is not finite (NaN or overflow): the "
                                        "method is unstable at this step size, or the problem is singular here")
@@ -155,19 +181,20 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
             stepper.comp = comp.copy() if pk.flags[3] else None
             stepper.Fprev = None
             stepper.nfev, stepper.newton = int(stats[0]), int(stats[1])
-            Y[:, :] = stepper.step(Y, n, t)
+            Yp = stepper.step(from_loop(Y), n, n * h)
             if project_step is not None:
-                Y[0], its = project_step(Y[0], n)
+                Yp[0], its = project_step(Yp[0], n)
                 stats[2] += its
+            Y[...] = to_loop(Yp)
             stats[0], stats[1] = stepper.nfev, stepper.newton
             if stepper.comp is not None:
                 comp[:] = stepper.comp
             if stepper.Fprev is not None:
-                Fprev[:, :] = stepper.Fprev
+                Fprev[...] = to_loop(stepper.Fprev)
                 pk.flags[4] = 1
             run.completed = n
             if n % every == 0 or n == steps:
-                record(n, Y)
+                record(n, Yp)
         if progress is not None:
             progress(n)
-    return Y
+    return from_loop(Y)
