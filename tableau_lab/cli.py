@@ -55,6 +55,23 @@ def _order(args) -> int:
     return _each_method(args, analyse)
 
 
+def _stability(args) -> int:
+    from .analysis.stability import stability_report
+    from .exact.tableau_json import TableauError
+
+    def analyse(method, path):
+        try:
+            rep = stability_report(method)
+        except ValueError as exc:          # e.g. free parameters: no numeric stability analysis
+            raise TableauError(path, str(exc)) from None
+        if args.plot:
+            from .experiments.stability_plots import draw_stability
+            for png in draw_stability(rep.linear, args.plot, Path(path).stem):
+                print(f"wrote {png}", file=sys.stderr)
+        return rep, ()
+    return _each_method(args, analyse)
+
+
 CLAIM_OF = {"symplectic": ("symplectic", True), "g-symplectic": ("g_symplectic", True),
             "parasitism-free": ("parasitism_free", True)}
 
@@ -357,6 +374,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
+    st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval), algebraic "
+                                          "stability and parasitism, exactly",
+                        description="The characteristic polynomial P(w, z) = det[[I - zA, -U], [-zB, wI - V]] "
+                                    "exactly; R(z) and E(y) for RK methods; A-stability; the interval |y| < Y* "
+                                    "of the imaginary axis z = iy where every root has |w| = 1 ((G-)symplectic "
+                                    "methods) or |w| <= 1 (others), Y* exact; algebraic stability; parasitic "
+                                    "growth parameters of GLMs. Partitioned methods: the harmonic oscillator, "
+                                    "x = h*omega. Exit 0: done; 2: a file could not be read.")
+    st.add_argument("files", nargs="+", metavar="FILE")
+    st.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+    st.add_argument("--plot", metavar="DIR", help="write the stability region and the root moduli on the axis "
+                                                  "as PNG files into DIR")
+    st.set_defaults(run=_stability)
     sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
                         description="Treat the named unknowns of a tableau as parameters and find every solution "
                                     "family (exactly: Gröbner bases, radicals) of the required conditions; each "

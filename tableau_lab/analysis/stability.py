@@ -1,0 +1,751 @@
+r"""Linear stability of RK methods and GLMs, exactly ([HW96] Hairer & Wanner, *Solving ODEs II*,
+§IV.3 and §IV.12; [B16] Butcher (2016) ch. 5; [BHHN14] Butcher, Habib, Hill & Norton, SIAM J.
+Numer. Anal. 52 (2014)).  docs/stability.md has the formulas and the library table.
+
+On y′ = λy, z = hλ, a GLM advances its r input values by the stability matrix
+
+    M(z) = V + zB(I − zA)⁻¹U,
+
+and its characteristic polynomial with the denominators cleared is the determinant of the block
+matrix (Schur complement)
+
+    P(w, z) = det [[I − zA, −U], [−zB, wI − V]] = det(I − zA) · det(wI − M(z)),
+
+an exact polynomial in w and z over the method's number field (a ``DomainMatrix``
+determinant over K[w, z], never eigenvalues of a symbolic matrix).  An RK method has r = 1
+and P = w·D(z) − N(z) with D = det(I − zA), N = det(I − zA + z𝟙bᵀ), R = N/D.
+
+*Imaginary axis.*  With z = iy (y real) the roots w are mapped to t by w = (1 + it)/(1 − it):
+roots on the unit circle are the real t (w = −1 is t = ∞), roots inside are Im t > 0.  Writing
+P((1 + it)/(1 − it), iy)·(1 − it)^r = F_R(t, y) + i F_I(t, y), every y at which a root can
+enter, leave or move along the circle is a real root of one of: |lc_w P(·, iy)|², |P(−1, iy)|²,
+the resultant in t of F_R/g and F_I/g, and the discriminant and leading coefficient in t of the
+square-free part of g = gcd(F_R, F_I) (the curve of roots that stay on the circle, non-trivial for
+symplectic methods).  Their product, normed down to ℚ[y], is isolated exactly; one rational
+sample y between consecutive critical values is decided exactly: the number of roots on the
+circle is the number of real roots of gcd(F_R, F_I)(t, y) (Sturm sequences; signs of algebraic
+numbers certified by interval arithmetic), and the roots off the circle are counted inside by a
+Cauchy index.  The results are two radii: Y₌ (every root has |w| = 1 for |y| < Y₌) and
+Y≤ (every root has |w| ≤ 1 for |y| < Y≤), exact algebraic numbers or ∞.
+
+*A-stability* (roots |w| ≤ 1 for Re z ≤ 0).  RK: the poles of R (after cancelling common
+factors) lie in Re z > 0 (Routh–Hurwitz, exactly) and E(y) = |D(iy)|² − |N(iy)|² ≥ 0 for all
+real y (square-free factors of odd multiplicity have no real roots) [HW96, Prop. IV.3.1 ff.].
+GLMs: the leading coefficient of P in w has its roots in Re z > 0, the roots stay bounded as
+z → ∞ (no coefficient of P has a higher degree in z than the leading one) and Y≤ = ∞; then the
+largest |w|, subharmonic where the leading coefficient does not vanish (the log spectral radius
+of an analytic companion matrix), is ≤ 1 on the whole half-plane by the maximum principle.  Each
+failure is a certificate of the contrary, so the verdict is always decided.
+
+A partitioned RK method acts on the harmonic oscillator q′ = ωp, p′ = −ωq (its two tableaux act
+on different components, so y′ = λy does not apply): P(w, x) with x = hω real, and the same
+axis analysis gives the x-interval of stability; A-stability does not apply.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> rk4 = stability(load("methods/rk4.json"))
+>>> rk4.stability_function
+z**4/24 + z**3/6 + z**2/2 + z + 1
+>>> rk4.bounded_radius, rk4.a_stable
+(2*sqrt(2), False)
+>>> g2 = stability(load("methods/gauss2.json"))
+>>> g2.a_stable, g2.unit_radius, g2.imaginary_interval
+(True, oo, oo)
+>>> lf = stability(load("methods/leapfrog.json"))
+>>> lf.polynomial
+w**2 - 2*w*z - 1
+>>> lf.imaginary_interval, [(str(r.root), r.multiplicity) for r in lf.endpoint_roots]
+(1, [('I', 2)])
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+from functools import reduce
+from math import floor
+
+import sympy as sp
+from sympy import QQ
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.rings import ring
+
+from ..exact.field import field_of, to_dm
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .results import Result
+
+__all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
+           "sign", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
+
+W, Z, X, Y = sp.symbols("w z x y")
+
+
+# ------------------------------------------------------------------ certified signs in a real field
+
+def _enclose(e, ctx):
+    """An interval enclosing the real radical expression ``e`` (mpmath interval arithmetic)."""
+    if e.is_Rational:
+        return ctx.mpf(int(e.p)) / ctx.mpf(int(e.q))
+    if e.is_Add or e.is_Mul:
+        parts = [_enclose(a, ctx) for a in e.args]
+        return reduce((lambda a, b: a + b) if e.is_Add else (lambda a, b: a * b), parts)
+    if e.is_Pow and e.exp.is_Rational:
+        base = _enclose(e.base, ctx)
+        if e.exp.is_Integer:
+            n = int(e.exp)
+            return base ** n if n >= 0 else 1 / base ** (-n)
+        if e.exp == sp.S.Half:
+            return ctx.sqrt(base)
+        return ctx.exp(ctx.log(base) * ctx.mpf(int(e.exp.p)) / ctx.mpf(int(e.exp.q)))
+    raise ValueError(f"no certified enclosure for {e}")
+
+
+def sign(K, a) -> int:
+    """The sign of an element of a real field K (ℚ or ℚ⟨α⟩ of real radicals): exact zero test, then
+    interval arithmetic at rising precision until the enclosure excludes 0 (certified).
+
+    >>> K = field_of([sp.sqrt(2)])
+    >>> sign(K, K.from_sympy(sp.sqrt(2) - sp.Rational(1414213562373095, 10**15)))
+    1
+    """
+    if K.is_zero(a):
+        return 0
+    if K.is_QQ or K.is_ZZ:
+        return 1 if a > 0 else -1
+    if not K.is_Algebraic:
+        raise ValueError(f"signs need numeric entries, not elements of {K}")
+    from mpmath.ctx_iv import MPIntervalContext
+    e, ctx = K.to_sympy(a), MPIntervalContext()
+    for prec in (64, 160, 400, 1000, 2500, 6000):
+        ctx.prec = prec
+        box = _enclose(e, ctx)
+        if box.a > 0:
+            return 1
+        if box.b < 0:
+            return -1
+    raise ArithmeticError(f"sign of {e} not decided at {prec} bits")
+
+
+# ------------------------------------------------------------------ Sturm sequences over K
+
+def _deg(p) -> int:
+    return -1 if not p else p.degree()
+
+
+def _cauchy_index(p0, p1, K) -> int:
+    """Ind_{−∞}^{+∞} p1/p0 for univariate p0 ≠ 0, p1 over K (generalised Sturm chain)."""
+    if not p0:
+        return 0
+    chain = [p0, p1]
+    while chain[-1]:
+        chain.append(-chain[-2].rem(chain[-1]))
+    chain.pop()
+
+    def changes(at_minus):
+        signs = [sign(K, p.LC) * (-1 if at_minus and p.degree() % 2 else 1) for p in chain]
+        signs = [s for s in signs if s]
+        return sum(1 for a, b in zip(signs, signs[1:]) if a != b)
+    return changes(True) - changes(False)
+
+
+def _real_roots(p, K) -> int:
+    """The number of real roots of a univariate p over K, with multiplicity."""
+    if _deg(p) <= 0:
+        return 0
+    _, factors = p.sqf_list()
+    return sum(m * _cauchy_index(f, f.diff(f.ring.gens[0]), K) for f, m in factors)
+
+
+def _all_in_upper_half(fr, fi, K) -> bool:
+    """Whether every root of fr + i·fi (univariate over K) has Im t > 0."""
+    n = max(_deg(fr), _deg(fi))
+    if n <= 0:
+        return True
+    if _deg(fr.gcd(fi)) > 0:        # a real root, or a conjugate pair t, t̄ (one of them below)
+        return False
+    if _deg(fi) > _deg(fr):         # i·f has the same roots; now the ends of fi/fr are at 0, not ∞
+        fr, fi = -fi, fr
+    return -_cauchy_index(fr, fi, K) == n       # arg f grows by π(N₊ − N₋) along the real line
+
+
+def all_roots_right(p, K) -> bool:
+    """Every root of the univariate p over K has Re z > 0 (Routh–Hurwitz, as a Cauchy index of
+    p(−it) = fr + i·fi: Re z > 0 is Im t > 0).
+
+    >>> R, z = ring("z", QQ)
+    >>> all_roots_right(1 - z/2 + z**2/12, QQ), all_roots_right(1 + z, QQ), all_roots_right(R.one, QQ)
+    (True, False, True)
+    """
+    fr, fi = p.ring.zero, p.ring.zero
+    t = p.ring.gens[0]
+    for (k,), c in p.terms():
+        term = t ** k * c                  # (−i)^k: 1, −i, −1, i
+        if k % 2 == 0:
+            fr += term if k % 4 == 0 else -term
+        else:
+            fi += -term if k % 4 == 1 else term
+    return _all_in_upper_half(fr, fi, K)
+
+
+# ------------------------------------------------------------------ the polynomials
+
+def _dm_lists(K, *Ms):
+    return [to_dm(sp.Matrix(M), K).to_list() for M in Ms]
+
+
+def characteristic_polynomial(m: Method):
+    """(P, K): P(w, z) = det[[I − zA, −U], [−zB, wI − V]] as a ring element of K[w, z]; for a
+    partitioned RK method P(w, x) on the harmonic oscillator with x = hω (a ring element of K[w, x]).
+
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> P, K = characteristic_polynomial(load("methods/stormer_verlet.json"))
+    >>> P.as_expr()
+    w**2 + w*x**2 - 2*w + 1
+    """
+    if m.parameters:
+        raise ValueError(f"{m.name}: stability needs a method without free parameters")
+    if m.kind == "prk":
+        K = field_of([m.A, m.b, m.Ahat, m.bhat])
+        R = K["w", "x"]
+        w, x = R.gens
+        s = m.s
+        A, Ah, b, bh = _dm_lists(K, m.A, m.Ahat, m.b.T, m.bhat.T)
+        one, zero = R.one, R.zero
+        rows = []
+        for i in range(s):      # Q_i − x Σ a_ij P_j = q0
+            rows.append([one if i == j else zero for j in range(s)] + [-x * A[i][j] for j in range(s)] + [-one, zero])
+        for i in range(s):      # x Σ â_ij Q_j + P_i = p0
+            rows.append([x * Ah[i][j] for j in range(s)] + [one if i == j else zero for j in range(s)] + [zero, -one])
+        rows.append([zero] * s + [-x * b[0][j] for j in range(s)] + [w - 1, zero])
+        rows.append([x * bh[0][j] for j in range(s)] + [zero] * s + [zero, w - 1])
+        return DomainMatrix(rows, (len(rows), len(rows)), R).det(), K
+    g = m.as_glm()
+    K = field_of([g.A, g.U, g.B, g.V])
+    R = K["w", "z"]
+    w, z = R.gens
+    A, U, B, V = _dm_lists(K, g.A, g.U, g.B, g.V)
+    s, r = g.s, g.r
+    rows = [[(R.one if i == j else R.zero) - z * A[i][j] for j in range(s)] + [-R.one * U[i][j] for j in range(r)]
+            for i in range(s)]
+    rows += [[-z * B[i][j] for j in range(s)] + [(w if i == j else R.zero) - V[i][j] for j in range(r)]
+             for i in range(r)]
+    return DomainMatrix(rows, (s + r, s + r), R).det(), K
+
+
+def _over_rationals(P, K):
+    """(P, K) with K = ℚ when every coefficient of P is rational (often so for radical tableaux:
+    Gauss, GLM43), which makes the axis analysis much faster."""
+    if K.is_QQ or not all(len(c.to_list()) <= 1 for c in P.values()):
+        return P, K
+    R = ring(",".join(map(str, P.ring.symbols)), QQ)[0]
+    return R.from_dict({m: QQ.convert(c.to_list()[0]) if c.to_list() else QQ.zero for m, c in P.terms()}), QQ
+
+
+def stability_function(m: Method):
+    """(N, D, K) of an RK method: N = det(I − zA + z𝟙bᵀ), D = det(I − zA), ring elements of K[z].
+
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> N, D, K = stability_function(load("methods/implicit_midpoint.json"))
+    >>> N.as_expr(), D.as_expr()
+    (z/2 + 1, 1 - z/2)
+    """
+    if m.kind != "rk":
+        raise TypeError(f"the stability function R(z) is for RK methods, not {m.kind!r}")
+    K = field_of([m.A, m.b])
+    R = K["z"]
+    z = R.gens[0]
+    s = m.s
+    (A,), (b,) = _dm_lists(K, m.A), _dm_lists(K, m.b.T)
+
+    def det(with_b):
+        rows = [[(R.one if i == j else R.zero) - z * A[i][j] + (z * b[0][j] if with_b else R.zero)
+                 for j in range(s)] for i in range(s)]
+        return DomainMatrix(rows, (s, s), R).det()
+    return det(True), det(False), K
+
+
+# ------------------------------------------------------------------ the axis analysis
+
+def _cmul(a, b):
+    return (a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
+
+
+def _i_power(c, l, yl, zero):
+    """c·(i·y)^l as a (real, imaginary) pair: i^l = 1, i, −1, −i."""
+    term = yl * c
+    return [(term, zero), (zero, term), (-term, zero), (zero, -term)][l % 4]
+
+
+@dataclass
+class _Axis:
+    """P on the axis: F = F_R + i F_I in K[t, y] (roots w = (1 + it)/(1 − it)), r, and the
+    leading coefficient and the value at w = −1 as (re, im) pairs in K[y]."""
+    K: object
+    r: int
+    FR: object
+    FI: object
+    lc: tuple
+    at_minus_one: tuple
+
+
+def _primitive(P):
+    """P divided by the gcd of its coefficients in w (a factor of det(I − zA) alone)."""
+    w = P.ring.gens[0]
+    content = reduce(lambda a, b: a.gcd(b), [P.coeff_wrt(w, k) for k in range(P.degree(w) + 1)])
+    return P.exquo(content) if content.degree(P.ring.gens[1]) > 0 else P
+
+
+def _axis(P, K, imaginary: bool) -> _Axis:
+    Rty = ring("t,y", K)[0]
+    t, y = Rty.gens
+    zero = Rty.zero
+    w = P.ring.gens[0]
+    r = P.degree(w)
+    coeff = {}                       # k -> Q_k(y) = coefficient of w^k at z = iy (or x = y)
+    for (k, l), c in P.terms():
+        part = _i_power(c, l, y ** l, zero) if imaginary else (y ** l * c, zero)
+        old = coeff.get(k, (zero, zero))
+        coeff[k] = (old[0] + part[0], old[1] + part[1])
+    FR, FI = zero, zero
+    for k, q in coeff.items():
+        phi = (Rty.one, zero)
+        for _ in range(k):
+            phi = _cmul(phi, (Rty.one, t))
+        for _ in range(r - k):
+            phi = _cmul(phi, (Rty.one, -t))
+        term = _cmul(q, phi)
+        FR, FI = FR + term[0], FI + term[1]
+    m1 = (zero, zero)
+    for k, q in coeff.items():
+        m1 = (m1[0] + (-1) ** k * q[0], m1[1] + (-1) ** k * q[1])
+    return _Axis(K, r, FR, FI, coeff.get(r, (zero, zero)), m1)
+
+
+def _drop_t(p):
+    return p.drop(p.ring.gens[0])
+
+
+def _critical_polynomials(ax: _Axis) -> list:
+    """Polynomials in K[y] whose real roots contain every y where the configuration of the roots
+    relative to the unit circle can change (see the module docstring)."""
+    t = ax.FR.ring.gens[0]
+    polys = [ax.lc[0] ** 2 + ax.lc[1] ** 2, ax.at_minus_one[0] ** 2 + ax.at_minus_one[1] ** 2]
+    g, a, b = ax.FR.cofactors(ax.FI)
+    if g.degree(t) > 0:
+        gs = g.sqf_part()
+        polys += [gs.coeff_wrt(t, gs.degree(t)), gs.discriminant()]
+    if a and b:
+        da, db = a.degree(t), b.degree(t)
+        if da > 0 and db > 0:
+            polys.append(a.resultant(b))
+        elif da > 0 or db > 0:
+            polys.append(a if da == 0 else b)
+    out = []
+    for p in polys:
+        if p.ring.ngens == 2:
+            if p.degree(t) > 0:
+                raise AssertionError("critical polynomial still depends on t")
+            p = _drop_t(p)
+        if p.degree() > 0:
+            out.append(p)
+    return out
+
+
+def _norm(p, K):
+    """The norm of p ∈ K[y] down to ℚ[y] (its roots contain those of p), as a sympy Poly."""
+    if K.is_QQ:
+        return sp.Poly.from_dict({m: QQ.convert(c) for m, c in p.terms()}, Y, domain=QQ)
+    Rxy, x, y = ring("x,y", QQ)
+    lift = Rxy.zero
+    for (k,), c in p.terms():
+        coeffs = c.to_list()
+        lift += sum((x ** (len(coeffs) - 1 - i) * QQ.convert(q) for i, q in enumerate(coeffs)), Rxy.zero) * y ** k
+    mod_coeffs = K.mod.to_list()
+    mod = sum((x ** (len(mod_coeffs) - 1 - i) * QQ.convert(q) for i, q in enumerate(mod_coeffs)), Rxy.zero)
+    n = mod.resultant(lift)
+    return sp.Poly.from_dict({m: c for m, c in n.terms()}, Y, domain=QQ)
+
+
+def _positive_roots(C: sp.Poly) -> list:
+    """Disjoint rational isolating intervals (a, b), 0 ≤ a < b or a = b, of the positive roots of C."""
+    low = min(m[0] for m in C.monoms())
+    C = sp.Poly.from_dict({(m[0] - low,): c for m, c in C.terms()}, Y, domain=QQ)     # no root at 0
+    if C.degree() <= 0:
+        return []
+    ivs = [(sp.Rational(a), sp.Rational(b)) for (a, b), _ in C.intervals(inf=0)]
+    changed = True
+    while changed:               # refine until each interval is off 0 and apart from the next
+        changed = False
+        for k, (a, b) in enumerate(ivs):
+            touching = k + 1 < len(ivs) and b >= ivs[k + 1][0] and a != b
+            if (a <= 0 < b) or touching:
+                a2, b2 = C.refine_root(a, b, eps=(b - a) / 8)
+                ivs[k] = (sp.Rational(a2), sp.Rational(b2))
+                changed = True
+    return ivs
+
+
+def _simplest_between(lo, hi):
+    """The rational with the smallest denominator (then numerator) in the open interval (lo, hi),
+    0 ≤ lo < hi (hi = None: no upper bound)."""
+    lo = Fraction(lo)
+    n = floor(lo) + 1
+    if hi is None or n < Fraction(hi):
+        return Fraction(n)
+    hi = Fraction(hi)
+    n = floor(lo)
+    if lo == n:
+        inner = _simplest_between(1 / (hi - n), None)
+    else:
+        inner = _simplest_between(1 / (hi - n), 1 / (lo - n))
+    return n + 1 / inner
+
+
+def _sample(ax: _Axis, y0) -> tuple[bool, bool]:
+    """(every root on the unit circle, every root in the closed unit disc) at the rational y0."""
+    K = ax.K
+    y = ax.FR.ring.gens[1]
+    c = K.convert(QQ(y0.numerator, y0.denominator))
+    fr, fi = ax.FR.evaluate(y, c), ax.FI.evaluate(y, c)
+    n = max(_deg(fr), _deg(fi))
+    h = fr.gcd(fi)
+    real = _real_roots(h, K)
+    on = (ax.r - n) + real                      # w = −1 (t = ∞) and the real t
+    if real < _deg(h) and _deg(h) > 0:          # a pair w, 1/w̄: one is outside
+        return on == ax.r, False
+    if _deg(h) > 0:
+        fr, fi = (f.exquo(h) if f else f for f in (fr, fi))
+    return on == ax.r, _all_in_upper_half(fr, fi, K)
+
+
+def _root_value(C: sp.Poly, a, b):
+    """The root of C in [a, b] exactly: radicals for degree ≤ 2 (also in y²), else CRootOf."""
+    if a == b:
+        return a
+    for f, _ in sp.factor_list(C.as_expr(), Y)[1]:
+        f = sp.Poly(f, Y)
+        if f.count_roots(a, b) == 0:
+            continue
+        cands = []
+        expr = f.as_expr()
+        if f.degree() <= 2:
+            cands = list(sp.roots(f, Y))
+        elif f.degree() == 4 and all(m[0] % 2 == 0 for m in f.monoms()):
+            u = sp.Symbol("u")
+            cands = [sp.sqrt(v) for v in sp.roots(sp.Poly(expr.subs(Y ** 2, u), u), u)]
+        for v in cands:
+            v = sp.radsimp(sp.sqrtdenest(v))
+            if v.is_real and a <= v.evalf(50) <= b:
+                return v
+        index = f.count_roots(None, a)
+        return sp.CRootOf(f, index)
+    raise AssertionError("no factor has the isolated root")
+
+
+@dataclass(frozen=True)
+class EndpointRoot:
+    root: sp.Expr          # exact when found (factor of degree ≤ 2), else a 15-digit value
+    multiplicity: int
+    modulus: float
+
+
+def _endpoint_roots(P, Ystar, imaginary) -> tuple:
+    """The roots w of P(w, iY*) (or P(w, Y*)) with multiplicities: exact when Y* is a radical
+    (square-free factors of degree ≤ 2 solved), else 40-digit values clustered into multiple roots."""
+    if Ystar in (0, sp.oo):
+        return ()
+    if not Ystar.has(sp.CRootOf):
+        zval = sp.I * Ystar if imaginary else Ystar
+        poly = sp.Poly(sp.expand(P.as_expr().subs(P.ring.symbols[1], zval)), W, extension=True)
+        out = []
+        for f, mult in poly.sqf_list()[1]:
+            found = list(sp.roots(f, W)) if f.degree() <= 2 else f.nroots(n=15)
+            out += [EndpointRoot(sp.radsimp(v), mult, float(abs(complex(v.evalf(30))))) for v in found]
+        return tuple(out)
+    import mpmath
+    K = P.ring.domain
+    with mpmath.workdps(40):
+        yv = mpmath.mpf(str(Ystar.evalf(45)))
+        zv = mpmath.mpc(0, yv) if imaginary else yv
+        coeffs = [mpmath.mpc(0)] * (P.degree(P.ring.gens[0]) + 1)
+        for (k, l), c in P.terms():
+            coeffs[-1 - k] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** l
+        roots = mpmath.polyroots(coeffs, maxsteps=400, extraprec=300)
+    groups = []
+    for v in roots:
+        for g in groups:
+            if abs(g[0] - v) < 1e-8:
+                g[1] += 1
+                break
+        else:
+            groups.append([v, 1])
+    return tuple(EndpointRoot(sp.Float(complex(v).real, 15) + sp.I * sp.Float(complex(v).imag, 15), k,
+                              float(abs(v))) for v, k in groups)
+
+
+# ------------------------------------------------------------------ the result
+
+def _text(x) -> str:
+    x = sp.sympify(x)
+    if x == sp.oo:
+        return "inf"
+    try:
+        return str(format_entry(x))
+    except Exception:  # noqa: BLE001 - CRootOf and complex values have no tableau-grammar form
+        return str(x)
+
+
+@dataclass(frozen=True)
+class StabilityResult(Result):
+    """Linear stability of one method (see the module docstring for the definitions)."""
+
+    method: str
+    kind: str
+    variable: str                    # "z" (y' = λy, z = hλ) or "x" (harmonic oscillator, x = hω)
+    polynomial: sp.Expr              # P(w, z) = det(I − zA) det(wI − M(z))
+    r: int
+    unit_radius: sp.Expr             # Y₌: every root |w| = 1 on |y| < Y₌ (sp.oo: whole axis)
+    bounded_radius: sp.Expr          # Y≤: every root |w| ≤ 1 on |y| < Y≤
+    symplectic: bool                 # (G-)symplectic: the reported interval is Y₌
+    critical: tuple = ()             # positive critical values (floats; the radii are exact)
+    samples: tuple = ()              # (y, all |w| = 1, all |w| ≤ 1) between them
+    endpoint_roots: tuple = ()       # roots at y = Y* (reported radius)
+    a_stable: bool | None = None
+    a_reason: str = ""
+    numerator: sp.Expr | None = None     # RK: N(z)
+    denominator: sp.Expr | None = None   # RK: D(z)
+    e_polynomial: sp.Expr | None = None  # RK: E(y) = |D(iy)|² − |N(iy)|²
+
+    @property
+    def imaginary_interval(self):
+        """Y* of the reported kind: Y₌ for (G-)symplectic methods, else Y≤."""
+        return self.unit_radius if self.symplectic else self.bounded_radius
+
+    @property
+    def interval_kind(self) -> str:
+        return "|w| = 1" if self.symplectic else "|w| <= 1"
+
+    @property
+    def stability_function(self):
+        if self.numerator is None:
+            return None
+        return sp.cancel(self.numerator / self.denominator)
+
+    def _axis_name(self):
+        return "z = iy" if self.variable == "z" else "x = hω (harmonic oscillator q' = ωp, p' = −ωq)"
+
+    @property
+    def _axis_letter(self):
+        return "y" if self.variable == "z" else "x"
+
+    def __str__(self):
+        head = {"rk": "RK", "glm": "GLM", "prk": "partitioned RK"}[self.kind]
+        lines = [f"linear stability ({head}, r = {self.r}):",
+                 f"  P(w, {self.variable}) = {self.polynomial}"]
+        if self.numerator is not None:
+            lines.append(f"  R(z) = {self.stability_function}")
+            lines.append(f"  E(y) = |D(iy)|² − |N(iy)|² = {self.e_polynomial}")
+        av = {True: "yes", False: "no", None: "not applicable"}[self.a_stable]
+        lines.append(f"  A-stable: {av}" + (f" — {self.a_reason}" if self.a_reason else ""))
+        lines.append(f"  on the axis {self._axis_name()}:")
+        for name, val in (("|w| = 1", self.unit_radius), ("|w| ≤ 1", self.bounded_radius)):
+            a = self._axis_letter
+            where = "the whole axis" if val == sp.oo else (f"{a} = 0 only" if val == 0 else
+                                                           f"|{a}| < {_text(val)} ≈ {float(val):.15g}")
+            lines.append(f"    every root {name}: {where}")
+        lines.append(f"  reported interval ({self.interval_kind}"
+                     f"{', the method is (G-)symplectic' if self.symplectic else ''}): {_text(self.imaginary_interval)}")
+        if self.endpoint_roots:
+            lines.append(f"  roots at the end {self._axis_letter} = Y*: " + ", ".join(
+                f"w = {e.root} (|w| = {e.modulus:.15g}{', multiplicity %d' % e.multiplicity if e.multiplicity > 1 else ''})"
+                for e in self.endpoint_roots))
+        return "\n".join(lines)
+
+    def to_json(self):
+        Ystar = self.imaginary_interval
+        out = {
+            "kind": self.kind,
+            "variable": self.variable,
+            "characteristic_polynomial": str(self.polynomial),
+            "a_stable": self.a_stable,
+            "a_stability": self.a_reason,
+            "imaginary_interval": _text(Ystar),
+            "imaginary_interval_value": None if Ystar == sp.oo else float(Ystar),
+            "imaginary_interval_kind": self.interval_kind,
+            "unit_modulus_radius": _text(self.unit_radius),
+            "bounded_radius": _text(self.bounded_radius),
+            "critical_values": list(self.critical),
+            "samples": [{"y": str(s), "all_on_unit_circle": e, "all_in_closed_disc": b} for s, e, b in self.samples],
+            "endpoint_roots": [{"w": str(e.root), "multiplicity": e.multiplicity, "modulus": e.modulus}
+                               for e in self.endpoint_roots],
+            "stability_function": None,
+            "E_polynomial": None,
+        }
+        if self.numerator is not None:
+            out["stability_function"] = {"R": str(self.stability_function), "N": str(self.numerator),
+                                         "D": str(self.denominator)}
+            out["E_polynomial"] = str(self.e_polynomial)
+        return out
+
+    def to_latex(self):
+        v = self.variable
+        out = [f"\\[ P(w,{v}) = {sp.latex(self.polynomial)} \\]"]
+        if self.numerator is not None:
+            out.append(f"\\[ R(z) = {sp.latex(self.stability_function)}, \\qquad "
+                       f"E(y) = {sp.latex(self.e_polynomial)} \\]")
+        Ystar = self.imaginary_interval
+        rel = "= 1" if self.symplectic else r"\le 1"
+        a = self._axis_letter
+        out.append(f"Every root has $|w| {rel}$ for $|{a}| < {sp.latex(Ystar)}$"
+                   + (" ($z = iy$). " if v == "z" else " ($x = h\\omega$, harmonic oscillator). ")
+                   + {True: "The method is A-stable.", False: "The method is not A-stable.",
+                      None: ""}[self.a_stable])
+        return "\n".join(out)
+
+
+# ------------------------------------------------------------------ the analyses
+
+def _radii(ax: _Axis):
+    """(Y₌, Y≤, critical values, samples) from the exact axis analysis."""
+    crit = _critical_polynomials(ax)
+    if crit:
+        C = reduce(lambda a, b: a * b, [_norm(p, ax.K) for p in crit])
+        C = sp.Poly(sp.sqf_part(C.as_expr()), Y, domain=QQ)
+        ivs = _positive_roots(C)
+    else:
+        C, ivs = None, []
+    points = [(0, 0)] + ivs
+    samples = []
+    radii = [None, None]
+    for k, (a, b) in enumerate(points):
+        hi = ivs[k][0] if k < len(ivs) else None
+        y0 = _simplest_between(b, hi)
+        eq, le = _sample(ax, y0)
+        samples.append((sp.Rational(y0.numerator, y0.denominator), eq, le))
+        for i, ok in enumerate((eq, le)):
+            if radii[i] is None and not ok:
+                radii[i] = (a, b)
+    values = {}
+    for iv_ in {r for r in radii if r is not None}:
+        values[iv_] = 0 if iv_ == (0, 0) else _root_value(C, *iv_)
+    Yeq, Yle = (sp.oo if r is None else values[r] for r in radii)
+    return Yeq, Yle, tuple(_numeric_root(C, a, b) for a, b in ivs), tuple(samples)
+
+
+def _numeric_root(C, a, b) -> float:
+    if a != b:
+        a, b = C.refine_root(a, b, eps=sp.Rational(1, 10 ** 18))
+    return float((sp.Rational(a) + sp.Rational(b)) / 2)
+
+
+def _a_stability_rk(N, D, K):
+    """RK: poles of R in Re z > 0 and E(y) = |D(iy)|² − |N(iy)|² ≥ 0 on the real line."""
+    g = N.gcd(D)
+    Dr = D.exquo(g)
+    Ry = ring("y", K)[0]
+    y = Ry.gens[0]
+
+    def on_axis(p):
+        re, im = Ry.zero, Ry.zero
+        for (l,), c in p.terms():
+            part = _i_power(c, l, y ** l, Ry.zero)
+            re, im = re + part[0], im + part[1]
+        return re * re + im * im
+    E = on_axis(D) - on_axis(N)
+    if not all_roots_right(Dr, K):
+        return False, "R(z) has a pole with Re z ≤ 0", E
+    if not E:
+        return True, "E(y) ≡ 0 (|R(iy)| = 1) and the poles of R lie in Re z > 0", E
+    _, factors = E.sqf_list()
+    odd = [f for f, m in factors if m % 2 and _real_roots(f, K)]
+    if odd or sign(K, E.LC) < 0:
+        return False, "E(y) < 0 for some real y: |R(iy)| > 1 there", E
+    return True, "E(y) ≥ 0 for all real y and the poles of R lie in Re z > 0", E
+
+
+def _a_stability_glm(P, K, bounded_radius):
+    """GLM: leading coefficient in w with roots in Re z > 0, bounded roots at z = ∞, Y≤ = ∞."""
+    w, z = P.ring.gens
+    r = P.degree(w)
+    lc = P.coeff_wrt(w, r)
+    lcz = lc.drop(w)
+    if not all_roots_right(lcz, K):
+        return False, "the leading coefficient of P in w vanishes at some z with Re z ≤ 0: a root w → ∞ there"
+    if any(P.coeff_wrt(w, k).degree(z) > lc.degree(z) for k in range(r)):
+        return False, "a coefficient of P has higher degree in z than the leading one: a root w → ∞ as z → −∞"
+    if bounded_radius != sp.oo:
+        return False, f"a root has |w| > 1 on the imaginary axis beyond |y| = {_text(bounded_radius)}"
+    return True, ("|w| ≤ 1 on the whole imaginary axis, roots bounded at ∞ and no root at ∞ in Re z ≤ 0: "
+                  "|w| ≤ 1 on Re z ≤ 0 by the maximum principle")
+
+
+def _is_symplectic(m, gsym=None) -> bool:
+    from .symplectic import g_symplectic, rk_symplectic
+    if m.kind == "prk":
+        return rk_symplectic(m).holds_separable
+    return (gsym or g_symplectic(m)).holds
+
+
+def stability(m: Method, gsym=None) -> StabilityResult:
+    """The exact linear-stability analysis of an RK, partitioned RK or GL method (``gsym``: the
+    method's ``g_symplectic`` result, when already computed)."""
+    P, K = _over_rationals(*characteristic_polynomial(m))
+    imaginary = m.kind != "prk"
+    Pp = _primitive(P)
+    Yeq, Yle, critical, samples = _radii(_axis(Pp, K, imaginary))
+    symplectic = _is_symplectic(m, gsym)
+    rk = {}
+    if m.kind == "rk":
+        N, D, KR = stability_function(m)
+        a_stable, reason, E = _a_stability_rk(N, D, KR)
+        rk = dict(numerator=N.as_expr(), denominator=D.as_expr(), e_polynomial=E.as_expr())
+    elif m.kind == "glm":
+        a_stable, reason = _a_stability_glm(Pp, K, Yle)
+    else:
+        a_stable, reason = None, "A-stability is for y' = λy; a partitioned method is analysed on the harmonic oscillator"
+    Ystar = Yeq if symplectic else Yle
+    return StabilityResult(method=m.name, kind=m.kind, variable="z" if imaginary else "x", polynomial=P.as_expr(),
+                           r=P.degree(P.ring.gens[0]), unit_radius=Yeq, bounded_radius=Yle, symplectic=symplectic,
+                           critical=critical, samples=samples, endpoint_roots=_endpoint_roots(P, Ystar, imaginary),
+                           a_stable=a_stable, a_reason=reason, **rk)
+
+
+# ------------------------------------------------------------------ everything the CLI prints
+
+@dataclass(frozen=True)
+class StabilityReport(Result):
+    """Linear stability, algebraic stability and parasitism of one method together."""
+
+    method: str
+    linear: StabilityResult
+    algebraic: Result
+    parasitism: Result | None = field(default=None)
+
+    def __str__(self):
+        parts = [str(self.linear), str(self.algebraic)]
+        if self.parasitism is not None:
+            parts.append(str(self.parasitism))
+        return "\n".join(parts)
+
+    def to_json(self):
+        out = dict(self.linear.to_json())
+        alg = self.algebraic.to_json()
+        out["algebraically_stable"] = alg["algebraically_stable"]
+        out["algebraic_stability"] = alg
+        out["parasitism"] = self.parasitism.to_json()["parasitism"] if self.parasitism is not None else []
+        return out
+
+    def to_latex(self):
+        return "\n".join([self.linear.to_latex(), self.algebraic.to_latex()]
+                         + ([self.parasitism.to_latex()] if self.parasitism is not None else []))
+
+
+def stability_report(m: Method) -> StabilityReport:
+    """Linear stability, algebraic stability and (GLMs) parasitic growth parameters."""
+    from .algebraic_stability import algebraic_stability
+    from .parasitism import growth_parameters
+    from .symplectic import g_symplectic
+    gsym = g_symplectic(m) if m.kind != "prk" else None
+    lin = stability(m, gsym)
+    alg = algebraic_stability(m, a_stable=lin.a_stable, gsym=gsym)
+    par = growth_parameters(m) if m.kind == "glm" else None
+    return StabilityReport(method=m.name, linear=lin, algebraic=alg, parasitism=par)
