@@ -293,6 +293,35 @@ def _convergence_runs(args, ex) -> int:
     return status
 
 
+def _workprecision(args) -> int:
+    from .experiments.executor import SchedulerError
+    from .experiments.scene import SceneError
+    from .experiments.workprecision import load_wp_scene, run_wp
+    code = 0
+    for path in args.scenes:
+        try:
+            scene = load_wp_scene(path)
+            data = run_wp(scene, out_root=args.out, scheduler=args.scheduler, workers=args.workers)
+        except (SceneError, SchedulerError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            code = 2
+            continue
+        print(f"{scene.name}: {Path(args.out) / scene.name / (scene.name + '.png')}")
+        for label, pts in data["series"].items():
+            for p in pts:
+                what = f"n = {p['steps']}" if "rtol" not in p else f"rtol = {p['rtol']:g}"
+                if "failed" in p:
+                    print(f"  {label:32s} {what:16s} failed: {p['failed'][:80]}")
+                else:
+                    print(f"  {label:32s} {what:16s} cpu {p['cpu']:8.3f} s  nfev {p['nfev']:9d}  "
+                          f"error {p['error']:.2e}  max|{scene.invariant}-{scene.invariant}0| {p['invariant_error']:.2e}")
+        for level, v in data["speedup"].items():
+            r = v["DOP853_over_best"]
+            print(f"  max|{scene.invariant}-{scene.invariant}0| <= {level}: "
+                  + (f"DOP853 / our best CPU time = {r:.1f}" if r else "not reached by both"))
+    return code
+
+
 def _report(args) -> int:
     from .exact.tableau_json import TableauError, load
     from .report.latex import ReportError, compile_pdf, library_document, method_document, write_report
@@ -462,6 +491,13 @@ def build_parser() -> argparse.ArgumentParser:
                                                              "1: in this process)")
     cv.add_argument("--out", default="reports/convergence")
     cv.set_defaults(run=_convergence)
+    wp = sub.add_parser("workprecision", help="work-precision diagrams: error and invariant error against CPU "
+                        "time and f-evaluations, our methods (compiled) against scipy's DOP853 / RK45")
+    wp.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")
+    wp.add_argument("--out", default="reports/workprecision", help="output folder (default reports/workprecision)")
+    wp.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler (tcp://HOST:8786); default a local process pool")
+    wp.add_argument("--workers", type=int, help="local worker processes (default: every core; 1: in-process)")
+    wp.set_defaults(run=_workprecision)
     rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
                         description="For each method: the tableau, the G-symplecticity proof step by step, the "
                                     "symplecticity matrix, the order conditions and starting method, parasitism; "

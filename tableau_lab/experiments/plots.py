@@ -10,7 +10,7 @@ import numpy as np
 from ..files import atomic_write
 from ..numeric.arith import arith
 
-__all__ = ["draw"]
+__all__ = ["draw", "draw_roundoff", "draw_convergence", "draw_workprecision"]
 
 
 def _figure():
@@ -122,5 +122,32 @@ def draw_convergence(results: list, target: Path, title: str) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=6, loc="best")
     ax.set_title(title, fontsize=10)
+    _save(fig, target)
+    plt.close(fig)
+
+
+def draw_workprecision(data: dict, target: Path) -> None:
+    """Four panels: error at T and max |I − I₀| against CPU seconds and against f-evaluations,
+    one line per method or peer (points that failed are left out)."""
+    plt = _figure()
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), sharey="row")
+    inv = data["invariant"]
+    for label, pts in data["series"].items():
+        ok = sorted((p for p in pts if "cpu" in p), key=lambda p: p["cpu"])
+        if not ok:
+            continue
+        style = "--" if label in ("DOP853", "RK45", "RK23", "Radau", "LSODA") else "-"
+        for row, key in enumerate(("error", "invariant_error")):
+            for col, cost in enumerate(("cpu", "nfev")):
+                axes[row, col].loglog([p[cost] for p in ok], [max(p[key], 1e-17) for p in ok], style,
+                                      marker="o", ms=3, label=label)
+    for col, cost in enumerate(("CPU seconds", "f-evaluations")):
+        axes[1, col].set_xlabel(cost)
+    axes[0, 0].set_ylabel(f"error at T = {data['T']:g} (max norm)")
+    axes[1, 0].set_ylabel(f"max |{inv} − {inv}₀| over the run")
+    for ax in axes.flat:
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0, 1].legend(fontsize=8)
+    fig.suptitle(f"{data['title']} (work–precision; reference error ≤ {data['reference_error_bound']:.1e})")
     _save(fig, target)
     plt.close(fig)

@@ -6,14 +6,15 @@ explicit loops over preallocated arrays (no allocation per step): the partitione
 simplified Newton on the stage increments Z = Y − Ū started from the extrapolated stage
 derivatives (``E``), Hairer's θ/(1 − θ)‖ΔZ‖ stopping test, stage derivatives from A⁻¹Z/h,
 Kahan summation of the principal increment, projection onto invariants by Newton on the
-multipliers, and records of the input vector every ``every`` steps.  A step it cannot finish
+multipliers, the largest |I(y^[n]_1) − I(y₀)| over all steps of the invariants in ``track``,
+and records of the input vector every ``every`` steps.  A step it cannot finish
 (simplified Newton fails, non-finite values, projection fails) is returned to Python, which
 redoes it on the pure path (full Newton, fixed point) or raises the error with step and time.
 
 >>> import sympy as sp
 >>> x, y = sp.symbols("x y")
 >>> print(function_source("f_", [x, y], [], [y, -sp.sin(x) / x**3]))
-@njit(cache=True)
+@njit(cache=True, error_model='numpy')
 def f_(y, c, out):
     out[0] = y[1]
     out[1] = -math.sin(y[0])/(y[0]*y[0]*y[0])
@@ -60,7 +61,7 @@ def function_source(name, state, params, exprs, extra_args="out", scalar=False) 
     flat = [sp.sympify(e).xreplace(subs) for e in flat]
     temps, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x"), optimizations="basic")
     p = _Printer({"fully_qualified_modules": True})
-    lines = ["@njit(cache=True)", f"def {name}(y, c, {extra_args}):" if extra_args else f"def {name}(y, c):"]
+    lines = ["@njit(cache=True, error_model='numpy')", f"def {name}(y, c, {extra_args}):" if extra_args else f"def {name}(y, c):"]
     lines += [f"    {t} = {p.doprint(v)}" for t, v in temps]
     if scalar:
         lines.append(f"    return {p.doprint(reduced[0])}")
@@ -86,13 +87,13 @@ def problem_source(problem, invariant_names) -> str:
         parts.append(function_source(f"grad{k}_", state, params, [sp.diff(I, x) for x in state]))
         disp_inv.append(f"    if k == {k}:\n        return inv{k}_(y, c)")
         disp_grad.append(f"    if k == {k}:\n        grad{k}_(y, c, out)")
-    parts.append("@njit(cache=True)\ndef inv_(k, y, c):\n" + "\n".join(disp_inv) + "\n    return 0.0\n")
-    parts.append("@njit(cache=True)\ndef grad_(k, y, c, out):\n" + "\n".join(disp_grad) + "\n    return\n")
+    parts.append("@njit(cache=True, error_model='numpy')\ndef inv_(k, y, c):\n" + "\n".join(disp_inv) + "\n    return 0.0\n")
+    parts.append("@njit(cache=True, error_model='numpy')\ndef grad_(k, y, c, out):\n" + "\n".join(disp_grad) + "\n    return\n")
     return "\n\n".join(parts)
 
 
 LOOP = r'''
-@njit(cache=True)
+@njit(cache=True, error_model='numpy')
 def lu_factor_(M, piv):
     n = M.shape[0]
     for k in range(n):
@@ -120,7 +121,7 @@ def lu_factor_(M, piv):
     return 0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy', inline='always')
 def lu_solve_(M, piv, b):
     n = M.shape[0]
     for k in range(n):
@@ -141,7 +142,7 @@ def lu_solve_(M, piv, b):
         b[i] = acc / M[i, i]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy', inline='always')
 def converged_(size, prev, tol, floor):
     if size <= tol:
         return True
@@ -151,7 +152,7 @@ def converged_(size, prev, tol, floor):
     return (theta < 1.0 and theta / (1.0 - theta) * size <= tol) or (theta >= 0.9 and size <= floor)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy', inline='always')
 def rhs_(h, Aq, Ap, mq, mp, F, out):
     s, d = F.shape
     for i in range(s):
@@ -164,7 +165,7 @@ def rhs_(h, Aq, Ap, mq, mp, F, out):
             out[i, l] = h * (aq * mq[l] + ap * mp[l])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy', inline='always')
 def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z, Yst, J, M, piv, R, W, stats):
     s, d = Ubar.shape
     sd = s * d
@@ -249,7 +250,7 @@ def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z
     return 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy')
 def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
     d = y.shape[0]
     m = proj.shape[0]
@@ -300,9 +301,9 @@ def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
     return 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model='numpy')
 def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, flags, c, eps, hA,
-         proj, target, comp, Fprev, rec, recn, stats):
+         proj, target, track, ttarget, tmax, comp, Fprev, rec, recn, stats):
     """Steps n0+1 .. n1.  Returns 0 when done, else 1 (stage equations not solved by simplified
     Newton), 2 (non-finite state) or 3 (projection failed) with the state at step stats[4] − 1."""
     r, d = Y.shape
@@ -381,6 +382,8 @@ def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, 
                 if not math.isfinite(Y[k, l]):
                     stats[3] = nrec
                     return 2
+        for k in range(track.shape[0]):
+            tmax[k] = max(tmax[k], abs(inv_(track[k], Y[0], c) - ttarget[k]))
         if n % every == 0 or n == steps:
             rec[nrec, :, :] = Y
             recn[nrec] = n
@@ -389,7 +392,7 @@ def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, 
     return 0
 '''
 
-COMMON = LOOP[:LOOP.index("@njit(cache=True)\ndef rhs_")]     # LU, stopping test: shared by both loops
+COMMON = LOOP[:LOOP.index("\ndef rhs_")].rsplit("@njit", 1)[0]     # LU, stopping test: shared by both loops
 
 
 # -- double-double (about 32 digits): the same loop with dd values (trailing axis 2: hi, lo) ------
@@ -591,7 +594,7 @@ def dproject_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, gd, stats):
 
 @njit(cache=True, error_model='numpy')
 def run_(Y, h, hinv, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, flags, c, eps, hA,
-         proj, target, Fprev, rec, recn, stats):
+         proj, target, track, ttarget, tmax, Fprev, rec, recn, stats):
     """The float64 loop's contract, in double-double; no Kahan summation (dd carries it)."""
     r = Y.shape[0]
     d = Y.shape[1]
@@ -672,6 +675,10 @@ def run_(Y, h, hinv, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi,
                 if not math.isfinite(Y[k, l, 0]):
                     stats[3] = nrec
                     return 2
+        for k in range(track.shape[0]):
+            inv_(track[k], Y[0], c, gd)
+            v = dd_sub((gd[0, 0], gd[0, 1]), (ttarget[k, 0], ttarget[k, 1]))
+            tmax[k] = max(tmax[k], abs(v[0]))
         if n % every == 0 or n == steps:
             rec[nrec, :, :, :] = Y
             recn[nrec] = n

@@ -88,7 +88,7 @@ class _Pack:
     """The method, problem and run constants as the loop's arrays: float64, or double-double
     (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
-    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False):
+    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False, track=()):
         from .ddmath import to_dd, to_dd_array
         num = (lambda x: to_dd_array(np.asarray(x, dtype=object))) if dd else _f64
         self.s, self.r, self.dd = nm.s, nm.r, dd
@@ -111,24 +111,31 @@ class _Pack:
             self.c = np.zeros((0, 2))
         hmax = float(np.max(np.abs(np.asarray(nm.Aq, dtype=float))))
         self.hA = abs(float(h)) * nm.s * hmax if not nm.explicit else 0.0
-        self.proj = np.array([mod.invariant_index[k] for k in project], dtype=np.int64)
-        self.target = num([targets[k] for k in project]) if dd else _f64([float(targets[k]) for k in project])
-        if dd and not project:
-            self.target = np.zeros((0, 2))
+        self.proj, self.target = self._invariants(mod, project, targets, num, dd)
+        self.track, self.ttarget = self._invariants(mod, track, targets, num, dd)
+        self.tmax = np.zeros(len(track))
         self.eps = 2.0 ** -104 if dd else float(np.finfo(float).eps)
+
+    @staticmethod
+    def _invariants(mod, names, targets, num, dd):
+        idx = np.array([mod.invariant_index[k] for k in names], dtype=np.int64)
+        if not names:
+            return idx, np.zeros((0, 2)) if dd else np.zeros(0)
+        return idx, num([targets[k] for k in names]) if dd else _f64([float(targets[k]) for k in names])
 
     def args(self):
         head = (self.h, self.hinv) if self.dd else (self.h,)
         return head, (*self.mats, self.mq, self.mp, self.E, self.Aqi, self.Api, self.flags, self.c, self.eps,
-                      self.hA, self.proj, self.target)
+                      self.hA, self.proj, self.target, self.track, self.ttarget, self.tmax)
 
 
 def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, record, progress, run,
-          compensated=True, project_step=None, chunk=1 << 16):
+          compensated=True, project_step=None, chunk=1 << 16, track=()):
     """Steps 1..steps of the compiled loop from the input vector Y (r × d); ``record(n, Y)`` at
     the record steps, ``progress(n)`` after each chunk; returns the final Y.  ``stepper`` (the
     pure path) redoes a step the loop hands back; ``project_step(Y0, n)`` → (Y0, iterations)
-    projects after it.  With ``nm.arith`` double-double the loop runs in dd and Y, the records
+    projects after it.  ``track``: invariants whose largest error over every step is kept
+    (``run.tracked``; of y^[n]_1, unfinished).  With ``nm.arith`` double-double the loop runs in dd and Y, the records
     and the pure path are mpmath numbers at 32 digits."""
     from .integrate import IntegrationError
     dd = nm.arith.name == "dd"
@@ -138,7 +145,7 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     else:
         to_loop, from_loop = (lambda x: _f64(x).copy()), (lambda x: x.copy())
     mod = kernel_module(cp.problem, "dd" if dd else "f64")
-    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd)
+    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd, track)
     head, tail = pk.args()
     Y = to_loop(Y)
     r, d = Y.shape[:2]
@@ -165,6 +172,7 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
         for k in range(int(stats[3])):
             record(int(recn[k]), from_loop(rec[k]))
         run.nfev, run.newton_iterations, run.projection_iterations = int(stats[0]), int(stats[1]), int(stats[2])
+        run.tracked = {k: float(v) for k, v in zip(track, pk.tmax)}
         run.completed = n1 if status == 0 else int(stats[4]) - 1
         if status == 0:
             n = n1

@@ -1,0 +1,213 @@
+r"""Work–precision diagrams: error against cost for our methods and for scipy's adaptive peers.
+
+A work–precision scene (JSON) names a problem, a time span [0, T], the methods with the step
+counts to sweep, and the peers (``scipy.integrate.solve_ivp`` with DOP853 / RK45 over a range
+of tolerances)::
+
+    {"format": "tableau_lab/workprecision/1", "name": "wp_kepler",
+     "problem": {"name": "kepler", "set": {"e": "0.6"}}, "T": 1000,
+     "methods": [{"method": "../../methods/gauss2.json", "steps": [20000, 40000, 80000]}],
+     "peers": [{"method": "DOP853", "rtol": ["1e-6", "1e-8", "1e-10"]}]}
+
+Every point is one independent run (through :mod:`executor`: a process pool, or a Dask
+cluster): CPU time of the run (``time.process_time``, compile excluded: each worker compiles
+or loads the kernel before timing), f-evaluations, the error at T against a reference
+(max-norm of the state difference) and max |H − H₀| over the run (our runs: at 1000 records
+and the end; peers: at every accepted step).  The reference at T is computed once, by our
+double-double kernel (about 32 digits) with 3-stage Gauss at two step sizes whose
+difference bounds its error (reported).  ``tableau-lab workprecision SCENE`` writes
+``data.json`` and ``<name>.png`` under ``reports/workprecision/<name>/``.
+"""
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..files import atomic_write_text
+
+__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point"]
+
+FORMAT = "tableau_lab/workprecision/1"
+PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA")
+
+
+@dataclass(frozen=True)
+class WPScene:
+    path: Path
+    name: str
+    title: str
+    problem: object
+    T: object
+    methods: tuple       # (path, [steps...], label)
+    peers: tuple         # (name, [rtol...], atol_factor)
+    invariant: str
+
+
+def load_wp_scene(path) -> WPScene:
+    from .scene import SceneError, _exact, _problem, _read_json
+    path = Path(path)
+    data = _read_json(path)
+    allowed = {"format", "name", "title", "problem", "T", "methods", "peers", "invariant", "notes"}
+    unknown = set(data) - allowed
+    if unknown:
+        raise SceneError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(allowed)})")
+    if data.get("format") != FORMAT:
+        raise SceneError(f"{path}: format must be {FORMAT!r}")
+    name = data.get("name")
+    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
+        raise SceneError(f"{path}: name must be a non-empty file-name-safe string")
+    problem = _problem(data.get("problem"), path)
+    T = _exact(data.get("T"), "T", path)
+    if not T > 0:
+        raise SceneError(f"{path}: T must be positive")
+    methods = []
+    for k, m in enumerate(data.get("methods", [])):
+        where = f"methods[{k}]"
+        if not isinstance(m, dict) or not isinstance(m.get("method"), str):
+            raise SceneError(f"{path}: {where} must be an object with a \"method\" path")
+        mp = (path.parent / m["method"]).resolve()
+        if not mp.exists():
+            raise SceneError(f"{path}: {where}: method file {mp} not found")
+        steps = m.get("steps")
+        if not isinstance(steps, list) or not steps or not all(isinstance(n, int) and n > 0 for n in steps):
+            raise SceneError(f"{path}: {where}.steps must be a list of positive integers")
+        methods.append((mp, tuple(steps), m.get("label", mp.stem)))
+    peers = []
+    for k, p in enumerate(data.get("peers", [])):
+        where = f"peers[{k}]"
+        if not isinstance(p, dict) or p.get("method") not in PEERS:
+            raise SceneError(f"{path}: {where}.method must be one of {', '.join(PEERS)}")
+        try:
+            rtols = tuple(float(x) for x in p.get("rtol", []))
+        except (TypeError, ValueError):
+            raise SceneError(f"{path}: {where}.rtol must be a list of numbers such as \"1e-8\"") from None
+        if not rtols or not all(0 < x < 1 for x in rtols):
+            raise SceneError(f"{path}: {where}.rtol must be a non-empty list of numbers in (0, 1)")
+        peers.append((p["method"], rtols, float(p.get("atol_factor", 1.0))))
+    if not methods and not peers:
+        raise SceneError(f"{path}: nothing to run (no methods, no peers)")
+    inv = data.get("invariant", "H")
+    if inv not in problem.invariants:
+        raise SceneError(f"{path}: invariant {inv!r} unknown for {problem.name} ({', '.join(problem.invariants)})")
+    return WPScene(path, name, data.get("title", name), problem, T, tuple(methods), tuple(peers), inv)
+
+
+# -- one point each (module-level: they run in worker processes) ---------------------------------
+
+def method_point(method_path, problem, T, steps, invariant):
+    """One run of our method, compiled float64: CPU seconds, nfev, final state, max |I − I₀|."""
+    from ..exact.tableau_json import load
+    from ..numeric.codegen import compile_problem
+    from ..numeric.export import to_numeric
+    from ..numeric.integrate import IntegrationError, integrate
+    import sympy as sp
+    nm = to_numeric(load(method_path))
+    cp = compile_problem(problem)
+    h = sp.Rational(T) / steps
+    integrate(nm, cp, cp.y0, h, 1)                       # compile / load the kernel, not timed
+    t0 = time.process_time()
+    try:
+        run = integrate(nm, cp, cp.y0, h, steps, invariants=(invariant,), record_every=steps)
+    except IntegrationError as exc:
+        return {"steps": steps, "failed": str(exc)}
+    cpu = time.process_time() - t0
+    return {"steps": steps, "cpu": cpu, "nfev": run.nfev, "final": [float(x) for x in run.final],
+            "invariant_error": run.max_invariant_error()[invariant]}
+
+
+def peer_point(peer, problem, T, rtol, atol_factor, invariant):
+    """One scipy solve_ivp run (f compiled by numba as for our runs, called through a thin
+    Python wrapper as scipy requires): CPU seconds, nfev, final state, max |I − I₀| over the
+    accepted steps."""
+    from scipy.integrate import solve_ivp
+    from ..numeric.codegen import compile_problem
+    from ..numeric.kernels import kernel_module
+    cp = compile_problem(problem)
+    mod = kernel_module(cp.problem)
+    c = np.array([float(v) for v in cp.constants])
+    y0 = np.array(cp.y0, dtype=float)
+    d = len(y0)
+
+    def fun(t, y):
+        out = np.empty(d)
+        mod.f_(y, c, out)
+        return out
+    fun(0.0, y0)                                           # compile / load, not timed
+    t0 = time.process_time()
+    sol = solve_ivp(fun, (0.0, float(T)), y0, method=peer, rtol=rtol, atol=rtol * atol_factor)
+    cpu = time.process_time() - t0
+    if not sol.success:
+        return {"rtol": rtol, "failed": sol.message}
+    k = mod.invariant_index[invariant]
+    I0 = mod.inv_(k, y0, c)
+    err = max(abs(mod.inv_(k, np.ascontiguousarray(sol.y[:, j]), c) - I0) for j in range(sol.y.shape[1]))
+    return {"rtol": rtol, "cpu": cpu, "nfev": int(sol.nfev), "final": sol.y[:, -1].tolist(),
+            "invariant_error": float(err), "steps": int(sol.t.size - 1)}
+
+
+def reference_state(problem, T, steps=None):
+    """The state at T to about 30 digits: 3-stage Gauss (order 6) in double-double at n and 2n
+    steps; returns (state as floats, the difference of the two runs: a bound on its error)."""
+    from ..exact.families import gauss
+    from ..numeric.codegen import compile_problem
+    from ..numeric.export import to_numeric
+    from ..numeric.integrate import integrate
+    import sympy as sp
+    nm = to_numeric(gauss(3), "dd")
+    cp = compile_problem(problem, "mpmath", dps=32)
+    n = steps or max(2000, int(float(T) * 200))
+    runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in (n, 2 * n)]
+    gap = max(abs(float(a - b)) for a, b in zip(*runs))
+    return np.array([float(x) for x in runs[1]]), gap
+
+
+def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, workers=None, progress=True):
+    """All points of a work–precision scene (independent runs through the executor), the
+    reference, then ``data.json`` and the PNG.  Returns the data dict."""
+    from .executor import executor
+    ref, gap = reference_state(scene.problem, scene.T)
+    tasks = [(method_point, (str(p), scene.problem, scene.T, n, scene.invariant), label)
+             for p, steps, label in scene.methods for n in steps]
+    tasks += [(peer_point, (peer, scene.problem, scene.T, rtol, af, scene.invariant), peer)
+              for peer, rtols, af in scene.peers for rtol in rtols]
+    with executor(scheduler=scheduler, workers=workers) as ex:
+        results = ex.map(_call, [(fn, args) for fn, args, _ in tasks])
+    series: dict = {}
+    for (fn, args, label), res in zip(tasks, results):
+        if "final" in res:
+            res["error"] = float(np.max(np.abs(np.array(res.pop("final")) - ref)))
+        series.setdefault(label, []).append(res)
+    data = {"name": scene.name, "title": scene.title, "problem": scene.problem.name, "T": float(scene.T),
+            "invariant": scene.invariant, "reference_error_bound": gap, "series": series}
+    out = Path(out_root) / scene.name
+    out.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(out / "data.json", json.dumps(data, indent=1))
+    from .plots import draw_workprecision
+    draw_workprecision(data, out / f"{scene.name}.png")
+    data["speedup"] = speedup(data)
+    atomic_write_text(out / "data.json", json.dumps(data, indent=1))
+    return data
+
+
+def _call(task):
+    fn, args = task
+    return fn(*args)
+
+
+def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
+    """For each invariant-error level: the cheapest CPU time of each series reaching it, and the
+    ratio of DOP853's to our best's (None where a series never reaches the level)."""
+    out = {}
+    for lv in levels:
+        best = {}
+        for label, pts in data["series"].items():
+            ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
+            best[label] = min(ok) if ok else None
+        ours = [v for k, v in best.items() if k not in PEERS and v is not None]
+        peer = best.get("DOP853")
+        out[f"{lv:g}"] = {"cpu": best, "DOP853_over_best": (peer / min(ours)) if ours and peer else None}
+    return out
