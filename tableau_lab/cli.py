@@ -293,6 +293,30 @@ def _convergence_runs(args, ex) -> int:
     return status
 
 
+def _bench(args) -> int:
+    from .experiments import bench
+    if args.method or args.problem:
+        if not (args.method and args.problem):
+            print("error: give both --method and --problem (or neither, for the standard set)", file=sys.stderr)
+            return 2
+        try:
+            res = bench.bench_case(args.method, args.problem, args.steps or 10 ** 5, h=args.h,
+                                   precision=args.precision, reps=args.reps)
+        except (OSError, ValueError) as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
+        if args.json:
+            print(json.dumps(res, default=float))
+        else:
+            for k, v in res.items():
+                print(f"{k}: {v}")
+        return 1 if "failed" in res else 0
+    res = bench.standard(steps=args.steps or 10 ** 5, reps=args.reps, memory=not args.no_memory)
+    out = bench.save(res, args.out)
+    print(json.dumps(res, default=float) if args.json else bench.table(res) + f"\n\nsaved in {out}/")
+    return 0
+
+
 def _workprecision(args) -> int:
     from .experiments.executor import SchedulerError
     from .experiments.scene import SceneError
@@ -491,6 +515,18 @@ def build_parser() -> argparse.ArgumentParser:
                                                              "1: in this process)")
     cv.add_argument("--out", default="reports/convergence")
     cv.set_defaults(run=_convergence)
+    bn = sub.add_parser("bench", help="speed of the compiled loops: the standard set against a gcc -O2 C loop, "
+                        "scipy DOP853 and plain mpmath; or one case (--method, --problem)")
+    bn.add_argument("--method", help="one case: a method file")
+    bn.add_argument("--problem", help="one case: a problem name")
+    bn.add_argument("--steps", type=int, help="steps per run (default 10^5)")
+    bn.add_argument("--h", default="1/100", help="step size, exact (default 1/100)")
+    bn.add_argument("--precision", default="float64", help="float64, dd or mp:DIGITS (one case)")
+    bn.add_argument("--reps", type=int, default=5, help="runs per case; the median is reported (default 5)")
+    bn.add_argument("--out", default="reports/bench", help="where the standard set is saved (default reports/bench)")
+    bn.add_argument("--no-memory", action="store_true", help="skip the 10^7-step memory probe")
+    bn.add_argument("--json", action="store_true", help="print JSON")
+    bn.set_defaults(run=_bench)
     wp = sub.add_parser("workprecision", help="work-precision diagrams: error and invariant error against CPU "
                         "time and f-evaluations, our methods (compiled) against scipy's DOP853 / RK45")
     wp.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")

@@ -89,8 +89,11 @@ class _Pack:
     (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
     def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False, track=()):
-        from .ddmath import to_dd, to_dd_array
-        num = (lambda x: to_dd_array(np.asarray(x, dtype=object))) if dd else _f64
+        if dd:
+            from .ddmath import to_dd, to_dd_array
+            num = (lambda x: to_dd_array(np.asarray(x, dtype=object)))
+        else:
+            num = _f64
         self.s, self.r, self.dd = nm.s, nm.r, dd
         self.h = to_dd(h) if dd else float(h)
         self.hinv = to_dd(1 / h) if dd else None
