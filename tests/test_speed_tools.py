@@ -1,0 +1,70 @@
+"""Work–precision sweeps and the benchmark command: shapes, independent checks of the
+reference, failures with clear messages.  No timed assertions (benchmarks are not tests)."""
+import json
+from pathlib import Path
+
+import mpmath
+import numpy as np
+
+from tableau_lab.cli import main
+from tableau_lab.experiments.workprecision import load_wp_scene, reference_state, run_wp
+from tableau_lab.numeric.problems import get_problem, reference
+
+METHODS = Path(__file__).parent.parent / "methods"
+
+
+def _scene(tmp_path, **over):
+    d = {"format": "tableau_lab/workprecision/1", "name": "wp_t", "problem": {"name": "kepler", "set": {"e": "0.6"}},
+         "T": 5, "methods": [{"method": str(METHODS / "gauss2.json"), "steps": [100, 200, 400]}],
+         "peers": [{"method": "DOP853", "rtol": ["1e-6", "1e-9"]}]}
+    d.update(over)
+    p = tmp_path / "wp.json"
+    p.write_text(json.dumps(d))
+    return p
+
+
+def test_dd_reference_against_kepler_equation():
+    """The work–precision reference (3-stage Gauss in double-double at n and 2n steps) against the
+    exact solution of the unperturbed Kepler problem (Kepler's equation at 40 digits)."""
+    P = get_problem("kepler_unperturbed")
+    ref, gap = reference_state(P, 10)
+    exact = np.array([float(x) for x in reference(P, 10, dps=40, method="exact")])
+    assert gap < 1e-12 and np.max(np.abs(ref - exact)) <= 2 * gap + 1e-15
+
+
+def test_workprecision_sweep(tmp_path):
+    data = run_wp(load_wp_scene(_scene(tmp_path)), out_root=tmp_path / "out", workers=1)
+    out = tmp_path / "out" / "wp_t"
+    assert (out / "wp_t.png").exists() and json.loads((out / "data.json").read_text())["series"]
+    ours, dop = data["series"]["gauss2"], data["series"]["DOP853"]
+    errs = [p["error"] for p in ours]
+    # order 4: halving h divides the error by about 16
+    assert all(8 < a / b < 32 for a, b in zip(errs, errs[1:])), errs
+    assert dop[1]["error"] < dop[0]["error"] and dop[1]["nfev"] > dop[0]["nfev"]
+    assert all(p["invariant_error"] > 0 and p["nfev"] > 0 for p in ours + dop)
+
+
+def test_workprecision_bad_scene(tmp_path, capsys):
+    bad = _scene(tmp_path, peers=[{"method": "Euler", "rtol": ["1e-6"]}])
+    assert main(["workprecision", str(bad), "--out", str(tmp_path / "o"), "--workers", "1"]) == 2
+    assert "peers[0].method must be one of" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_bench_one_case_json(capsys):
+    assert main(["bench", "--method", str(METHODS / "gauss2.json"), "--problem", "pendulum", "--steps", "2000",
+                 "--reps", "1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"steps_per_second", "compile_seconds", "nfev", "max_invariant_error"} <= set(out)
+    assert out["nfev"] > 2000 and out["max_invariant_error"]["H"] < 1e-9
+
+
+def test_bench_dd_agrees_with_mpmath(capsys):
+    """The same case at precision dd and mp:32: the invariant errors agree to far below float64."""
+    res = []
+    for prec in ("dd", "mp:32"):
+        assert main(["bench", "--method", str(METHODS / "rk4.json"), "--problem", "kepler", "--steps", "50",
+                     "--reps", "1", "--precision", prec, "--json"]) == 0
+        res.append(json.loads(capsys.readouterr().out)["max_invariant_error"])
+    with mpmath.workdps(40):
+        assert abs(res[0]["H"] - res[1]["H"]) < 1e-25 * max(1e-30, abs(res[1]["H"])) + 1e-28
