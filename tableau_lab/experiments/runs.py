@@ -44,11 +44,14 @@ def _setup(method, problem, precision, overrides):
     return m, P, compiled(P, precision), to_numeric(m, precision)
 
 
-def quick_run(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None):
-    """One run; the result as a JSON-ready dict (final state through the finishing method)."""
+def quick_run(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None,
+              monitor=None):
+    """One run; the result as a JSON-ready dict (final state through the finishing method).
+    ``monitor``: the parasitism monitor's bound (``integrate``); GLMs report their largest
+    parasitic component per ζ."""
     m, P, cp, nm = _setup(method, problem, precision, overrides)
     invs = tuple(P.invariants)
-    run = integrate(nm, cp, cp.y0, h, steps, start=start, project=tuple(project), invariants=invs)
+    run = integrate(nm, cp, cp.y0, h, steps, start=start, project=tuple(project), invariants=invs, monitor=monitor)
     if precision == "float64":
         final = [float(x) for x in run.final]
     else:                                     # all digits of a multiprecision run, as strings
@@ -62,6 +65,8 @@ def quick_run(method, problem, h, steps, *, precision="float64", project=(), sta
         out["final"] = {"y": final}
     out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev, newton_iterations=run.newton_iterations,
                projection_iterations=run.projection_iterations, seconds=round(run.seconds, 4))
+    if run.parasitic_components:
+        out["max_parasitic_component"] = {k: max(v) for k, v in run.parasitic_components.items()}
     return out
 
 
@@ -118,7 +123,8 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
     step counts; otherwise n = n0, 2n0, 4n0, … until three successive local slopes agree to 0.1
     (the asymptotic regime), the error reaches the round-off plateau, or ``max_steps``.  Runs that
     fail (an instability, a stage solve that diverges) are recorded with their message; the slope
-    is fitted by least squares on the last points above the plateau, at most five.
+    is fitted by least squares on the last points above the plateau, at most four (those
+    whose three local slopes agree when the study settled).
 
     The runs go through :func:`~tableau_lab.experiments.executor.executor` (``scheduler``,
     ``workers``: a local process pool by default, "serial", a Dask scheduler's address, or an
@@ -148,7 +154,8 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
             if any(_add_point(out, k, point, ref) and _settled(out.hs, out.errors, a.eps)
                    for k, point in zip(batch, runs(batch))):
                 break
-    out.slope = fit_order(out.hs[-5:] if not steps else out.hs, out.errors[-5:] if not steps else out.errors, a.eps)
+    # adaptive: the last four points, whose three local slopes agree when the study settled
+    out.slope = fit_order(out.hs[-4:] if not steps else out.hs, out.errors[-4:] if not steps else out.errors, a.eps)
     return out
 
 

@@ -159,7 +159,7 @@ def reference_state(problem, T, steps=None):
     import sympy as sp
     nm = to_numeric(gauss(3), "dd")
     cp = compile_problem(problem, "mpmath", dps=32)
-    n = steps or max(2000, int(float(T) * 200))
+    n = steps or max(2000, int(float(T) * 500))
     runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in (n, 2 * n)]
     gap = max(abs(float(a - b)) for a, b in zip(*runs))
     return np.array([float(x) for x in runs[1]]), gap
@@ -207,7 +207,9 @@ def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
         for label, pts in data["series"].items():
             ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
             best[label] = min(ok) if ok else None
-        ours = [v for k, v in best.items() if k not in PEERS and v is not None]
+        ours = {k: v for k, v in best.items() if k not in PEERS and v is not None}
         peer = best.get("DOP853")
-        out[f"{lv:g}"] = {"cpu": best, "DOP853_over_best": (peer / min(ours)) if ours and peer else None}
+        top = min(ours, key=ours.get) if ours else None
+        out[f"{lv:g}"] = {"cpu": best, "best": top,
+                          "DOP853_over_best": (peer / ours[top]) if top and peer else None}
     return out
