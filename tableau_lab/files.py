@@ -16,8 +16,11 @@ def atomic_write(target, write, suffix: str = ".tmp") -> Path:
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.", suffix=suffix)
     os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
     try:
         write(tmp)
+        os.chmod(tmp, 0o666 & ~umask)          # as an ordinary file (mkstemp makes it private)
         os.replace(tmp, target)
     finally:
         if os.path.exists(tmp):
