@@ -124,6 +124,7 @@ def test_ctrl_c_in_the_compiled_loop_leaves_valid_incomplete_file(tmp_path, monk
             record(n, Y)
         return real(*a, record=rec, **{**kw, "chunk": 20})
     monkeypatch.setattr(K, "drive", drive)
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")                 # the compiled loop
     with pytest.raises(KeyboardInterrupt):
         run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
     meta = json.loads((tmp_path / "out" / "t1" / "meta.incomplete.json").read_text())

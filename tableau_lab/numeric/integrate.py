@@ -22,6 +22,7 @@ invariants by simplified Newton on the multipliers: y = ỹ + ∇g(ỹ)λ.
 """
 from __future__ import annotations
 
+import os
 import time
 from dataclasses import dataclass, field
 
@@ -287,6 +288,8 @@ def component_masks(prob, d: int):
 def _use_kernel(kernel, a, nm, prob) -> bool:
     if kernel not in ("auto", "compiled", "python"):
         raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
+    if kernel == "auto":                   # $TABLEAU_LAB_KERNEL=python: the pure loop unless asked
+        kernel = os.environ.get("TABLEAU_LAB_KERNEL", "auto")
     if a.name == "dd":                     # double-double exists only compiled
         if not hasattr(prob, "problem"):
             raise ValueError("precision dd runs compiled: it needs a generated problem (compile_problem)")
@@ -313,7 +316,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     Kahan summation of the principal increment off (to measure what it buys).
     ``kernel``: "compiled" runs the float64 step loop compiled (:mod:`kernels`), "python" the
     loop here, "auto" the compiled one when the arithmetic is float64 and the problem is a
-    generated one (same algorithm; results agree to round-off)."""
+    generated one (same algorithm; results agree to round-off), unless the environment
+    variable TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled."""
     a = nm.arith
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
