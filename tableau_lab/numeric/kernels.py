@@ -55,7 +55,11 @@ def kernel_module(problem, kind: str = "f64"):
     loads its disk cache."""
     names = tuple(problem.invariants)
     if kind == "dd":
-        source = DD_HEADER + "\n" + dd_problem_source(problem, names) + "\n" + COMMON + DD_LOOP
+        # numba's cache does not see changes in imported modules: name ddmath's version here
+        from . import ddmath
+        stamp = hashlib.sha256(Path(ddmath.__file__).read_bytes()).hexdigest()[:16]
+        source = (DD_HEADER + f"# ddmath {stamp}\n\n" + dd_problem_source(problem, names) + "\n"
+                  + COMMON + DD_LOOP)
     else:
         source = HEADER + "\n" + problem_source(problem, names) + "\n" + LOOP
     digest = hashlib.sha256(source.encode()).hexdigest()[:20]
