@@ -44,6 +44,15 @@ def test_convergence_kepler(name):
     assert c.slope is not None and abs(c.slope - c.order) <= 0.2, c.to_json()
 
 
+@pytest.mark.parametrize("name", ["explicit_euler", "implicit_euler", "lobatto_iiic3"])
+def test_convergence_kepler_slow_starters(name, monkeypatch):
+    """The three methods that need 10^4-2·10^5 steps to leave their pre-asymptotic regime on
+    Kepler (e = 0.6), run by the compiled loop (in-process: the pool's workers keep their env)."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    c = convergence(METHODS / f"{name}.json", "kepler", T=10, max_steps=1 << 18, workers=1)
+    assert c.slope is not None and abs(c.slope - c.order) <= 0.2, c.to_json()
+
+
 @pytest.mark.parametrize("name, problem", [("gauss2", "pendulum"), ("example4_glm", "pendulum")])
 def test_convergence_at_32_digits(name, problem):
     """At 32 digits the same slope, on step sizes where float64 would already be close to its
