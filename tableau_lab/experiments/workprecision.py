@@ -16,7 +16,7 @@ or loads the kernel before timing), f-evaluations, the error at T against a refe
 and the end; peers: at every accepted step).  The reference at T is computed once, by our
 double-double kernel (about 32 digits) with 3-stage Gauss at two step sizes whose
 difference bounds its error (reported).  ``tableau-lab workprecision SCENE`` writes
-``data.json`` and ``<name>.png`` under ``reports/workprecision/<name>/``.
+``data.json``, ``summary.md`` and ``<name>.png`` under ``reports/workprecision/<name>/``.
 """
 from __future__ import annotations
 
@@ -190,6 +190,7 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     draw_workprecision(data, out / f"{scene.name}.png")
     data["speedup"] = speedup(data)
     atomic_write_text(out / "data.json", json.dumps(data, indent=1))
+    atomic_write_text(out / "summary.md", f"# {data['title']}\n\n{summary_table(data)}\n")
     return data
 
 
@@ -213,3 +214,24 @@ def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
         out[f"{lv:g}"] = {"cpu": best, "best": top,
                           "DOP853_over_best": (peer / ours[top]) if top and peer else None}
     return out
+
+
+def summary_table(data, levels=(1e-6, 1e-8, 1e-10)) -> str:
+    """Markdown: per series, its sweep and the cheapest CPU time reaching each invariant-error
+    level, then DOP853's time over our best's."""
+    inv = data["invariant"]
+    head = " / ".join(f"{lv:g}" for lv in levels)
+    rows = [f"| method | sweep | cheapest CPU s with max abs({inv} − {inv}₀) ≤ {head} |", "|---|---|---|"]
+    for label, pts in data["series"].items():
+        key = "rtol" if label in PEERS else "steps"
+        best = []
+        for lv in levels:
+            ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
+            best.append(f"{min(ok):.3f}" if ok else "—")
+        rows.append(f"| {label} | {key} {pts[0][key]:g} … {pts[-1][key]:g} | {' / '.join(best)} |")
+    sp_ = data.get("speedup") or speedup(data, levels)
+    rows.append("")
+    rows += [f"- max abs({inv} − {inv}₀) ≤ {lv}: DOP853 needs {v['DOP853_over_best']:.1f}× the CPU time of our best "
+             f"({v['best']})" if v["DOP853_over_best"] else f"- ≤ {lv}: not reached by both"
+             for lv, v in sp_.items()]
+    return "\n".join(rows)
