@@ -36,6 +36,7 @@ from .kernel_source import COMMON, DD_HEADER, DD_LOOP, HEADER, LOOP, dd_problem_
 __all__ = ["available", "kernel_module", "drive", "cache_dir", "compile_seconds"]
 
 _MODULES: dict = {}
+_BY_PROBLEM: dict = {}     # (problem.key, kind) -> module: the source is generated once per process
 _COMPILE: dict = {}        # module name -> seconds of the first (compiling or cache-loading) call
 
 
@@ -53,6 +54,8 @@ def kernel_module(problem, kind: str = "f64"):
     """The compiled module of ``problem`` (a :class:`~.problems.Problem`) for ``kind`` "f64" or
     "dd": generated, written and imported on first use; numba compiles on the first call or
     loads its disk cache."""
+    if (problem.key, kind) in _BY_PROBLEM:
+        return _BY_PROBLEM[problem.key, kind]
     names = tuple(problem.invariants)
     if kind == "dd":
         # numba's cache does not see changes in imported modules: name ddmath's version here
@@ -65,6 +68,7 @@ def kernel_module(problem, kind: str = "f64"):
     digest = hashlib.sha256(source.encode()).hexdigest()[:20]
     name = f"tableau_lab_kernel_{digest}"
     if name in _MODULES:
+        _BY_PROBLEM[problem.key, kind] = _MODULES[name]
         return _MODULES[name]
     path = cache_dir() / f"{name}.py"
     if not path.exists():
@@ -75,7 +79,7 @@ def kernel_module(problem, kind: str = "f64"):
     sys.modules[name] = mod
     spec.loader.exec_module(mod)
     mod.invariant_index = {k: i for i, k in enumerate(names)}
-    _MODULES[name] = mod
+    _MODULES[name] = _BY_PROBLEM[problem.key, kind] = mod
     return mod
 
 
