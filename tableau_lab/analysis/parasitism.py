@@ -11,17 +11,29 @@ The parasitic component then behaves like ζⁿ v(t) with v′ = μ f′(y(t)) v
 controlled to first order.  Computed exactly (ζ, x, y in a number field containing i); the
 entries of A, U, B may be free parameters (μ is then a polynomial in them), V may not.
 
+For a run: :func:`predicted_growth` is the growth rate of each component at a state, the
+largest real part of the eigenvalues of μ·f′(y) (per unit time; times h per step), and
+:func:`numeric_modes` gives ζ, μ and the left eigenvector y (y x = 1) as complex numbers for the
+integrator's monitor, which measures the component y·y^[n] at its records.
+
 >>> from tableau_lab.exact.tableau_json import load
 >>> [str(p.mu) for p in growth_parameters(load("methods/example4_glm.json")).items]
 ['1 + 2*sqrt(3)/3']
 
 (By hand: V = diag(1, −1), x = y = e₂, so μ = (−1)⁻¹ (BU)₂₂ = −(½·u₁₂ − ½·u₂₂) with
-u₁₂ = −u₂₂ = −(1 + 2√3/3).)
+u₁₂ = −u₂₂ = −(1 + 2√3/3).)  On the pendulum at q = 2.3, f′ = [[0, 1], [−cos q, 0]] has the
+real eigenvalues ±√(−cos 2.3), so the component grows at μ√(−cos 2.3) ≈ 1.76 per unit time:
+
+>>> import math
+>>> rates = predicted_growth(load("methods/example4_glm.json"), [[0, 1], [-math.cos(2.3), 0]])
+>>> {z: round(v, 3) for z, v in rates.items()}
+{'-1': 1.759}
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
 import sympy as sp
 
 from ..exact.field import normal_form
@@ -29,13 +41,16 @@ from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .results import Result
 
-__all__ = ["growth_parameters", "ParasitismResult", "Parasitic"]
+__all__ = ["growth_parameters", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
+           "growth_rate", "predicted_growth"]
 
 
 @dataclass(frozen=True)
 class Parasitic:
     zeta: sp.Expr     # eigenvalue of V on the unit circle, ζ ≠ 1
     mu: sp.Expr       # growth parameter ζ⁻¹ y B U x (y x = 1)
+    left: tuple = ()  # the left eigenvector y (y V = ζ y), normalised by y x = 1
+    right: tuple = ()  # the right eigenvector x (V x = ζ x)
 
 
 @dataclass(frozen=True)
@@ -95,8 +110,44 @@ def growth_parameters(m: Method) -> ParasitismResult:
         y = left[0].T
         yx = sp.expand((y * x)[0])
         mu = sp.expand((y * B * U * x)[0] / (zeta * yx))
-        items.append(Parasitic(zeta=normal_form(zeta), mu=_normal(mu)))
+        items.append(Parasitic(zeta=normal_form(zeta), mu=_normal(mu), left=tuple(_normal(v / yx) for v in y),
+                               right=tuple(_normal(v) for v in x)))
     return ParasitismResult(method=m.name, items=tuple(items))
+
+
+@dataclass(frozen=True)
+class NumericMode:
+    """One parasitic mode as numbers: ``label`` is ζ as :func:`growth_parameters` prints it."""
+    label: str
+    zeta: complex
+    mu: complex
+    left: np.ndarray     # complex r-vector y, y x = 1
+
+
+def numeric_modes(m: Method) -> tuple:
+    """The modes of :func:`growth_parameters` (exact μ, left eigenvector) rounded to complex
+    float64; empty when V has no eigenvalue ζ ≠ 1 on the unit circle (RK methods)."""
+    return tuple(NumericMode(_show(p.zeta), complex(sp.N(p.zeta, 20)), complex(sp.N(p.mu, 20)),
+                             np.array([complex(sp.N(v, 20)) for v in p.left]))
+                 for p in growth_parameters(m).items)
+
+
+def growth_rate(mu, jacobian) -> float:
+    """max Re λ over the eigenvalues λ of μ·J: the rate (per unit time) at which a parasitic
+    component v′ = μ f′(y) v grows at a state with Jacobian J = f′(y).  0 when μ = 0."""
+    mu = complex(mu)
+    J = np.asarray(jacobian, dtype=float)
+    if mu == 0 or not J.size:
+        return 0.0
+    return float(np.max(np.linalg.eigvals(mu * J).real))
+
+
+def predicted_growth(method, jacobian_at_state) -> dict:
+    """ζ (as printed) → the predicted growth rate of that parasitic component at a problem state
+    with Jacobian f′(y) = ``jacobian_at_state``: max Re eig(μ f′(y)) per unit time ([BHHN14];
+    multiply by h for the rate per step).  ``method``: a Method, or its numeric modes."""
+    modes = numeric_modes(method) if isinstance(method, Method) else method
+    return {md.label: growth_rate(md.mu, jacobian_at_state) for md in modes}
 
 
 def _normal(e):

@@ -68,13 +68,13 @@ def draw(scene, meta, arrays, out: Path) -> list:
             ax.legend(fontsize=8)
             ax.set_title(title, fontsize=10)
         elif kind == "parasitic":
-            fig, ax = plt.subplots(figsize=(7, 3))
+            fig, ax = plt.subplots(figsize=(7, 3.4))
             for i, r in enumerate(runs):
-                t, v = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_parasitic")
-                if t is not None and v is not None:
-                    ax.semilogy(t[: len(v)], np.maximum(v, 1e-300), lw=0.8, label=r["label"])
-            ax.set_xlabel("t"), ax.set_ylabel("max |y^[n]_k|, k ≥ 2")
-            ax.legend(fontsize=8)
+                _draw_parasitic(ax, arrays, i, r)
+            _long_time_axis(ax, arrays, len(runs))
+            ax.set_xlabel("t"), ax.set_ylabel("parasitic component")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
             ax.set_title(title, fontsize=10)
         else:  # pragma: no cover - validated in load_scene
             continue
@@ -83,6 +83,51 @@ def draw(scene, meta, arrays, out: Path) -> list:
         plt.close(fig)
         names.append(name)
     return names
+
+
+def _draw_parasitic(ax, arrays, i, run):
+    """Run i's parasitic components max_i |c_ζ,i| (one line per ζ; a conjugate ζ with the same
+    sizes is drawn once) and, dashed, the prediction c(t₁)·exp(∫_{t₁}^t max Re eig(μ f′) dt) from
+    the first nonzero record t₁; runs without components: max |y^[n]_k|, k ≥ 2."""
+    t = arrays.get(f"run{i}_t")
+    if t is None:
+        return
+    floor, drawn = _floor(run), []
+    for j, mode in enumerate(run.get("parasitic_modes", [])):
+        c = arrays.get(f"run{i}_parasitic_{j}")
+        if c is None or any(len(c) == len(d) and np.array_equal(c, d) for d in drawn):
+            continue
+        drawn.append(c)
+        line, = ax.semilogy(t[: len(c)], np.maximum(c, floor), lw=0.8,
+                            label=f"{run['label']}: ζ = {mode['zeta']}, μ = {_short_number(mode['mu'])}")
+        P = arrays.get(f"run{i}_predicted_{j}")
+        start = np.flatnonzero(c > 0)
+        if P is not None and len(start):
+            k = start[0]
+            pred = c[k] * np.exp(np.minimum(P[k:] - P[k], 700.0))
+            keep = pred <= 10 * max(float(np.max(c)), floor)
+            ax.semilogy(t[k: len(P)][keep], pred[keep], "--", color=line.get_color(), lw=0.8,
+                        label="predicted: ∫ max Re eig(μ f′) dt")
+    if not drawn:
+        v = arrays.get(f"run{i}_parasitic")
+        if v is not None:
+            ax.semilogy(t[: len(v)], np.maximum(v, 1e-300), lw=0.8, label=f"{run['label']}: max |y^[n]_k|, k ≥ 2")
+
+
+def _short_number(text: str) -> str:
+    try:
+        return f"{float(text):.5g}"
+    except ValueError:
+        return text
+
+
+def _long_time_axis(ax, arrays, n_runs):
+    """A logarithmic t axis when the records span more than three decades (a blow-up at t ≈ 30
+    and boundedness up to t = 10⁴ both visible)."""
+    ts = [arrays[f"run{i}_t"] for i in range(n_runs) if f"run{i}_t" in arrays]
+    first = min((float(t[1]) for t in ts if len(t) > 1 and t[1] > 0), default=0.0)
+    if first > 0 and max(float(t[-1]) for t in ts) > 1000 * first:
+        ax.set_xscale("log")
 
 
 def draw_roundoff(result: dict, target: Path, title: str) -> None:

@@ -18,6 +18,14 @@ method names, problem, h, precision, tableau-lab version, whether each run compl
 ``<name>_<plot>.png``.  A run stopped by an error or by Ctrl-C keeps its records, marked
 ``"completed": false``; files are written atomically (no half-written file).  Only what is asked
 for is computed: no invariant gradients without projection, no states unless a plot needs them.
+
+``"monitor": "1e-3"`` (an exact positive number) bounds the parasitic components of GLM input
+vectors (:mod:`~tableau_lab.numeric.integrate`, checked at the records): a run that exceeds it
+stops with status ``"stopped"`` and its message names ζ, the value, the bound and μ.  A stopped
+run is a result, not a failure (the scene stays complete).  For every GLM with eigenvalues
+ζ ≠ 1 of V on the unit circle the data hold ``run<i>_parasitic_<j>`` (the component of the j-th
+ζ at the records) and, when μ ≠ 0, ``run<i>_predicted_<j>`` (∫ max Re eig(μ f′) dt); meta.json
+lists the ζ, μ and the largest component per run.
 """
 from __future__ import annotations
 
@@ -32,12 +40,12 @@ import sympy as sp
 from .. import __version__
 from ..files import atomic_write, atomic_write_text
 
-__all__ = ["SceneError", "load_scene", "run_scene", "Scene"]
+__all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
 
 FORMAT = "tableau_lab/scene/1"
 PLOTS = ("invariants", "orbit", "parasitic", "state")
 KEYS = {"format", "name", "title", "seed", "notes", "problem", "h", "steps", "T", "runs", "record_every",
-        "plots", "precision", "start"}
+        "plots", "precision", "start", "monitor"}
 RUN_KEYS = {"method", "project", "precision", "start", "label"}
 
 
@@ -58,6 +66,7 @@ class Scene:
     record_every: int
     plots: tuple
     raw: dict
+    monitor: float | None = None     # bound on the parasitic components (None: recorded, not bounded)
 
 
 def _exact(v, where, path):
@@ -168,71 +177,91 @@ def load_scene(path) -> Scene:
     bad = [p for p in plots if p not in PLOTS]
     if bad:
         raise SceneError(f"{path}: unknown plots {bad} (known: {', '.join(PLOTS)})")
+    monitor = None
+    if "monitor" in data:
+        bound = _exact(data["monitor"], "monitor", path)
+        if not bound > 0:
+            raise SceneError(f"{path}: monitor must be a positive bound such as \"1e-3\", got {data['monitor']!r}")
+        monitor = float(bound)
     return Scene(path, name, data.get("title", name), data.get("seed", ""), problem, h, steps, tuple(out_runs),
-                 every, plots, data)
+                 every, plots, data, monitor)
 
 
-def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
-    """Run every run of a scene, write data, metadata and plots; returns the metadata."""
+def run_one(sc: Scene, i: int, progress: bool = False):
+    """Run ``sc.runs[i]``; returns (arrays without the ``run<i>_`` prefix, its meta entry,
+    interrupted).  A run stopped by an error, the monitor or Ctrl-C keeps its records."""
     from ..exact.tableau_json import load
     from ..numeric.export import to_numeric
-    from ..numeric.integrate import IntegrationError, integrate
-    from .plots import draw
+    from ..numeric.integrate import IntegrationError, ParasiticBoundExceeded, integrate
     from .runs import compiled
 
-    sc = load_scene(path)
-    out = Path(out_root) / sc.name
+    r = sc.runs[i]
     want_states = any(p in ("orbit", "state") for p in sc.plots)
-    arrays, meta_runs, interrupted = {}, [], False
-    show = sys.stderr.isatty() if progress is None else progress
-    for i, r in enumerate(sc.runs):
-        m = load(r["method"])
-        nm = to_numeric(m, r["precision"])
-        cp = compiled(sc.problem, r["precision"])
-        bar = None
-        if show:
-            from tqdm import tqdm
-            bar = tqdm(total=sc.steps, desc=f"{sc.name}: {r['label']}", unit="step", leave=False)
-        last = [0]
+    m = load(r["method"])
+    nm = to_numeric(m, r["precision"])
+    cp = compiled(sc.problem, r["precision"])
+    bar = None
+    if progress:
+        from tqdm import tqdm
+        bar = tqdm(total=sc.steps, desc=f"{sc.name}: {r['label']}", unit="step", leave=False)
+    last = [0]
 
-        def tick(n, bar=bar, last=last):
-            if bar is not None:
-                bar.update(n - last[0])
-                last[0] = n
-        status, message = "completed", ""
-        try:
-            run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
-                            invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
-                            record_states=want_states, problem_name=sc.problem.name, progress=tick)
-        except (IntegrationError, KeyboardInterrupt) as exc:
-            run = getattr(exc, "partial", None)
-            status = "interrupted" if isinstance(exc, KeyboardInterrupt) else "failed"
-            message = str(exc) or "interrupted by the user"
-            interrupted = isinstance(exc, KeyboardInterrupt)
-            if run is None:
-                raise
-        finally:
-            if bar is not None:
-                bar.close()
-        key = f"run{i}"
-        arrays[f"{key}_t"] = np.array(run.times)
-        for k, v in run.invariant_errors.items():
-            arrays[f"{key}_{k}"] = np.array([float(x) for x in v])
-        if want_states and run.values:
-            arrays[f"{key}_y"] = np.array([nm.arith.to_float(v) for v in run.values])
-        if run.parasitic:
-            arrays[f"{key}_parasitic"] = np.array(run.parasitic)
-        meta_runs.append({"label": r["label"], "method": m.name, "file": r["as_written"], "precision": r["precision"],
-                          "start": run.start, "projection": list(r["project"]), "status": status, "message": message,
-                          "completed_steps": run.completed, "nfev": run.nfev, "newton_iterations": run.newton_iterations,
-                          "projection_iterations": run.projection_iterations, "seconds": round(run.seconds, 3),
-                          "max_invariant_error": run.max_invariant_error()})
-        if interrupted:
-            break
+    def tick(n):
+        if bar is not None:
+            bar.update(n - last[0])
+            last[0] = n
+    status, message, interrupted = "completed", "", False
+    try:
+        run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
+                        invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
+                        record_states=want_states, problem_name=sc.problem.name, progress=tick, monitor=sc.monitor)
+    except (IntegrationError, KeyboardInterrupt) as exc:
+        run = getattr(exc, "partial", None)
+        status = ("interrupted" if isinstance(exc, KeyboardInterrupt)
+                  else "stopped" if isinstance(exc, ParasiticBoundExceeded) else "failed")
+        message = str(exc) or "interrupted by the user"
+        interrupted = isinstance(exc, KeyboardInterrupt)
+        if run is None:
+            raise
+    finally:
+        if bar is not None:
+            bar.close()
+    arrays = {"t": np.array(run.times)}
+    for k, v in run.invariant_errors.items():
+        arrays[k] = np.array([float(x) for x in v])
+    if want_states and run.values:
+        arrays["y"] = np.array([nm.arith.to_float(v) for v in run.values])
+    if run.parasitic:
+        arrays["parasitic"] = np.array(run.parasitic)
+    modes = []
+    for j, (zeta, comp) in enumerate(run.parasitic_components.items()):
+        arrays[f"parasitic_{j}"] = np.array(comp)
+        if zeta in run.predicted_growth:
+            arrays[f"predicted_{j}"] = np.array(run.predicted_growth[zeta])
+        mu = run.growth_parameters[zeta]
+        modes.append({"zeta": zeta, "mu": f"{mu.real:.12g}" if mu.imag == 0 else f"{mu:.12g}",
+                      "max": max(comp, default=0.0)})
+    meta = {"label": r["label"], "method": m.name, "file": r["as_written"], "precision": r["precision"],
+            "start": run.start, "projection": list(r["project"]), "status": status, "message": message,
+            "completed_steps": run.completed, "t_end": float(run.completed * sc.h), "nfev": run.nfev,
+            "newton_iterations": run.newton_iterations, "projection_iterations": run.projection_iterations,
+            "seconds": round(run.seconds, 3), "max_invariant_error": run.max_invariant_error(),
+            **({"parasitic_modes": modes} if modes else {})}
+    return arrays, meta, interrupted
+
+
+def write_outputs(sc: Scene, results, out) -> dict:
+    """Data, metadata and plots of a scene from ``run_one``'s results (in run order) under
+    ``out``; stale files of an earlier run are removed.  Returns the metadata."""
+    from .plots import draw
+    out = Path(out)
+    arrays = {f"run{i}_{k}": v for i, (a, _, _) in enumerate(results) for k, v in a.items()}
+    meta_runs = [m for _, m, _ in results]
     meta = {"scene": str(sc.path), "name": sc.name, "title": sc.title, "seed": sc.seed, "problem": sc.problem.name,
             "parameters": {k: str(v) for k, v in sc.problem.parameters.items()}, "h": str(sc.h), "steps": sc.steps,
             "record_every": sc.record_every, "tableau_lab": __version__,
-            "complete": all(r["status"] == "completed" for r in meta_runs) and len(meta_runs) == len(sc.runs),
+            **({"monitor": sc.monitor} if sc.monitor is not None else {}),
+            "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs) and len(meta_runs) == len(sc.runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
     for stale in list(out.glob("data*.npz")) + list(out.glob("meta*.json")) + list(out.glob(f"{sc.name}_*.png")):
@@ -240,6 +269,19 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
     atomic_write(out / f"data{suffix}.npz", lambda tmp: np.savez_compressed(tmp, **arrays), suffix=".npz")
     atomic_write_text(out / f"meta{suffix}.json", json.dumps(meta, indent=1, ensure_ascii=False))
     meta["plots"] = draw(sc, meta, arrays, out) if meta_runs else []
-    if interrupted:
+    return meta
+
+
+def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
+    """Run every run of a scene, write data, metadata and plots; returns the metadata."""
+    sc = load_scene(path)
+    show = sys.stderr.isatty() if progress is None else progress
+    results = []
+    for i in range(len(sc.runs)):
+        results.append(run_one(sc, i, show))
+        if results[-1][2]:
+            break
+    meta = write_outputs(sc, results, Path(out_root) / sc.name)
+    if results[-1][2]:
         raise KeyboardInterrupt
     return meta

@@ -19,6 +19,19 @@ GLM runs start from the exported starting method (elementary differentials of f 
 naively (y^[0] = u y₀), and report the principal value through the finishing method.
 Projection (optional) moves the first output value onto {I_k(y) = I_k(y₀)} for the chosen
 invariants by simplified Newton on the multipliers: y = ỹ + ∇g(ỹ)λ.
+
+*Parasitism monitor* (GLMs whose V has eigenvalues ζ ≠ 1 on the unit circle, [BHHN14]).  At
+every record the parasitic component of each such ζ is measured: with y_ζ the left eigenvector
+of V (y_ζ x_ζ = 1) and S_h(ŷ) the starting method applied to the finished value ŷ (the input
+vector the smooth solution through ŷ would have; u ŷ after a naive start),
+
+    c_ζ = Σ_k (y_ζ)_k (y^[n]_k − S_h(ŷ)_k),   recorded as max_i |c_ζ,i|
+
+(removing S_h(ŷ) keeps the smooth O(h^k) part of the non-principal values from hiding a
+component that starts at round-off), beside the predicted log-growth ∫ max Re eig(μ_ζ f′(ŷ)) dt
+(trapezoidal rule over the records).  ``monitor=BOUND`` stops the run with
+:class:`ParasiticBoundExceeded` (an IntegrationError with the records so far) when a component
+exceeds BOUND; the bound is checked at the records only, every ``record_every`` steps.
 """
 from __future__ import annotations
 
@@ -32,11 +45,17 @@ import sympy as sp
 from ..analysis.trees import order as tree_order, symmetry
 from .export import NumericMethod
 
-__all__ = ["integrate", "Run", "IntegrationError", "start_values", "finish", "component_masks"]
+__all__ = ["integrate", "Run", "IntegrationError", "ParasiticBoundExceeded", "start_values", "finish",
+           "component_masks"]
 
 
 class IntegrationError(RuntimeError):
     """A run that cannot continue; the message names step, time and the reason."""
+
+
+class ParasiticBoundExceeded(IntegrationError):
+    """The parasitism monitor stopped the run: a parasitic component exceeded the bound.
+    ``step``, ``t``, ``zeta`` (as printed), ``value``, ``bound``, ``mu``."""
 
 
 @dataclass
@@ -58,6 +77,9 @@ class Run:
     seconds: float = 0.0
     completed: int = 0                                   # steps done
     parasitic: list = field(default_factory=list)        # max |y^[n]_k|, k ≥ 2, at the records (GLMs)
+    parasitic_components: dict = field(default_factory=dict)  # ζ -> max_i |c_ζ,i| at the records (module docstring)
+    predicted_growth: dict = field(default_factory=dict)  # ζ -> ∫₀ᵗ max Re eig(μ f′(ŷ)) dt at the records (μ ≠ 0)
+    growth_parameters: dict = field(default_factory=dict)  # ζ -> μ (complex float)
     compile_seconds: float = 0.0                         # compiled kernel: first call (compile or cache load)
     tracked: dict = field(default_factory=dict)         # compiled loop: name -> max |I(y^[n]_1) − I(y0)| over all steps
 
@@ -240,6 +262,65 @@ class _Stepper:
         return Yout
 
 
+class _Monitor:
+    """The parasitic components of the input vector at the records, the predicted log-growth
+    along the run, and the bound (see the module docstring)."""
+
+    def __init__(self, nm, prob, h, start, bound, run):
+        from ..analysis.parasitism import numeric_modes
+        self.nm, self.prob, self.h, self.start, self.bound, self.run = nm, prob, h, start, bound, run
+        self.modes = numeric_modes(nm.exact) if nm.r > 1 and nm.exact is not None else ()
+        if bound is not None and not bound > 0:
+            raise ValueError(f"monitor: the bound must be positive, not {bound!r}")
+        self.L = np.array([m.left for m in self.modes]) if self.modes else None     # modes × r
+        run.parasitic_components = {m.label: [] for m in self.modes}
+        run.predicted_growth = {m.label: [] for m in self.modes if m.mu != 0}
+        run.growth_parameters = {m.label: m.mu for m in self.modes}
+        self.last = None                                     # (t, rates) at the previous record
+        self.first = {}                                      # ζ -> (record index, t) of its first nonzero size
+
+    def __call__(self, n, Y, y):
+        if not self.modes:
+            return
+        from ..analysis.parasitism import growth_rate
+        nm, run, a = self.nm, self.run, self.nm.arith
+        S = start_values(nm, self.prob, y, self.h, self.start)
+        D = np.array([a.to_float(Y[k] - S[k]) for k in range(nm.r)])            # r × d
+        sizes = np.max(np.abs(self.L @ D), axis=1) if D.size else np.zeros(len(self.modes))
+        t = float(n * self.h)
+        if run.predicted_growth:
+            J = a.to_float(np.asarray(self.prob.jac(y)).reshape(-1)).reshape(len(y), len(y))
+            rates = {m.label: growth_rate(m.mu, J) for m in self.modes if m.mu != 0}
+            for k, v in rates.items():
+                acc = run.predicted_growth[k]
+                acc.append(acc[-1] + (t - self.last[0]) * (v + self.last[1][k]) / 2 if acc else 0.0)
+            self.last = (t, rates)
+        for m, v in zip(self.modes, sizes):
+            run.parasitic_components[m.label].append(float(v))
+            if m.label not in self.first and v > 0:              # the first nonzero record: growth from here
+                self.first[m.label] = (len(run.times) - 1, t)
+        if self.bound is None:
+            return
+        for m, v in zip(self.modes, sizes):
+            if not v <= self.bound:                            # NaN stops too
+                run.completed = n
+                mu = m.mu.real if m.mu.imag == 0 else m.mu
+                err = ParasiticBoundExceeded(f"step {n} (t = {t:.6g}): parasitic component ζ = {m.label} reached "
+                                             f"{v:.3g} > bound {self.bound:.3g} (growth parameter μ = {mu:.6g}"
+                                             + self._growth(m.label, v) + ")")
+                err.step, err.t, err.zeta, err.value, err.bound, err.mu = n, t, m.label, float(v), self.bound, m.mu
+                raise err
+
+    def _growth(self, label, v) -> str:
+        """"; since t = t₀: measured log-growth …, predicted …" for the stop message."""
+        if label not in self.first or label not in self.run.predicted_growth:
+            return ""
+        k, t0 = self.first[label]
+        P, c = self.run.predicted_growth[label], self.run.parasitic_components[label]
+        return (f"; since t = {t0:.4g}: measured log-growth log(c/c₀) = {np.log(v / c[k]):.3g}, predicted "
+                f"∫ max Re eig(μ f′) dt = {P[-1] - P[k]:.3g}")
+
+
 def _converged(size, prev, tol, floor) -> bool:
     """Stop a contracting iteration: the correction is below tol, or Hairer's error estimate
     θ/(1 − θ)·‖Δ‖ (θ = ‖Δ‖/‖Δ_prev‖) is, or it stagnates (θ ≥ 0.9) at the round-off floor."""
@@ -306,7 +387,7 @@ def _use_kernel(kernel, a, nm, prob) -> bool:
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
-              kernel: str = "auto") -> Run:
+              kernel: str = "auto", monitor: float | None = None) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
@@ -317,7 +398,10 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     ``kernel``: "compiled" runs the float64 step loop compiled (:mod:`kernels`), "python" the
     loop here, "auto" the compiled one when the arithmetic is float64 and the problem is a
     generated one (same algorithm; results agree to round-off), unless the environment
-    variable TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled."""
+    variable TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled.
+    ``monitor``: a bound on the parasitic components of a GLM's input vector, checked at the
+    records; exceeding it raises :class:`ParasiticBoundExceeded` (module docstring).  The
+    components and the predicted growth are recorded with or without a bound."""
     a = nm.arith
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
@@ -343,6 +427,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         def principal(Y):
             return finish(nm, prob, Y, h, series=start == "exact")
 
+        watch = _Monitor(nm, prob, h, start, None if monitor is None else float(monitor), run)
+
         def record(n, Y):
             y = principal(Y)
             if nm.r > 1:
@@ -352,6 +438,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 run.invariant_errors[k].append(prob.invariant(k, y) - targets[k])
             if record_states:
                 run.values.append(y.copy())          # at the working precision
+            watch(n, Y, y)
 
         def project_step(y, n):
             return _project(prob, tuple(project), targets, y, a, n, n * h)
@@ -383,7 +470,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             raise
         except IntegrationError as exc:
             exc.partial = run
-            if nm.r > 1 and len(run.parasitic) > 1:
+            if nm.r > 1 and len(run.parasitic) > 1 and not isinstance(exc, ParasiticBoundExceeded):
                 k = int(np.argmin(run.parasitic))
                 err = IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
                                        f"{run.parasitic[k]:.2e} at t = {run.times[k]:.4g}, "
