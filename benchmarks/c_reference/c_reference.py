@@ -108,7 +108,7 @@ def _input_text(pr: Prepared, steps, reps, mode=0, Y=None) -> str:
              _line("dims", [pk.s, rows if mode == 1 else pk.r, d, reps]),
              _line("steps", [steps]), _line("mode", [mode]),
              _line("h", [pk.h]), _line("eps", [EPS]), _line("hA", [pk.hA]),
-             _line("flags", pk.flags), _line("c", pk.c if pk.c.size else [0.0]),
+             _line("flags", pk.flags[:5]), _line("c", pk.c if pk.c.size else [0.0]),
              _line("Aq", Aq), _line("Ap", Ap), _line("U", U), _line("Bq", Bq), _line("Bp", Bp), _line("V", V),
              _line("mq", pk.mq), _line("mp", pk.mp), _line("E", pk.E), _line("Aqi", pk.Aqi), _line("Api", pk.Api),
              _line("Y", Y)]

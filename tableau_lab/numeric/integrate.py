@@ -122,8 +122,9 @@ def finish(nm: NumericMethod, prob, Y, h, series: bool = True):
 
 
 class _Stepper:
-    def __init__(self, nm: NumericMethod, prob, h, d, masks, compensated: bool = True):
+    def __init__(self, nm: NumericMethod, prob, h, d, masks, compensated: bool = True, fixed: bool = False):
         self.nm, self.prob, self.h = nm, prob, h
+        self.fixed = fixed                         # stage iteration: fixed point instead of simplified Newton
         self.a = nm.arith
         self.mq, self.mp = masks
         self.s, self.r, self.d = nm.s, nm.r, d
@@ -183,9 +184,10 @@ class _Stepper:
         refreshed each iteration); then fixed point.  Returns the stage derivatives: from the
         increments, A⁻¹(Y − Ū)/h, when A is invertible (no f-evaluation after convergence)."""
         a, s, d = self.a, self.s, self.d
-        J0 = self.prob.jac(Ubar[0])
+        fixed = self.fixed                 # fixed-point iteration: the same loop with M = I
+        J0 = None if fixed else self.prob.jac(Ubar[0])
         # attainable accuracy: round-off amplified by the conditioning of the stage system
-        amp = 1 + self.hA * (float(np.max(np.abs(a.to_float(J0.reshape(-1))))) if J0.size else 0.0)
+        amp = 1 if fixed else 1 + self.hA * (float(np.max(np.abs(a.to_float(J0.reshape(-1))))) if J0.size else 0.0)
         # iterate on the increments Z = Y − Ū (small, so A⁻¹Z keeps its relative precision)
         starts = [a.zeros(s, d)]
         if self.Fprev is not None and self.nm.E is not None:
@@ -194,14 +196,15 @@ class _Stepper:
         Minv = None
         scale = 1 + a.norm(Ubar.reshape(-1))
         for Z0, full in tries:
-            if Minv is None and not full:
+            if Minv is None and not full and not fixed:
                 Minv = a.lu(self._newton_matrix([J0] * s))
             Z, prev = Z0.copy(), None
             for it in range(60 if not full else 30):
                 Y = Ubar + Z
                 F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
                 M = a.lu(self._newton_matrix([self.prob.jac(Y[j]) for j in range(s)])) if full else Minv
-                dZ = a.lu_solve(M, (self._rhs(F) - Z).reshape(-1)).reshape(s, d)
+                R = self._rhs(F) - Z
+                dZ = R if (fixed and not full) else a.lu_solve(M, R.reshape(-1)).reshape(s, d)
                 Z = Z + dZ
                 self.newton += 1
                 if not a.finite(dZ.reshape(-1)):
@@ -366,6 +369,24 @@ def component_masks(prob, d: int):
     return ([1] * d, [0] * d)
 
 
+def _fixed_point(solver, nm, prob, y0, h, d) -> bool:
+    """Stage iteration: "newton" (simplified Newton), "fixedpoint" (no Jacobian, no LU: for
+    non-stiff problems with many components, as GNI's codes do), or "auto": fixed point when
+    s·d > 24 and h·s·max|A|·max|f'(y0)| < 0.1 (the iteration then contracts by ≲ 0.1 a sweep)."""
+    if solver not in ("auto", "newton", "fixedpoint"):
+        raise ValueError(f"solver must be 'auto', 'newton' or 'fixedpoint', not {solver!r}")
+    if nm.explicit or solver == "newton":
+        return False
+    if solver == "fixedpoint":
+        return True
+    if nm.s * d <= 24:
+        return False
+    a = nm.arith
+    J = a.to_float(prob.jac(y0).reshape(-1))
+    hA = abs(float(h)) * nm.s * float(np.max(np.abs(a.to_float(nm.Aq.reshape(-1)))))
+    return hA * float(np.max(np.abs(J))) < 0.1
+
+
 def _use_kernel(kernel, a, nm, prob) -> bool:
     if kernel not in ("auto", "compiled", "python"):
         raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
@@ -387,14 +408,15 @@ def _use_kernel(kernel, a, nm, prob) -> bool:
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
-              kernel: str = "auto", monitor: float | None = None) -> Run:
+              kernel: str = "auto", monitor: float | None = None, solver: str = "auto") -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
     ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
     if ``record_states``; memory grows with the records only.  ``compensated=False`` turns the
-    Kahan summation of the principal increment off (to measure what it buys).
+    Kahan summation of the principal increment off (to measure what it buys).  ``solver``:
+    the stage iteration (see :func:`_fixed_point`).
     ``kernel``: "compiled" runs the float64 step loop compiled (:mod:`kernels`), "python" the
     loop here, "auto" the compiled one when the arithmetic is float64 and the problem is a
     generated one (same algorithm; results agree to round-off), unless the environment
@@ -419,7 +441,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
-        stepper = _Stepper(nm, prob, h, d, masks, compensated)
+        stepper = _Stepper(nm, prob, h, d, masks, compensated, _fixed_point(solver, nm, prob, y0, h, d))
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)

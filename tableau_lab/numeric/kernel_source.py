@@ -3,7 +3,7 @@ symbolic f, Jacobian and invariants into numba functions placed before it.
 
 The loop is the algorithm of :class:`tableau_lab.numeric.integrate._Stepper`, written with
 explicit loops over preallocated arrays (no allocation per step): the partitioned GLM step,
-simplified Newton on the stage increments Z = Y − Ū started from the extrapolated stage
+simplified Newton (or, flags[5], fixed-point iteration) on the stage increments Z = Y − Ū started from the extrapolated stage
 derivatives (``E``), Hairer's θ/(1 − θ)‖ΔZ‖ stopping test, stage derivatives from A⁻¹Z/h,
 Kahan summation of the principal increment, projection onto invariants by Newton on the
 multipliers, the largest |I(y^[n]_1) − I(y₀)| over all steps of the invariants in ``track``,
@@ -169,31 +169,35 @@ def rhs_(h, Aq, Ap, mq, mp, F, out):
 def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z, Yst, J, M, piv, R, W, stats):
     s, d = Ubar.shape
     sd = s * d
-    jac_(Ubar[0], c, J)
-    jmax = 0.0
-    for k in range(d):
-        for l in range(d):
-            jmax = max(jmax, abs(J[k, l]))
-    amp = 1.0 + hA * jmax
+    fixed = flags[5] == 1           # fixed-point iteration: Newton with M = I (non-stiff, large d)
+    amp = 1.0
+    if not fixed:
+        jac_(Ubar[0], c, J)
+        jmax = 0.0
+        for k in range(d):
+            for l in range(d):
+                jmax = max(jmax, abs(J[k, l]))
+        amp = 1.0 + hA * jmax
     scale = 0.0
     for i in range(s):
         for l in range(d):
             scale = max(scale, abs(Ubar[i, l]))
     scale += 1.0
-    for a in range(sd):
-        for b in range(sd):
-            M[a, b] = 1.0 if a == b else 0.0
-    for i in range(s):
-        for j in range(s):
-            aq = Aq[i, j]
-            ap = Ap[i, j]
-            if aq != 0.0 or ap != 0.0:
-                for k in range(d):
-                    w = h * (aq * mq[k] + ap * mp[k])
-                    for l in range(d):
-                        M[i * d + k, j * d + l] -= w * J[k, l]
-    if lu_factor_(M, piv) != 0:
-        return 1
+    if not fixed:
+        for a in range(sd):
+            for b in range(sd):
+                M[a, b] = 1.0 if a == b else 0.0
+        for i in range(s):
+            for j in range(s):
+                aq = Aq[i, j]
+                ap = Ap[i, j]
+                if aq != 0.0 or ap != 0.0:
+                    for k in range(d):
+                        w = h * (aq * mq[k] + ap * mp[k])
+                        for l in range(d):
+                            M[i * d + k, j * d + l] -= w * J[k, l]
+        if lu_factor_(M, piv) != 0:
+            return 1
     predicted = flags[1] == 1 and flags[4] == 1
     for attempt in range(2 if predicted else 1):
         if attempt == 0 and predicted:
@@ -217,7 +221,8 @@ def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z
             for i in range(s):
                 for l in range(d):
                     R[i * d + l] = W[i, l] - Z[i, l]
-            lu_solve_(M, piv, R)
+            if not fixed:
+                lu_solve_(M, piv, R)
             stats[1] += 1
             size = 0.0
             zn = 0.0
@@ -444,32 +449,36 @@ def dnewton_(Ubar, h, hinv, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fpre
     s = Ubar.shape[0]
     d = Ubar.shape[1]
     sd = s * d
-    for l in range(d):
-        Yst[l, 0] = Ubar[0, l, 0]
-        Yst[l, 1] = Ubar[0, l, 1]
-    jac_(Yst, c, J)
-    jmax = 0.0
-    for k in range(d):
+    fixed = flags[5] == 1
+    amp = 1.0
+    if not fixed:
         for l in range(d):
-            jmax = max(jmax, abs(J[k, l, 0]))
-    amp = 1.0 + hA * jmax
+            Yst[l, 0] = Ubar[0, l, 0]
+            Yst[l, 1] = Ubar[0, l, 1]
+        jac_(Yst, c, J)
+        jmax = 0.0
+        for k in range(d):
+            for l in range(d):
+                jmax = max(jmax, abs(J[k, l, 0]))
+        amp = 1.0 + hA * jmax
     scale = 0.0
     for i in range(s):
         for l in range(d):
             scale = max(scale, abs(Ubar[i, l, 0]))
     scale += 1.0
-    for a in range(sd):
-        for b in range(sd):
-            M[a, b] = 1.0 if a == b else 0.0
-    for i in range(s):
-        for j in range(s):
-            for k in range(d):
-                w = h[0] * (Aq[i, j, 0] * mq[k] + Ap[i, j, 0] * mp[k])
-                if w != 0.0:
-                    for l in range(d):
-                        M[i * d + k, j * d + l] -= w * J[k, l, 0]
-    if lu_factor_(M, piv) != 0:
-        return 1
+    if not fixed:
+        for a in range(sd):
+            for b in range(sd):
+                M[a, b] = 1.0 if a == b else 0.0
+        for i in range(s):
+            for j in range(s):
+                for k in range(d):
+                    w = h[0] * (Aq[i, j, 0] * mq[k] + Ap[i, j, 0] * mp[k])
+                    if w != 0.0:
+                        for l in range(d):
+                            M[i * d + k, j * d + l] -= w * J[k, l, 0]
+        if lu_factor_(M, piv) != 0:
+            return 1
     predicted = flags[1] == 1 and flags[4] == 1
     for attempt in range(2 if predicted else 1):
         if attempt == 0 and predicted:
@@ -497,7 +506,8 @@ def dnewton_(Ubar, h, hinv, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fpre
                 for l in range(d):
                     v = dd_sub((W[i, l, 0], W[i, l, 1]), (Z[i, l, 0], Z[i, l, 1]))
                     R[i * d + l] = v[0] + v[1]
-            lu_solve_(M, piv, R)
+            if not fixed:
+                lu_solve_(M, piv, R)
             stats[1] += 1
             size = 0.0
             zn = 0.0

@@ -96,7 +96,7 @@ class _Pack:
     """The method, problem and run constants as the loop's arrays: float64, or double-double
     (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
-    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False, track=()):
+    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False, track=(), fixed=False):
         if dd:
             from .ddmath import to_dd, to_dd_array
             num = (lambda x: to_dd_array(np.asarray(x, dtype=object)))
@@ -116,7 +116,8 @@ class _Pack:
         self.Api = num(nm.Ap_inv) if invertible else z
         first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
         self.flags = np.array([int(nm.explicit), int(nm.E is not None), int(invertible),
-                               int(first_is_increment and compensated and not dd), 0], dtype=np.int64)
+                               int(first_is_increment and compensated and not dd), 0, int(fixed)],
+                              dtype=np.int64)
         self.c = num(list(cp.constants)) if dd else _f64([float(v) for v in cp.constants])
         if dd and not len(cp.constants):
             self.c = np.zeros((0, 2))
@@ -156,7 +157,7 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     else:
         to_loop, from_loop = (lambda x: _f64(x).copy()), (lambda x: x.copy())
     mod = kernel_module(cp.problem, "dd" if dd else "f64")
-    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd, track)
+    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd, track, stepper.fixed)
     head, tail = pk.args()
     Y = to_loop(Y)
     r, d = Y.shape[:2]
