@@ -259,6 +259,7 @@ def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z
 def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
     d = y.shape[0]
     m = proj.shape[0]
+    Gz = np.empty((m, d))
     for k in range(m):
         grad_(proj[k], y, c, G[k])
     for a in range(m):
@@ -271,7 +272,10 @@ def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
         return 1
     tscale = 0.0
     for k in range(m):
-        tscale = max(tscale, abs(target[k]))
+        terms = abs(target[k])
+        for l in range(d):
+            terms += abs(G[k, l] * y[l])
+        tscale = max(tscale, terms)
         lam[k] = 0.0
     tscale += 1.0
     z[:] = y
@@ -286,11 +290,22 @@ def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
             y[:] = z
             stats[2] += it
             return 0
+        if it > 0:                      # Newton on λ: ∇g(z)ᵀ G at the current point
+            for k in range(m):
+                grad_(proj[k], z, c, Gz[k])
+            for a in range(m):
+                for b in range(m):
+                    acc = 0.0
+                    for l in range(d):
+                        acc += Gz[a, l] * G[b, l]
+                    GtG[a, b] = acc
+            if lu_factor_(GtG, gpiv) != 0:
+                return 1
         lu_solve_(GtG, gpiv, g)
         step = 0.0
         for k in range(m):
             step = max(step, abs(g[k]))
-        if prev >= 0.0 and step >= prev and res <= 1000.0 * eps:
+        if prev >= 0.0 and step >= 0.5 * prev and res <= 1000.0 * eps:
             y[:] = z
             stats[2] += it
             return 0
@@ -302,6 +317,10 @@ def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
             for k in range(m):
                 acc += G[k, l] * lam[k]
             z[l] = acc
+    if res <= 1e4 * eps:
+        y[:] = z
+        stats[2] += 50
+        return 0
     stats[5] = res
     return 1
 
@@ -560,7 +579,10 @@ def dproject_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, gd, stats):
         return 1
     tscale = 0.0
     for k in range(m):
-        tscale = max(tscale, abs(target[k, 0]))
+        terms = abs(target[k, 0])
+        for l in range(d):
+            terms += abs(G[k, l, 0] * y[l, 0])
+        tscale = max(tscale, terms)
         lam[k, 0] = 0.0
         lam[k, 1] = 0.0
     tscale += 1.0
@@ -579,11 +601,21 @@ def dproject_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, gd, stats):
             y[:, :] = z
             stats[2] += it
             return 0
+        if it > 0:                      # Newton on λ: ∇g(z)ᵀ G at the current point
+            for a in range(m):
+                grad_(proj[a], z, c, gd)
+                for b in range(m):
+                    acc = 0.0
+                    for l in range(d):
+                        acc += gd[l, 0] * G[b, l, 0]
+                    GtG[a, b] = acc
+            if lu_factor_(GtG, gpiv) != 0:
+                return 1
         lu_solve_(GtG, gpiv, g)
         step = 0.0
         for k in range(m):
             step = max(step, abs(g[k]))
-        if prev >= 0.0 and step >= prev and res <= 1000.0 * eps:
+        if prev >= 0.0 and step >= 0.5 * prev and res <= 1000.0 * eps:
             y[:, :] = z
             stats[2] += it
             return 0
@@ -598,6 +630,10 @@ def dproject_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, gd, stats):
                 acc = dd_add(acc, dd_mul((lam[k, 0], lam[k, 1]), (G[k, l, 0], G[k, l, 1])))
             z[l, 0] = acc[0]
             z[l, 1] = acc[1]
+    if res <= 1e4 * eps:
+        y[:, :] = z
+        stats[2] += 50
+        return 0
     stats[5] = res
     return 1
 
