@@ -93,14 +93,28 @@ def _scipy_seconds(problem, T, reps=3):
     return statistics.median(p["cpu"] for p in pts), pts[-1]["invariant_error"]
 
 
+def _peak_mb() -> float:
+    """Peak resident memory of this process image in MB (VmHWM; ru_maxrss where /proc is absent)."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("VmHWM:"):
+                return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    import resource
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+
 def memory_probe(method="gauss2", problem="kepler", steps=10 ** 7, records=1000) -> dict:
     """Peak resident memory (MB) of a fresh process running ``steps`` steps with ``records``
     records (compiled float64), and its seconds."""
-    code = (f"import resource, time; from tableau_lab.experiments.bench import _setup; "
+    # VmHWM (this process image's peak), not ru_maxrss: Linux carries the forking parent's
+    # resident size into the child's ru_maxrss across exec
+    code = (f"import resource, time; from tableau_lab.experiments.bench import _setup, _peak_mb; "
             f"from tableau_lab.numeric.integrate import integrate; "
             f"nm, cp = _setup({str(ROOT / 'methods' / (method + '.json'))!r}, {problem!r}, 'float64'); "
             f"r = integrate(nm, cp, cp.y0, 0.01, {steps}, invariants=('H',), record_every={steps // records}); "
-            f"print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, r.seconds, len(r.times))")
+            f"print(_peak_mb(), r.seconds, len(r.times))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     return {"method": method, "problem": problem, "steps": steps, "records": int(out[2]),
             "peak_rss_mb": round(float(out[0]), 1), "seconds": round(float(out[1]), 2)}
