@@ -98,3 +98,22 @@ def test_double_double_agrees_with_mpmath_32(name, problem, project):
     assert abs(runs[0].nfev - runs[1].nfev) <= 0.05 * runs[1].nfev
     if project:
         assert max(runs[0].max_invariant_error().values()) < 1e-29
+
+
+def test_fixed_point_stage_iteration():
+    """solver="fixedpoint" (Newton with M = I): compiled and pure loops agree and count the same
+    f-evaluations; on a non-stiff problem it reaches the same stages as simplified Newton (to
+    round-off); "auto" picks it only for many components and a small h·ρ(f')."""
+    from tableau_lab.numeric.integrate import _fixed_point
+    nm = to_numeric(load(METHODS / "gauss2.json"))
+    cp = compile_problem("kepler")
+    runs = {(k, s): integrate(nm, cp, cp.y0, 0.01, 300, kernel=k, solver=s)
+            for k in ("compiled", "python") for s in ("fixedpoint", "newton")}
+    fast, slow = runs["compiled", "fixedpoint"], runs["python", "fixedpoint"]
+    assert np.max(np.abs(fast.final - slow.final)) < 1e-12 and abs(fast.nfev - slow.nfev) <= 0.01 * slow.nfev
+    assert np.max(np.abs(fast.final - runs["compiled", "newton"].final)) < 1e-12
+    assert fast.nfev > runs["compiled", "newton"].nfev          # more sweeps, but no Jacobian and no LU
+    solar, fpu = compile_problem("outer_solar_system"), compile_problem("fpu")
+    assert _fixed_point("auto", nm, solar, solar.y0, 10, 36)            # ρ(f') ≈ 1e-3 per day, d = 36
+    assert not _fixed_point("auto", nm, fpu, fpu.y0, 0.001, 12)         # s·d = 24: Newton
+    assert not _fixed_point("auto", nm, cp, cp.y0, 0.01, 4)
