@@ -2,6 +2,7 @@
 numbers to round-off and the same f-evaluation and Newton counts, for every method kind
 (explicit, implicit with invertible or singular A, partitioned, GLM), with and without
 projection; and the extrapolated stage start pays (fewer f-evaluations than a restart)."""
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -53,7 +54,7 @@ def test_extrapolated_start_saves_f_evaluations():
     about 5 f-evaluations per step on the pendulum (q0 = 2.3) and Kepler (e = 0.6), fewer than
     starting every step from Ū (Z = 0) with the same stopping test."""
     nm = to_numeric(load(METHODS / "gauss2.json"))
-    restart = nm.__class__(**{**nm.__dict__, "E": None})
+    restart = dataclasses.replace(nm, E=None)
     for problem in ("pendulum", "kepler"):
         cp = compile_problem(problem)
         with_e = integrate(nm, cp, cp.y0, 0.01, 2000).nfev / 2000

@@ -33,7 +33,7 @@ import numpy as np
 from tableau_lab.exact.tableau_json import load
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
-from tableau_lab.numeric.integrate import component_masks, start_values
+from tableau_lab.numeric.integrate import _Stepper, component_masks, start_values
 from tableau_lab.numeric.kernels import _Pack, kernel_module
 
 __all__ = ["run_c", "run_numba", "c_f_jac", "build", "prepare", "PROBLEMS"]
@@ -85,7 +85,9 @@ class Prepared:
         d = len(self.cp.y0)
         self.masks = tuple(np.array([float(x) for x in m]) for m in component_masks(self.cp, d))
         self.mod = kernel_module(self.cp.problem)
-        self.pk = _Pack(self.nm, self.cp, float(h), self.masks, (), {}, self.mod, compensated)
+        # the pure stepper decides Kahan summation, h·s·max|A| and the stage iteration (Newton here)
+        stepper = _Stepper(self.nm, self.cp, float(h), d, self.masks, compensated, fixed=False)
+        self.pk = _Pack(self.nm, self.cp, float(h), self.masks, (), {}, self.mod, stepper)
         self.Y0 = np.ascontiguousarray(np.asarray(start_values(self.nm, self.cp, self.cp.y0, float(h), start), dtype=float))
 
 

@@ -36,13 +36,10 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def _setup(method, problem, precision):
-    from ..exact.tableau_json import load
-    from ..numeric.arith import arith
-    from ..numeric.codegen import compile_problem
-    from ..numeric.export import to_numeric
-    a = arith(precision)
-    cp = compile_problem(problem, a.backend, None if a.backend == "numpy" else a.dps)
-    return to_numeric(load(method), precision), cp
+    """(numeric method, compiled problem) at ``precision``."""
+    from .runs import _setup as setup
+    _, _, cp, nm = setup(method, problem, precision, None)
+    return nm, cp
 
 
 def bench_case(method, problem, steps, h="1/100", precision="float64", reps=5, kernel="auto"):

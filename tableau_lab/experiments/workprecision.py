@@ -100,13 +100,10 @@ def load_wp_scene(path) -> WPScene:
 
 def method_point(method_path, problem, T, steps, invariant):
     """One run of our method, compiled float64: CPU seconds, nfev, final state, max |I − I₀|."""
-    from ..exact.tableau_json import load
-    from ..numeric.codegen import compile_problem
-    from ..numeric.export import to_numeric
     from ..numeric.integrate import IntegrationError, integrate
+    from .runs import _setup
     import sympy as sp
-    nm = to_numeric(load(method_path))
-    cp = compile_problem(problem)
+    _, _, cp, nm = _setup(method_path, problem, "float64", None)
     h = sp.Rational(T) / steps
     integrate(nm, cp, cp.y0, h, 1)                       # compile / load the kernel, not timed
     t0 = time.process_time()
@@ -153,12 +150,10 @@ def reference_state(problem, T, steps=None):
     """The state at T to about 30 digits: 3-stage Gauss (order 6) in double-double at n and 2n
     steps; returns (state as floats, the difference of the two runs: a bound on its error)."""
     from ..exact.families import gauss
-    from ..numeric.codegen import compile_problem
-    from ..numeric.export import to_numeric
     from ..numeric.integrate import integrate
+    from .runs import _setup
     import sympy as sp
-    nm = to_numeric(gauss(3), "dd")
-    cp = compile_problem(problem, "mpmath", dps=32)
+    _, _, cp, nm = _setup(gauss(3), problem, "dd", None)
     n = steps or max(2000, int(float(T) * 500))
     runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in (n, 2 * n)]
     gap = max(abs(float(a - b)) for a, b in zip(*runs))
@@ -183,13 +178,12 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
         series.setdefault(label, []).append(res)
     data = {"name": scene.name, "title": scene.title, "problem": scene.problem.name, "T": float(scene.T),
             "invariant": scene.invariant, "reference_error_bound": gap, "series": series}
+    data["speedup"] = speedup(data)
     out = Path(out_root) / scene.name
     out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "data.json", json.dumps(data, indent=1))
     from .plots import draw_workprecision
     draw_workprecision(data, out / f"{scene.name}.png")
-    data["speedup"] = speedup(data)
-    atomic_write_text(out / "data.json", json.dumps(data, indent=1))
     atomic_write_text(out / "summary.md", f"# {data['title']}\n\n{summary_table(data)}\n")
     return data
 

@@ -134,9 +134,9 @@ class _Stepper:
         self.comp = self.a.zeros(d) if first_is_increment and compensated else None
         self.tol = self.a.tol
         self.Fprev = None                          # the last step's stage derivatives (predictor)
+        self.hA = 0.0 if nm.explicit else _stage_scale(nm, h)
         if not nm.explicit:                        # per method, not per step
             self.eye = self._identity(nm.s * d)
-            self.hA = abs(float(h)) * nm.s * float(np.max(np.abs(self.a.to_float(nm.Aq.reshape(-1)))))
 
     def f(self, y):
         self.nfev += 1
@@ -366,8 +366,17 @@ def _project(prob, names, targets, y, a, n, t):
         z = y + G @ lam
     if res <= 1e4 * a.eps:                  # round-off noise of a large-term invariant (FPU), not divergence
         return z, 50
-    raise IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge "
-                           f"(residual {res:.3g} after 50 iterations)")
+    raise projection_failed(names, n, t, res)
+
+
+def projection_failed(names, n, t, res) -> IntegrationError:
+    return IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge "
+                            f"(residual {res:.3g} after 50 iterations)")
+
+
+def not_finite(n, t) -> IntegrationError:
+    return IntegrationError(f"step {n} (t = {float(t):.6g}): the solution is not finite (NaN or overflow): the "
+                            "method is unstable at this step size, or the problem is singular here")
 
 
 def component_masks(prob, d: int):
@@ -391,11 +400,15 @@ def _fixed_point(solver, nm, prob, y0, h, d) -> bool:
         return True
     if nm.s * d <= 24:
         return False
-    a = nm.arith
-    J = a.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
-    hA = abs(float(h)) * nm.s * float(np.max(np.abs(a.to_float(nm.Aq.reshape(-1)))))
+    J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
     # the spectral radius, not the largest entry: q' = p/m has huge entries 1/m and small eigenvalues
-    return hA * float(np.max(np.abs(np.linalg.eigvals(J)))) < 0.1
+    return _stage_scale(nm, h) * float(np.max(np.abs(np.linalg.eigvals(J)))) < 0.1
+
+
+def _stage_scale(nm, h) -> float:
+    """h·s·max|A|: how strongly h f' enters the stage equations (Newton's round-off floor, the
+    fixed-point contraction)."""
+    return abs(float(h)) * nm.s * float(np.max(np.abs(nm.arith.to_float(nm.Aq.reshape(-1)))))
 
 
 def _use_kernel(kernel, a, nm, prob) -> bool:
@@ -481,18 +494,15 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             if _use_kernel(kernel, a, nm, prob):
                 from .kernels import drive
                 Y = drive(nm, prob, Y, h, steps, every, masks=masks, project=tuple(project), targets=targets,
-                          stepper=stepper, record=record, progress=progress, run=run, compensated=compensated,
+                          stepper=stepper, record=record, progress=progress, run=run,
                           project_step=project_step if project else None, track=names)
-                stepper.nfev, stepper.newton = run.nfev, run.newton_iterations
             for n in range(run.completed + 1, steps + 1):
                 Y = stepper.step(Y, n, n * h)
                 if project:
                     Y[0], its = project_step(Y[0], n)
                     run.projection_iterations += its
                 if not a.finite(Y.reshape(-1)):
-                    raise IntegrationError(f"step {n} (t = {float(n * h):.6g}): the solution is not finite "
-                                           "(NaN or overflow): the method is unstable at this step size, or the "
-                                           "problem is singular here")
+                    raise not_finite(n, n * h)
                 run.completed = n
                 if n % every == 0 or n == steps:
                     record(n, Y)
@@ -513,8 +523,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 raise err from None
             raise
         finally:
-            if not run.nfev or stepper.nfev > run.nfev:
-                run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
+            run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
             run.seconds = time.perf_counter() - t0 - run.compile_seconds
         run.final = principal(Y)
     return run

@@ -33,7 +33,7 @@ import numpy as np
 from ..files import atomic_write_text
 from .kernel_source import COMMON, DD_HEADER, DD_LOOP, HEADER, LOOP, dd_problem_source, problem_source
 
-__all__ = ["available", "kernel_module", "drive", "cache_dir", "compile_seconds"]
+__all__ = ["available", "kernel_module", "drive", "cache_dir"]
 
 _MODULES: dict = {}
 _BY_PROBLEM: dict = {}     # (problem.key, kind) -> module: the source is generated once per process
@@ -83,11 +83,6 @@ def kernel_module(problem, kind: str = "f64"):
     return mod
 
 
-def compile_seconds(mod) -> float:
-    """Seconds the first call of ``mod``'s loop took (numba compile, or loading its disk cache)."""
-    return _COMPILE.get(mod.__name__, 0.0)
-
-
 def _f64(x):
     return np.ascontiguousarray(np.asarray(x, dtype=float))
 
@@ -96,7 +91,7 @@ class _Pack:
     """The method, problem and run constants as the loop's arrays: float64, or double-double
     (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
-    def __init__(self, nm, cp, h, masks, project, targets, mod, compensated, dd=False, track=(), fixed=False):
+    def __init__(self, nm, cp, h, masks, project, targets, mod, stepper, dd=False, track=()):
         if dd:
             from .ddmath import to_dd, to_dd_array
             num = (lambda x: to_dd_array(np.asarray(x, dtype=object)))
@@ -114,15 +109,13 @@ class _Pack:
         invertible = nm.Aq_inv is not None and nm.Ap_inv is not None
         self.Aqi = num(nm.Aq_inv) if invertible else z
         self.Api = num(nm.Ap_inv) if invertible else z
-        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        # Kahan summation, h·s·max|A| and the stage iteration as the pure stepper has them
         self.flags = np.array([int(nm.explicit), int(nm.E is not None), int(invertible),
-                               int(first_is_increment and compensated and not dd), 0, int(fixed)],
-                              dtype=np.int64)
+                               int(stepper.comp is not None and not dd), 0, int(stepper.fixed)], dtype=np.int64)
         self.c = num(list(cp.constants)) if dd else _f64([float(v) for v in cp.constants])
         if dd and not len(cp.constants):
             self.c = np.zeros((0, 2))
-        hmax = float(np.max(np.abs(np.asarray(nm.Aq, dtype=float))))
-        self.hA = abs(float(h)) * nm.s * hmax if not nm.explicit else 0.0
+        self.hA = stepper.hA
         self.proj, self.target = self._invariants(mod, project, targets, num, dd)
         self.track, self.ttarget = self._invariants(mod, track, targets, num, dd)
         self.tmax = np.zeros(len(track))
@@ -142,14 +135,14 @@ class _Pack:
 
 
 def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, record, progress, run,
-          compensated=True, project_step=None, chunk=1 << 16, track=()):
+          project_step=None, chunk=1 << 16, track=()):
     """Steps 1..steps of the compiled loop from the input vector Y (r × d); ``record(n, Y)`` at
     the record steps, ``progress(n)`` after each chunk; returns the final Y.  ``stepper`` (the
     pure path) redoes a step the loop hands back; ``project_step(Y0, n)`` → (Y0, iterations)
     projects after it.  ``track``: invariants whose largest error over every step is kept
     (``run.tracked``; of y^[n]_1, unfinished).  With ``nm.arith`` double-double the loop runs in dd and Y, the records
     and the pure path are mpmath numbers at 32 digits."""
-    from .integrate import IntegrationError
+    from .integrate import not_finite, projection_failed
     dd = nm.arith.name == "dd"
     if dd:
         from .ddmath import from_dd_array, to_dd_array
@@ -157,7 +150,7 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     else:
         to_loop, from_loop = (lambda x: _f64(x).copy()), (lambda x: x.copy())
     mod = kernel_module(cp.problem, "dd" if dd else "f64")
-    pk = _Pack(nm, cp, h, masks, project, targets, mod, compensated, dd, track, stepper.fixed)
+    pk = _Pack(nm, cp, h, masks, project, targets, mod, stepper, dd, track)
     head, tail = pk.args()
     Y = to_loop(Y)
     r, d = Y.shape[:2]
@@ -183,24 +176,20 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
         status = call(n, n1)
         for k in range(int(stats[3])):
             record(int(recn[k]), from_loop(rec[k]))
-        run.nfev, run.newton_iterations, run.projection_iterations = int(stats[0]), int(stats[1]), int(stats[2])
+        stepper.nfev, stepper.newton, run.projection_iterations = int(stats[0]), int(stats[1]), int(stats[2])
         run.tracked = {k: float(v) for k, v in zip(track, pk.tmax)}
         run.completed = n1 if status == 0 else int(stats[4]) - 1
         if status == 0:
             n = n1
         else:
             n = int(stats[4])
-            t = n * float(h)
             if status == 2:
-                raise IntegrationError(f"step {n} (t = {t:.6g}): the solution is not finite (NaN or overflow): the "
-                                       "method is unstable at this step size, or the problem is singular here")
+                raise not_finite(n, n * h)
             if status == 3:
-                raise IntegrationError(f"step {n} (t = {t:.6g}): projection onto {', '.join(project)} did not "
-                                       f"converge (residual {stats[5]:.3g} after 50 iterations)")
+                raise projection_failed(project, n, n * h, stats[5])
             # the pure path redoes this step: full Newton, then fixed point (or its error)
             stepper.comp = comp.copy() if pk.flags[3] else None
             stepper.Fprev = None
-            stepper.nfev, stepper.newton = int(stats[0]), int(stats[1])
             Yp = stepper.step(from_loop(Y), n, n * h)
             if project_step is not None:
                 Yp[0], its = project_step(Yp[0], n)
