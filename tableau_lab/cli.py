@@ -133,11 +133,37 @@ def _split(items):
     return [p.strip() for item in (items or []) for p in re.split(r";|,(?![^\[]*\])", item) if p.strip()]
 
 
+def _quick_job(args, frozen=False):
+    """The exact stage of a quick run (parse the options exactly, load, round, generate):
+    a RunJob, frozen when it goes to another process."""
+    from .experiments.runs import prepare_quick
+
+    overrides = {}
+    for item in args.set or []:
+        k, _, v = item.partition("=")
+        if not k or not v:
+            raise ValueError(f"--set {item!r}: write NAME=VALUE, e.g. e=0.6")
+        overrides[k.strip()] = _exact_number(v.strip(), f"--set {k}")
+    for key in ("q0", "p0", "y0"):
+        vals = getattr(args, key)
+        if vals is not None:
+            overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
+    h = _exact_number(args.h, "--h")
+    if not h > 0:
+        raise ValueError(f"--h {args.h}: the step size must be positive")
+    if args.steps < 1:
+        raise ValueError(f"--steps {args.steps}: at least one step")
+    project = [p.strip() for p in args.project.split(",")] if args.project else []
+    monitor = float(_exact_number(args.monitor, "--monitor")) if args.monitor else None
+    if monitor is not None and not monitor > 0:
+        raise ValueError(f"--monitor {args.monitor}: the bound must be positive")
+    return prepare_quick(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
+                         start=args.start, overrides=overrides, monitor=monitor, frozen=frozen)
+
+
 def _run(args) -> int:
-    from .exact.tableau_json import TableauError
-    from .experiments.runs import quick_run
+    from .experiments.job import BuildError, run_job
     from .numeric.integrate import IntegrationError
-    from .numeric.problems import ProblemError
 
     if args.scenes:
         if args.method or args.problem:
@@ -150,32 +176,13 @@ def _run(args) -> int:
     if args.h is None or args.steps is None:
         print("tableau-lab: error: a quick run needs --h and --steps", file=sys.stderr)
         return EXIT_INPUT
-    overrides = {}
     try:
-        for item in args.set or []:
-            k, _, v = item.partition("=")
-            if not k or not v:
-                raise ValueError(f"--set {item!r}: write NAME=VALUE, e.g. e=0.6")
-            overrides[k.strip()] = _exact_number(v.strip(), f"--set {k}")
-        for key in ("q0", "p0", "y0"):
-            vals = getattr(args, key)
-            if vals is not None:
-                overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
-        h = _exact_number(args.h, "--h")
-        if not h > 0:
-            raise ValueError(f"--h {args.h}: the step size must be positive")
-        if args.steps < 1:
-            raise ValueError(f"--steps {args.steps}: at least one step")
-        project = [p.strip() for p in args.project.split(",")] if args.project else []
-        monitor = float(_exact_number(args.monitor, "--monitor")) if args.monitor else None
-        if monitor is not None and not monitor > 0:
-            raise ValueError(f"--monitor {args.monitor}: the bound must be positive")
-        res = quick_run(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
-                        start=args.start, overrides=overrides, monitor=monitor)
-    except (TableauError, ProblemError, ValueError) as exc:
+        # the exact stage in a child when this process can stay without sympy (experiments/job.py)
+        res = run_job(_quick_job, args, precision=args.precision)
+    except ValueError as exc:                  # TableauError, ProblemError: bad input
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    except IntegrationError as exc:
+    except (IntegrationError, BuildError) as exc:
         print(f"tableau-lab: error: {args.method} on {args.problem}: {exc}", file=sys.stderr)
         return EXIT_CLAIM
     if args.json:

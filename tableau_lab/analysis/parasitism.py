@@ -39,6 +39,7 @@ import sympy as sp
 from ..exact.field import normal_form
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from .growth import NumericMode, growth_rate
 from .results import Result
 
 __all__ = ["growth_parameters", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
@@ -115,31 +116,12 @@ def growth_parameters(m: Method) -> ParasitismResult:
     return ParasitismResult(method=m.name, items=tuple(items))
 
 
-@dataclass(frozen=True)
-class NumericMode:
-    """One parasitic mode as numbers: ``label`` is ζ as :func:`growth_parameters` prints it."""
-    label: str
-    zeta: complex
-    mu: complex
-    left: np.ndarray     # complex r-vector y, y x = 1
-
-
 def numeric_modes(m: Method) -> tuple:
     """The modes of :func:`growth_parameters` (exact μ, left eigenvector) rounded to complex
     float64; empty when V has no eigenvalue ζ ≠ 1 on the unit circle (RK methods)."""
     return tuple(NumericMode(_show(p.zeta), complex(sp.N(p.zeta, 20)), complex(sp.N(p.mu, 20)),
                              np.array([complex(sp.N(v, 20)) for v in p.left]))
                  for p in growth_parameters(m).items)
-
-
-def growth_rate(mu, jacobian) -> float:
-    """max Re λ over the eigenvalues λ of μ·J: the rate (per unit time) at which a parasitic
-    component v′ = μ f′(y) v grows at a state with Jacobian J = f′(y).  0 when μ = 0."""
-    mu = complex(mu)
-    J = np.asarray(jacobian, dtype=float)
-    if mu == 0 or not J.size:
-        return 0.0
-    return float(np.max(np.linalg.eigvals(mu * J).real))
 
 
 def predicted_growth(method, jacobian_at_state) -> dict:

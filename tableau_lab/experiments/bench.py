@@ -13,8 +13,9 @@ measured in the same process:
   reach the same accuracy.
 
 The 32-digit rows compare the double-double loop with the plain mpmath loop (our pure loop at
-``mp:32``) per step, and check they agree.  The memory row runs 10⁷ steps recording 10³
-samples in a fresh process and reports its peak resident memory.  The one-time compile cost
+``mp:32``) per step, and check they agree.  The memory row runs ``tableau-lab run`` for 10⁷
+steps recording 10³ samples and reports the peak resident memory of the command and of its
+build child (``experiments/job.py``), and of the two together.  The one-time compile cost
 (or disk-cache load) is reported separately, never inside a rate.
 """
 from __future__ import annotations
@@ -90,31 +91,57 @@ def _scipy_seconds(problem, T, reps=3):
     return statistics.median(p["cpu"] for p in pts), pts[-1]["invariant_error"]
 
 
-def _peak_mb() -> float:
-    """Peak resident memory of this process image in MB (VmHWM; ru_maxrss where /proc is absent)."""
+def _status_kb(pid: int) -> dict:
+    """VmRSS and VmHWM (kB) of a live process; {} once it is gone."""
     try:
-        for line in Path("/proc/self/status").read_text().splitlines():
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 1024
+        lines = Path(f"/proc/{pid}/status").read_text().splitlines()
     except OSError:
-        pass
-    import resource
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        return {}
+    return {ln.split(":")[0]: int(ln.split()[1]) for ln in lines if ln.startswith(("VmRSS:", "VmHWM:"))}
 
 
-def memory_probe(method="gauss2", problem="kepler", steps=10 ** 7, records=1000) -> dict:
-    """Peak resident memory (MB) of a fresh process running ``steps`` steps with ``records``
-    records (compiled float64), and its seconds."""
-    # VmHWM (this process image's peak), not ru_maxrss: Linux carries the forking parent's
-    # resident size into the child's ru_maxrss across exec
-    code = (f"import resource, time; from tableau_lab.experiments.bench import _setup, _peak_mb; "
-            f"from tableau_lab.numeric.integrate import integrate; "
-            f"nm, cp = _setup({str(ROOT / 'methods' / (method + '.json'))!r}, {problem!r}, 'float64'); "
-            f"r = integrate(nm, cp, cp.y0, 0.01, {steps}, invariants=('H',), record_every={steps // records}); "
-            f"print(_peak_mb(), r.seconds, len(r.times))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
-    return {"method": method, "problem": problem, "steps": steps, "records": int(out[2]),
-            "peak_rss_mb": round(float(out[0]), 1), "seconds": round(float(out[1]), 2)}
+def _descendants(pid: int) -> list:
+    out, todo = [], [pid]
+    while todo:
+        p = todo.pop()
+        for task in Path(f"/proc/{p}/task").glob("*/children"):
+            try:
+                kids = [int(x) for x in task.read_text().split()]
+            except OSError:
+                continue
+            out += kids
+            todo += kids
+    return out
+
+
+def memory_probe(method="gauss2", problem="kepler", steps=10 ** 7, precision="float64", interval=0.02) -> dict:
+    """Peak resident memory (MB) of ``tableau-lab run --method … --steps 10⁷`` (compiled float64,
+    10³ records), as a user starts it: the command's own peak (VmHWM of its process image), the
+    peak of its build child (experiments/job.py), and the peak of their sum sampled every
+    ``interval`` s — the figure that counts when runs share a machine.  Linux (/proc) only."""
+    import os
+    import time
+    if not Path("/proc/self/status").exists():
+        return {"method": method, "problem": problem, "steps": steps, "unavailable": "needs /proc (Linux)"}
+    env = {k: v for k, v in os.environ.items() if k != "TABLEAU_LAB_KERNEL"}
+    cmd = [sys.executable, "-m", "tableau_lab", "run", "--method", str(ROOT / "methods" / f"{method}.json"),
+           "--problem", problem, "--h", "0.01", "--steps", str(steps), "--precision", precision, "--json"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    own, child, total = 0, 0, 0
+    while proc.poll() is None:
+        kids = _descendants(proc.pid)
+        st = [_status_kb(proc.pid)] + [_status_kb(k) for k in kids]
+        own = max(own, st[0].get("VmHWM", 0))
+        child = max([child] + [x.get("VmHWM", 0) for x in st[1:]])
+        total = max(total, sum(x.get("VmRSS", 0) for x in st))
+        time.sleep(interval)
+    out, err = proc.communicate()
+    if proc.returncode:
+        raise RuntimeError(f"memory probe: {' '.join(cmd)} failed: {err.strip()}")
+    res = json.loads(out)
+    return {"method": method, "problem": problem, "steps": steps, "precision": precision, "records": res["records"],
+            "peak_rss_mb": round(own / 1024, 1), "build_child_peak_rss_mb": round(child / 1024, 1),
+            "peak_tree_rss_mb": round(total / 1024, 1), "seconds": res["seconds"]}
 
 
 def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True) -> dict:
@@ -182,8 +209,10 @@ def table(res: dict) -> str:
                      f"{r['mp_over_dd']:.0f} | {r['dd_vs_mp32_difference']:.1e} |")
     if "memory" in res:
         m = res["memory"]
-        lines += ["", f"Memory: {m['steps']:.0e} steps of {m['method']} on {m['problem']} with {m['records']} records: "
-                      f"peak resident {m['peak_rss_mb']} MB ({m['seconds']} s)."]
+        lines += ["", f"Memory: `tableau-lab run`, {m['steps']:.0e} steps of {m['method']} on {m['problem']} with "
+                      f"{m['records']} records: peak resident {m['peak_rss_mb']} MB (its build child "
+                      f"{m['build_child_peak_rss_mb']} MB, before the run; the two together at most "
+                      f"{m['peak_tree_rss_mb']} MB) in {m['seconds']} s."]
     return "\n".join(lines)
 
 

@@ -28,8 +28,9 @@ from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
 from ..numeric.problems import get_problem, reference
 from .executor import executor
+from .job import RunJob
 
-__all__ = ["quick_run", "convergence", "Convergence", "fit_order", "roundoff"]
+__all__ = ["quick_run", "prepare_quick", "convergence", "Convergence", "fit_order", "roundoff"]
 
 
 def compiled(problem, precision: str):
@@ -49,25 +50,32 @@ def quick_run(method, problem, h, steps, *, precision="float64", project=(), sta
     """One run; the result as a JSON-ready dict (final state through the finishing method).
     ``monitor``: the parasitism monitor's bound (``integrate``); GLMs report their largest
     parasitic component per ζ."""
+    return prepare_quick(method, problem, h, steps, precision=precision, project=project, start=start,
+                         overrides=overrides, monitor=monitor).execute()
+
+
+def prepare_quick(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None,
+                  monitor=None, frozen=False) -> RunJob:
+    """The exact stage of :func:`quick_run`: the method read and rounded, the problem's code
+    generated, the step rounded once.  ``frozen``: the method and problem as data that runs in a
+    process without sympy (``experiments/job.py``): only the code this run calls (f, f′ for
+    implicit methods and GLMs, the invariants, the gradients projected on, the derivatives of
+    the starting and finishing series) and the compiled loop's file."""
     m, P, cp, nm = _setup(method, problem, precision, overrides)
-    invs = tuple(P.invariants)
-    run = integrate(nm, cp, cp.y0, h, steps, start=start, project=tuple(project), invariants=invs, monitor=monitor)
-    if precision == "float64":
-        final = [float(x) for x in run.final]
-    else:                                     # all digits of a multiprecision run, as strings
-        final = [mpmath.nstr(x, nm.arith.dps, strip_zeros=False) for x in run.final]
-    out = {"method": m.name, "problem": P.name, "h": float(h), "steps": steps, "precision": precision,
-           "start": run.start, "projection": list(project)}
-    if P.kind == "hamiltonian":
-        k = len(P.q)
-        out["final"] = {"q": final[:k], "p": final[k:]}
-    else:
-        out["final"] = {"y": final}
-    out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev, newton_iterations=run.newton_iterations,
-               projection_iterations=run.projection_iterations, seconds=round(run.seconds, 4))
-    if run.parasitic_components:
-        out["max_parasitic_component"] = {k: max(v) for k, v in run.parasitic_components.items()}
-    return out
+    invs, a = tuple(P.invariants), nm.arith
+    if isinstance(h, int) or isinstance(h, sp.Basic):
+        with a.context():
+            h = a.number(h)                       # exact step sizes are rounded once, here
+    if frozen:
+        from ..analysis.parasitism import numeric_modes
+        from ..analysis.trees import order as tree_order
+        from ..numeric.frozen import freeze
+        p = max((tree_order(t) for t in (*nm.starting, *nm.finishing)), default=0)
+        cp = freeze(cp, invariants=invs, gradients=tuple(project), jac=not nm.explicit or nm.r > 1,
+                    derivatives=p, kernels=("dd",) if precision == "dd" else ("f64",))
+        nm = dataclasses.replace(nm, exact=None, modes=numeric_modes(m) if nm.r > 1 else ())
+    return RunJob(nm, cp, h, steps, start, tuple(project), invs, monitor, precision, m.name, P.name,
+                  len(P.q) if P.kind == "hamiltonian" else None)
 
 
 def fit_order(hs, errs, floor: float):

@@ -4,7 +4,8 @@ Vectors are numpy arrays: ``float64`` for the double-precision path, ``object`` 
 ``mpmath.mpf`` for the multiprecision path, so the integrator's vector code (+, *, @) is the
 same for both; only what differs lives here: conversion of exact numbers, linear solves, norms,
 the working tolerance and the machine epsilon.  Multiprecision code runs inside
-``a.context()`` (mpmath's working precision is global).
+``a.context()`` (mpmath's working precision is global).  sympy is imported only where an
+exact number is converted, so that a run can go on in a process without it.
 
 >>> import sympy as sp
 >>> a = arith("mp:40")
@@ -20,9 +21,13 @@ from functools import lru_cache
 
 import mpmath
 import numpy as np
-import sympy as sp
 
 __all__ = ["arith", "Arith"]
+
+
+def _is_exact(v) -> bool:
+    """A sympy number (without importing sympy)."""
+    return type(v).__module__.startswith("sympy.")
 
 
 class Arith:
@@ -44,13 +49,17 @@ class Arith:
 
     def number(self, e):
         """An exact sympy number at this precision (a rational is rounded once, exactly)."""
+        if isinstance(e, int):
+            return float(e)
+        import sympy as sp
         e = sp.sympify(e)
         return float(e) if e.is_Rational else float(sp.N(e, 30))
 
     def array(self, values):
-        return np.array([self.number(v) if isinstance(v, sp.Basic) else v for v in values], dtype=self.dtype)
+        return np.array([self.number(v) if _is_exact(v) else v for v in values], dtype=self.dtype)
 
     def matrix(self, M):
+        import sympy as sp
         M = sp.Matrix(M)
         return np.array([[self.number(M[i, j]) for j in range(M.cols)] for i in range(M.rows)], dtype=self.dtype)
 
@@ -101,6 +110,10 @@ class MpArith(Arith):
         return float(mpmath.mpf(10) ** (2 - self.dps))
 
     def number(self, e):
+        if isinstance(e, int):
+            with mpmath.workdps(self.dps):
+                return mpmath.mpf(e)
+        import sympy as sp
         e = sp.sympify(e)
         with mpmath.workdps(self.dps):
             if e.is_Rational:

@@ -18,11 +18,10 @@ array([mpf('0.0'), mpf('-1.0')], dtype=object)
 from __future__ import annotations
 
 import mpmath
-import numpy as np
 import sympy as sp
 
-from tableau_lab.analysis.trees import trees_up_to
 from .arith import arith
+from .problem_functions import ProblemFunctions
 from .problems import Problem, ProblemError, exact_value, get_problem
 
 __all__ = ["compile_problem", "CompiledProblem", "reference", "extrapolation"]
@@ -47,111 +46,50 @@ def compile_problem(problem, backend: str = "numpy", dps: int | None = None,
     return _COMPILED[key]
 
 
-class CompiledProblem:
-    """Numeric functions of one problem: vectors in and out are numpy arrays, of float64 or
-    (mpmath) of mpf with dtype=object, so that +, * and @ work alike in both precisions;
-    mpmath inputs may also be lists or mpmath matrices.  mpmath evaluates at ``dps`` digits."""
+class CompiledProblem(ProblemFunctions):
+    """The functions of :class:`~.problem_functions.ProblemFunctions`, generated from the
+    problem's symbols: f at construction, the rest on first use."""
 
     def __init__(self, problem, backend, dps):
         self.problem, self.backend, self.dps = problem, backend, dps
         self.constants = [self._number(v) for v in problem.parameters.values()]
         self.y0 = self._vector([self._number(v) for v in problem.initial_state()])
-        self._f = self._code("f", lambda: (list(problem.f_expr), []))
+        self._code("f")
 
-    # -- conversions --------------------------------------------------------------------------
     def _number(self, x):
         return arith("float64" if self.backend == "numpy" else f"mp:{self.dps}").number(x)
 
-    def _vector(self, values):
-        if self.backend == "numpy":
-            return np.array(values, dtype=float)
-        with mpmath.workdps(self.dps):
-            return np.array([mpmath.mpf(v) for v in values], dtype=object)
-
-    def _input(self, y):
-        if self.backend == "numpy":
-            return np.asarray(y, dtype=float)
-        if isinstance(y, mpmath.matrix):
-            y = [y[i] for i in range(y.rows * y.cols)]
-        return self._vector(y)
-
-    def _code(self, what, build):
+    def _code(self, what):
         key = (self.problem.key, self.backend, what)
         if key not in _CODE:
-            exprs, extra = build()
+            exprs, extra = self._expressions(what)
             args = [list(self.problem.state), list(self.problem.parameter_symbols.values()), *extra]
             _CODE[key] = sp.lambdify(args, exprs, modules=self.backend, cse=True)
         return _CODE[key]
 
-    def _call(self, fn, y, *extra):
-        if self.backend == "numpy":
-            return fn(self._input(y), self.constants, *extra)
-        with mpmath.workdps(self.dps):
-            return fn(self._input(y), self.constants, *extra)
-
-    # -- the functions ------------------------------------------------------------------------
-    def f(self, y):
-        """f(y)."""
-        return self._vector(self._call(self._f, y))
-
-    def jac(self, y):
-        """The Jacobian f'(y) (generated on first use)."""
-        fn = self._code("jac", lambda: (sp.Matrix(self.problem.f_expr).jacobian(self.problem.state).tolist(), []))
-        rows = self._call(fn, y)
-        if self.backend == "numpy":
-            return np.array(rows, dtype=float)
-        return np.array([self._vector(row) for row in rows], dtype=object)
-
-    def _invariant_expr(self, name):
-        if name not in self.problem.invariants:
-            raise ProblemError(f"problem {self.problem.name!r} has no invariant {name!r}; "
-                               f"known: {', '.join(self.problem.invariants) or 'none'}")
-        return self.problem.invariants[name]
-
-    def invariant(self, name, y):
-        """The invariant ``name`` at y (a float or an mpf)."""
-        fn = self._code(("invariant", name), lambda: (self._invariant_expr(name), []))
-        v = self._call(fn, y)
-        return float(v) if self.backend == "numpy" else self._vector([v])[0]
-
-    def gradient(self, name, y):
-        """The gradient of the invariant ``name`` at y (generated on first use)."""
-        fn = self._code(("gradient", name),
-                        lambda: ([sp.diff(self._invariant_expr(name), s) for s in self.problem.state], []))
-        return self._vector(self._call(fn, y))
-
-    def derivative(self, m):
-        """(y, u₁, …, u_m) -> f⁽ᵐ⁾(y)(u₁, …, u_m), the m-th derivative of f applied to m vectors:
-        ∂ᵐ/∂s₁…∂s_m f(y + s₁u₁ + … + s_m u_m) at s = 0, generated on first use."""
-        def build():
-            n = self.problem.dimension
-            us = [[sp.Dummy(f"u{k}_{j}", real=True) for j in range(n)] for k in range(m)]
-            ss = [sp.Dummy(f"s{k}", real=True) for k in range(m)]
-            shift = {y: y + sum(s * u[j] for s, u in zip(ss, us)) for j, y in enumerate(self.problem.state)}
-            out = []
-            for g in self.problem.f_expr:
-                g = g.xreplace(shift)
-                for s in ss:
-                    g = sp.diff(g, s).xreplace({s: 0})
-                out.append(g)
-            return out, us
-        fn = self._code(("derivative", m), build)
-        return lambda y, *us: self._vector(self._call(fn, y, *[self._input(u) for u in us]))
-
-    def elementary_differentials(self, order: int):
-        """A function y -> {tree: F(t)(y)} for every rooted tree t with |t| ≤ order, where
-        F(τ) = f and F([t₁ … t_m]) = f⁽ᵐ⁾(F(t₁), …, F(t_m)) (trees of ``analysis.trees``).
-        Only the derivatives f⁽ᵐ⁾ are generated symbolically; F(t) is then composed numerically,
-        children first, so no expression grows with the tree."""
-        trees = list(trees_up_to(order))
-        derivs = {m: self.derivative(m) for m in {len(t) for t in trees} if m}
-
-        def F(y):
-            out = {}
-            for t in trees:                       # by order: children come first
-                out[t] = self.f(y) if not t else derivs[len(t)](y, *(out[c] for c in t))
-            return out
-        return F
+    def _expressions(self, what):
+        """The expressions of ``what`` (see ``ProblemFunctions``) and the extra vector arguments."""
+        P = self.problem
+        if what == "f":
+            return list(P.f_expr), []
+        if what == "jac":
+            return sp.Matrix(P.f_expr).jacobian(P.state).tolist(), []
+        kind, arg = what
+        if kind == "invariant":
+            return P.invariants[arg], []
+        if kind == "gradient":
+            return [sp.diff(P.invariants[arg], s) for s in P.state], []
+        # the m-th derivative: ∂ᵐ/∂s₁…∂s_m f(y + s₁u₁ + … + s_m u_m) at s = 0
+        us = [[sp.Dummy(f"u{k}_{j}", real=True) for j in range(P.dimension)] for k in range(arg)]
+        ss = [sp.Dummy(f"s{k}", real=True) for k in range(arg)]
+        shift = {y: y + sum(s * u[j] for s, u in zip(ss, us)) for j, y in enumerate(P.state)}
+        out = []
+        for g in P.f_expr:
+            g = g.xreplace(shift)
+            for s in ss:
+                g = sp.diff(g, s).xreplace({s: 0})
+            out.append(g)
+        return out, us
 
 
 # -- high-precision reference integration --------------------------------------------------------

@@ -58,7 +58,6 @@ from types import FunctionType
 
 import mpmath
 import numpy as np
-import sympy as sp
 from llvmlite import ir
 from mpmath import libmp
 from numba import njit, types
@@ -173,7 +172,8 @@ def _exact(x) -> Fraction:
             x = exact_number(x)
         except ExpressionError as exc:
             raise ValueError(f"to_dd: {exc}") from None
-    if isinstance(x, sp.Basic):
+    if type(x).__module__.startswith("sympy."):     # sympy only when given a sympy number
+        import sympy as sp
         if x.free_symbols or not x.is_number:
             raise ValueError(f"to_dd: {x} is not a constant")
         if x.is_Rational:
@@ -214,6 +214,7 @@ def to_dd(x) -> tuple:
 
     >>> to_dd("0.1")
     (0.1, -5.551115123125783e-18)
+    >>> import sympy as sp
     >>> to_dd(sp.pi) == to_dd(mpmath.pi) == (math.pi, 1.2246467991473532e-16)
     True
     """
@@ -242,7 +243,7 @@ def to_dd_array(values) -> np.ndarray:
     array([[1.00000000e+00, 0.00000000e+00],
            [3.33333333e-01, 1.85037171e-17]])
     """
-    if isinstance(values, (sp.MatrixBase, np.ndarray)):
+    if isinstance(values, np.ndarray) or type(values).__module__.startswith("sympy."):   # a sympy Matrix
         values = values.tolist()
 
     def convert(v):
@@ -646,6 +647,7 @@ def _poly(x, dd_coeffs, tail, x_dd):
 def dd_exp(a):
     """e^a (0 below −745, inf above 709.78; relative error ≲ 1e-31 while e^a is normal).
 
+    >>> import sympy as sp
     >>> dd_exp((1.0, 0.0)) == to_dd(sp.E), dd_exp((0.0, 0.0))
     (True, (1.0, 0.0))
     """
@@ -671,6 +673,7 @@ def dd_log(a):
     """ln a (nan for a < 0, −inf for 0): a = 2^k m with m in [1/√2, √2], then
     ln a = k ln 2 + 2 atanh((m − 1)/(m + 1)); relatively accurate near a = 1.
 
+    >>> import sympy as sp
     >>> dd_log(to_dd(sp.E))[0], dd_log((1.0, 0.0)), dd_log((2.0, 0.0)) == to_dd(sp.log(2))
     (1.0, (0.0, 0.0), True)
     """
@@ -725,6 +728,7 @@ def _cos_from_sin(s):
 def dd_sin(a):
     """sin a (absolute error ≲ 1e-31 for |a| ≤ 100; valid for |a| < 2^50).
 
+    >>> import sympy as sp
     >>> dd_sin((0.0, 0.0)), dd_sin(to_dd(sp.pi / 6))
     ((0.0, 0.0), (0.5, 0.0))
     """
@@ -742,6 +746,7 @@ def dd_sin(a):
 def dd_cos(a):
     """cos a (absolute error ≲ 1e-31 for |a| ≤ 100; valid for |a| < 2^50).
 
+    >>> import sympy as sp
     >>> dd_cos((0.0, 0.0)), dd_cos(to_dd(sp.pi / 3))
     ((1.0, 0.0), (0.5, -0.0))
     """

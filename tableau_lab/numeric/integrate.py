@@ -40,10 +40,11 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
 
 from ..analysis.trees import order as tree_order, symmetry
-from .export import NumericMethod
+from .arith import _is_exact
+from .method import NumericMethod
+from ..analysis.growth import growth_rate
 
 __all__ = ["integrate", "Run", "IntegrationError", "ParasiticBoundExceeded", "start_values", "finish",
            "component_masks"]
@@ -270,9 +271,14 @@ class _Monitor:
     along the run, and the bound (see the module docstring)."""
 
     def __init__(self, nm, prob, h, start, bound, run):
-        from ..analysis.parasitism import numeric_modes
         self.nm, self.prob, self.h, self.start, self.bound, self.run = nm, prob, h, start, bound, run
-        self.modes = numeric_modes(nm.exact) if nm.r > 1 and nm.exact is not None else ()
+        if nm.modes is not None:
+            self.modes = nm.modes
+        elif nm.r > 1 and nm.exact is not None:
+            from ..analysis.parasitism import numeric_modes
+            self.modes = numeric_modes(nm.exact)
+        else:
+            self.modes = ()
         if bound is not None and not bound > 0:
             raise ValueError(f"monitor: the bound must be positive, not {bound!r}")
         self.L = np.array([m.left for m in self.modes]) if self.modes else None     # modes × r
@@ -285,7 +291,6 @@ class _Monitor:
     def __call__(self, n, Y, y):
         if not self.modes:
             return
-        from ..analysis.parasitism import growth_rate
         nm, run, a = self.nm, self.run, self.nm.arith
         S = start_values(nm, self.prob, y, self.h, self.start)
         D = np.array([a.to_float(Y[k] - S[k]) for k in range(nm.r)])            # r × d
@@ -456,10 +461,12 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             masks = component_masks(prob, d)
         masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
                       for m in masks)
-        if isinstance(h, (sp.Basic, int)):
+        if isinstance(h, int) or _is_exact(h):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
-            h = a.number(sp.Rational(repr(float(h))))   # a float: the decimal it prints as
+            from fractions import Fraction
+            q = Fraction(repr(float(h)))           # a float: the decimal it prints as
+            h = a.number(q.numerator) / a.number(q.denominator)
         run = Run(nm.name, problem_name, a.name, float(h), steps,
                   start if (nm.r > 1 or nm.starting) else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))

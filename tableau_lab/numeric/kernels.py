@@ -31,9 +31,8 @@ from pathlib import Path
 import numpy as np
 
 from ..files import atomic_write_text
-from .kernel_source import COMMON, DD_HEADER, DD_LOOP, HEADER, LOOP, dd_problem_source, problem_source
 
-__all__ = ["available", "kernel_module", "drive", "cache_dir"]
+__all__ = ["available", "kernel_module", "write_kernel", "drive", "cache_dir"]
 
 _MODULES: dict = {}
 _BY_PROBLEM: dict = {}     # (problem.key, kind) -> module: the source is generated once per process
@@ -50,12 +49,11 @@ def cache_dir() -> Path:
     return Path(root) / "kernels"
 
 
-def kernel_module(problem, kind: str = "f64"):
-    """The compiled module of ``problem`` (a :class:`~.problems.Problem`) for ``kind`` "f64" or
-    "dd": generated, written and imported on first use; numba compiles on the first call or
-    loads its disk cache."""
-    if (problem.key, kind) in _BY_PROBLEM:
-        return _BY_PROBLEM[problem.key, kind]
+def write_kernel(problem, kind: str = "f64") -> tuple:
+    """Generate the module of ``problem`` (a :class:`~.problems.Problem`) for ``kind`` "f64" or
+    "dd" and write it to the cache unless it is there: (module name, path, invariant names).
+    The generation needs sympy; loading (:func:`kernel_module`) does not."""
+    from .kernel_source import COMMON, DD_HEADER, DD_LOOP, HEADER, LOOP, dd_problem_source, problem_source
     names = tuple(problem.invariants)
     if kind == "dd":
         # numba's cache does not see changes in imported modules: name ddmath's version here
@@ -65,22 +63,31 @@ def kernel_module(problem, kind: str = "f64"):
                   + COMMON + DD_LOOP)
     else:
         source = HEADER + "\n" + problem_source(problem, names) + "\n" + LOOP
-    digest = hashlib.sha256(source.encode()).hexdigest()[:20]
-    name = f"tableau_lab_kernel_{digest}"
-    if name in _MODULES:
-        _BY_PROBLEM[problem.key, kind] = _MODULES[name]
-        return _MODULES[name]
+    name = f"tableau_lab_kernel_{hashlib.sha256(source.encode()).hexdigest()[:20]}"
     path = cache_dir() / f"{name}.py"
     if not path.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(path, source)
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
-    mod.invariant_index = {k: i for i, k in enumerate(names)}
-    _MODULES[name] = _BY_PROBLEM[problem.key, kind] = mod
-    return mod
+    return name, str(path), names
+
+
+def kernel_module(problem, kind: str = "f64"):
+    """The compiled module of ``problem`` for ``kind`` "f64" or "dd": generated and written on
+    first use (:func:`write_kernel`; a frozen problem names its files in ``kernel_files``),
+    imported once per process; numba compiles on the first call or loads its disk cache."""
+    if (problem.key, kind) in _BY_PROBLEM:
+        return _BY_PROBLEM[problem.key, kind]
+    files = getattr(problem, "kernel_files", None) or {}
+    name, path, names = files[kind] if kind in files else write_kernel(problem, kind)
+    if name not in _MODULES:
+        spec = importlib.util.spec_from_file_location(name, path)
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[name] = mod
+        spec.loader.exec_module(mod)
+        mod.invariant_index = {k: i for i, k in enumerate(names)}
+        _MODULES[name] = mod
+    _BY_PROBLEM[problem.key, kind] = _MODULES[name]
+    return _MODULES[name]
 
 
 def _f64(x):

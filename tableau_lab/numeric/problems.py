@@ -17,7 +17,7 @@ and f(y) = (∂H/∂p, −∂H/∂q).
 >>> get_problem("kepler", e=2)
 Traceback (most recent call last):
 ...
-tableau_lab.numeric.problems.ProblemError: problem 'kepler': the initial value p0[2] = sqrt(3)*I is not a finite real number
+tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler': the initial value p0[2] = sqrt(3)*I is not a finite real number
 """
 from __future__ import annotations
 
@@ -29,14 +29,11 @@ from typing import Callable
 import mpmath
 import sympy as sp
 
+from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
 __all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "reference",
            "compile_problem", "exact_value"]
-
-
-class ProblemError(ValueError):
-    """A problem definition, parameter or value that cannot be used."""
 
 
 def _symbols(names: str) -> tuple:
@@ -299,7 +296,7 @@ def get_problem(name, **overrides) -> Problem:
     >>> get_problem("kepler", ee=1)
     Traceback (most recent call last):
     ...
-    tableau_lab.numeric.problems.ProblemError: problem 'kepler' has no parameter or initial value 'ee'; known: delta, e, p0, q0
+    tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler' has no parameter or initial value 'ee'; known: delta, e, p0, q0
     """
     if isinstance(name, Problem):
         problem = name
@@ -323,7 +320,7 @@ def problem_from_dict(d: dict) -> Problem:
     >>> problem_from_dict({"name": "bad", "y": ["y"], "f": ["y.real"], "y0": [1]})
     Traceback (most recent call last):
     ...
-    tableau_lab.numeric.problems.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' (at position 2 of 'y.real')
+    tableau_lab.numeric.problem_functions.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' (at position 2 of 'y.real')
     """
     label = d.get("name") if isinstance(d, dict) else None
     if not isinstance(label, str) or not 0 < len(label) <= 100:

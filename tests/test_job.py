@@ -1,0 +1,88 @@
+"""A run's two stages (experiments/job.py): the frozen method and problem give the numbers of
+the generated ones bit for bit, the separated command never imports sympy, and errors of the
+build stage come back with their messages."""
+import json
+import os
+import pickle
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from tableau_lab.experiments.runs import prepare_quick, quick_run
+from tableau_lab.numeric.codegen import compile_problem
+from tableau_lab.numeric.frozen import freeze
+from tableau_lab.numeric.problem_functions import ProblemError
+
+ROOT = Path(__file__).parent.parent
+METHODS = ROOT / "methods"
+
+
+def _numbers(res):
+    return {k: v for k, v in res.items() if k != "seconds"}
+
+
+@pytest.mark.parametrize("name, problem, kw", [
+    ("example4_glm", "pendulum", {"monitor": 1e-2}),          # GLM: starting/finishing series, modes, f′
+    ("rk4", "kepler", {"project": ("H", "L")}),                 # gradients, projection
+    ("gauss2", "kepler", {}),                                   # implicit: Newton on f′
+    ("gauss2", "pendulum", {"precision": "dd"}),                # mpmath code, compiled dd loop
+])
+def test_frozen_job_gives_the_same_numbers(name, problem, kw):
+    """The job frozen and sent through pickle (as to the run process) against the job built in
+    place: the same code, so every number of the result is equal, not just close."""
+    args = (METHODS / f"{name}.json", problem, 1 / 100 if kw.get("precision") != "dd" else 0.01, 400)
+    here = prepare_quick(*args, **kw).execute()
+    job = pickle.loads(pickle.dumps(prepare_quick(*args, frozen=True, **kw)))
+    assert job.nm.exact is None and job.nm.modes is not None
+    assert _numbers(job.execute()) == _numbers(here)
+
+
+def test_frozen_problem_keeps_only_what_was_asked():
+    cp = compile_problem("henon_heiles")
+    fp = freeze(cp, invariants=("H",), derivatives=3)
+    y = [0.1, 0.2, 0.3, -0.1]
+    F, G = fp.elementary_differentials(3)(y), cp.elementary_differentials(3)(y)
+    assert all((F[t] == G[t]).all() for t in G)
+    with pytest.raises(ProblemError, match="'jac' was not frozen"):
+        fp.jac(y)
+    with pytest.raises(ProblemError, match="has no invariant 'L'"):
+        fp.invariant("L", y)
+
+
+def _cli(*argv, env_kernel=None):
+    """``tableau-lab run`` in a fresh interpreter; prints its JSON and whether sympy got imported."""
+    env = {k: v for k, v in os.environ.items() if k != "TABLEAU_LAB_KERNEL"}
+    if env_kernel:
+        env["TABLEAU_LAB_KERNEL"] = env_kernel
+    code = ("import sys\nfrom tableau_lab.cli import main\nrc = main(sys.argv[1:])\n"
+            "print('SYMPY-IMPORTED' if 'sympy' in sys.modules else 'NO-SYMPY', rc)\nraise SystemExit(rc)")
+    return subprocess.run([sys.executable, "-c", code, "run", *argv], capture_output=True, text=True, env=env,
+                          cwd=ROOT, timeout=600)
+
+
+def test_cli_run_keeps_sympy_out_of_the_run_process(monkeypatch):
+    """The compiled quick run: the command's process runs the loop without sympy (the build
+    child had it), and prints what the in-process run computes."""
+    argv = ("--method", "methods/gauss2.json", "--problem", "pendulum", "--h", "0.01", "--steps", "2000", "--json")
+    out = _cli(*argv)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.strip().splitlines()
+    assert lines[-1] == "NO-SYMPY 0"
+    monkeypatch.delenv("TABLEAU_LAB_KERNEL", raising=False)      # the compiled loop, as the command
+    direct = quick_run(METHODS / "gauss2.json", "pendulum", h=__import__("sympy").Rational(1, 100), steps=2000)
+    assert _numbers(json.loads(lines[0])) == _numbers(direct)
+    # the pure loop (TABLEAU_LAB_KERNEL=python) builds and runs in one process
+    assert _cli(*argv, env_kernel="python").stdout.strip().splitlines()[-1] == "SYMPY-IMPORTED 0"
+
+
+def test_cli_build_errors_come_back(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"kind": "rk"}')
+    out = _cli("--method", str(bad), "--problem", "kepler", "--h", "0.01", "--steps", "10")
+    assert out.returncode == 2 and "entry A: kind 'rk' needs 'A'" in out.stderr and str(bad) in out.stderr
+    out = _cli("--method", "methods/gauss2.json", "--problem", "kepler", "--h", "0.01", "--steps", "10",
+               "--set", "ee=1")
+    assert out.returncode == 2 and "has no parameter or initial value 'ee'" in out.stderr
+    assert "Traceback" not in out.stderr
