@@ -256,18 +256,24 @@ def _json_and_plot(out, name, data, draw):
     return base
 
 
-def _convergence(args) -> int:
+def _with_executor(args, body) -> int:
+    """``body(args, ex)`` with one executor (pool or cluster, from --scheduler/--workers) for every
+    file; a bad scheduler or worker count is bad input, reported before any work."""
     from contextlib import ExitStack
 
     from .experiments.executor import SchedulerError, executor
 
-    with ExitStack() as stack:                 # one executor (pool or cluster) for every file
+    with ExitStack() as stack:
         try:
             ex = stack.enter_context(executor(args.scheduler, args.workers))
         except (SchedulerError, ValueError) as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             return EXIT_INPUT
-        return _convergence_runs(args, ex)
+        return body(args, ex)
+
+
+def _convergence(args) -> int:
+    return _with_executor(args, _convergence_runs)
 
 
 def _convergence_runs(args, ex) -> int:
@@ -307,38 +313,42 @@ def _bench(args) -> int:
     from .experiments import bench
     if args.method or args.problem:
         if not (args.method and args.problem):
-            print("error: give both --method and --problem (or neither, for the standard set)", file=sys.stderr)
-            return 2
+            print("tableau-lab: error: give both --method and --problem (or neither, for the standard set)", file=sys.stderr)
+            return EXIT_INPUT
         try:
             res = bench.bench_case(args.method, args.problem, args.steps or 10 ** 5, h=args.h,
                                    precision=args.precision, reps=args.reps)
         except (OSError, ValueError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            return 2
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            return EXIT_INPUT
         if args.json:
             print(json.dumps(res, default=float))
         else:
             for k, v in res.items():
                 print(f"{k}: {v}")
-        return 1 if "failed" in res else 0
+        return EXIT_CLAIM if "failed" in res else EXIT_OK
     res = bench.standard(steps=args.steps or 10 ** 5, reps=args.reps, memory=not args.no_memory)
     out = bench.save(res, args.out)
     print(json.dumps(res, default=float) if args.json else bench.table(res) + f"\n\nsaved in {out}/")
-    return 0
+    return EXIT_OK
 
 
 def _workprecision(args) -> int:
+    return _with_executor(args, _workprecision_runs)
+
+
+def _workprecision_runs(args, ex) -> int:
     from .experiments.executor import SchedulerError
     from .experiments.scene import SceneError
     from .experiments.workprecision import load_wp_scene, run_wp
-    code = 0
+    code = EXIT_OK
     for path in args.scenes:
         try:
             scene = load_wp_scene(path)
-            data = run_wp(scene, out_root=args.out, scheduler=args.scheduler, workers=args.workers)
+            data = run_wp(scene, out_root=args.out, scheduler=ex)
         except (SceneError, SchedulerError) as exc:
-            print(f"error: {exc}", file=sys.stderr)
-            code = 2
+            print(f"tableau-lab: error: {exc}", file=sys.stderr)
+            code = EXIT_INPUT
             continue
         print(f"{scene.name}: {Path(args.out) / scene.name / (scene.name + '.png')}")
         for label, pts in data["series"].items():
@@ -417,6 +427,15 @@ def _exact_number(text, what):
 def _claim_kinds(key):
     from .exact.tableau_json import CLAIMS
     return CLAIMS[key][1]
+
+
+def _executor_options(parser):
+    """--scheduler and --workers of the sweeps (experiments/executor.py)."""
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the independent runs on the Dask cluster whose scheduler is at ADDRESS "
+                             "(tcp://HOST:8786), or 'serial' (in this process); default: a process pool here")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="processes of the local pool (default: every core; 1: in this process)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -525,11 +544,7 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--precision", default="float64")
     cv.add_argument("--max-steps", type=int, default=1 << 15)
     cv.add_argument("--start", choices=("exact", "naive"), default="exact")
-    cv.add_argument("--scheduler", metavar="ADDRESS",
-                    help="run the step sizes on the Dask cluster whose scheduler is at ADDRESS (tcp://HOST:8786), "
-                         "or 'serial' (in this process); default: a process pool on this machine")
-    cv.add_argument("--workers", type=int, metavar="N", help="processes of the local pool (default: every core; "
-                                                             "1: in this process)")
+    _executor_options(cv)
     cv.add_argument("--out", default="reports/convergence")
     cv.set_defaults(run=_convergence)
     bn = sub.add_parser("bench", help="speed of the compiled loops: the standard set against a gcc -O2 C loop, "
@@ -548,8 +563,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "time and f-evaluations, our methods (compiled) against scipy's DOP853 / RK45")
     wp.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")
     wp.add_argument("--out", default="reports/workprecision", help="output folder (default reports/workprecision)")
-    wp.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler (tcp://HOST:8786); default a local process pool")
-    wp.add_argument("--workers", type=int, help="local worker processes (default: every core; 1: in-process)")
+    _executor_options(wp)
     wp.set_defaults(run=_workprecision)
     su = sub.add_parser("suite", help="the hard-case suite: every symplectic and G-symplectic method on the hard "
                         "problems, with and without projection, parasitism monitor; one table",
@@ -564,10 +578,7 @@ def build_parser() -> argparse.ArgumentParser:
     su.add_argument("--out", help="output folder (default SUITE_DIR)")
     su.add_argument("--steps", type=int, metavar="N", help="N steps for every scene (default: each scene's own)")
     su.add_argument("--only", metavar="NAMES", help="comma-separated scene names")
-    su.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler (tcp://HOST:8786) or 'serial'; "
-                                                           "default a local process pool")
-    su.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: every core; "
-                                                             "1: in this process)")
+    _executor_options(su)
     su.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     su.set_defaults(run=_suite)
     rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",

@@ -1,3 +1,4 @@
+import re
 """Double-double arithmetic (numeric/ddmath.py) and its code printer (numeric/ddcode.py) against
 mpmath at 50 digits: the primitives compiled by numba on random and adversarial inputs
 (cancellation, magnitudes from 1e-290 to 1e290, arguments near multiples of pi/2), the same
@@ -385,7 +386,7 @@ def test_printer_choices():
                                           [sp.sin(x) * sp.cos(x), 0]])
     assert "(0.3333333333333333, 1.850371707708594e-17))" in src                       # 1/3 as a dd
     assert "dd_mul_pwr2(" in src and "dd_sub(" in src                                  # 2y; − 1/3
-    assert "dd_sqrt(t2)" in src and "dd_div((1.0, 0.0), t8)" in src                    # x^(-5/2)
+    assert re.search(r"dd_sqrt\(t\d+\)", src) and re.search(r"dd_div\(\(1\.0, 0\.0\), t\d+\)", src)  # x^(-5/2)
     assert src.count("dd_sincos(") == 1 and "dd_sin(" not in src                       # both from one call
     assert "out[...] = 0.0" not in src and "dd_set(out, (1, 1), (0.0, 0.0))" in src
     g = dd_function("g", [(x, y), (k,)], [[x / 3 - 2 * y + sp.Rational(1, 3), x ** -sp.Rational(5, 2)],

@@ -3,7 +3,6 @@ reference, failures with clear messages.  No timed assertions (benchmarks are no
 import json
 from pathlib import Path
 
-import mpmath
 import numpy as np
 
 from tableau_lab.cli import main
@@ -60,11 +59,11 @@ def test_bench_one_case_json(capsys):
 
 
 def test_bench_dd_agrees_with_mpmath(capsys):
-    """The same case at precision dd and mp:32: the invariant errors agree to far below float64."""
+    """The same case at precision dd and mp:32: the invariant errors, printed as float64, are the
+    same float (they agree far below its ulp; tests/test_kernels.py measures how far)."""
     res = []
     for prec in ("dd", "mp:32"):
         assert main(["bench", "--method", str(METHODS / "rk4.json"), "--problem", "kepler", "--steps", "50",
                      "--reps", "1", "--precision", prec, "--json"]) == 0
         res.append(json.loads(capsys.readouterr().out)["max_invariant_error"])
-    with mpmath.workdps(40):
-        assert abs(res[0]["H"] - res[1]["H"]) < 1e-25 * max(1e-30, abs(res[1]["H"])) + 1e-28
+    assert res[0]["H"] == res[1]["H"] != 0

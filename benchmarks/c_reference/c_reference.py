@@ -168,13 +168,9 @@ def run_numba(method_path, problem, h, steps, reps=5, *, start="exact", compensa
         rec, recn = np.empty((2, r, d)), np.empty(2, dtype=np.int64)
         n1 = 0 if rep == 0 else int(steps)
         t0 = time.perf_counter()
-        if hasattr(pk, "args"):           # kernels.drive's call, with this rep's flags
-            head, tail = pk.args()
-            tail = tuple(flags if x is pk.flags else x for x in tail)
-            status = mod.run_(Y, *head, 0, n1, int(steps), int(steps), *tail, comp, Fprev, rec, recn, stats)
-        else:
-            status = mod.run_(Y, pk.h, 0, n1, int(steps), int(steps), *pk.mats, pk.mq, pk.mp, pk.E, pk.Aqi,
-                              pk.Api, flags, pk.c, EPS, pk.hA, pk.proj, pk.target, comp, Fprev, rec, recn, stats)
+        head, tail = pk.args()              # kernels.drive's call, with this rep's flags
+        tail = tuple(flags if x is pk.flags else x for x in tail)
+        status = mod.run_(Y, *head, 0, n1, int(steps), int(steps), *tail, comp, Fprev, rec, recn, stats)
         if rep:
             times.append(time.perf_counter() - t0)
     seconds = float(np.median(times))

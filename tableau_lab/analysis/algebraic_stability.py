@@ -39,6 +39,7 @@ from ..exact.grammar import format_matrix
 from ..exact.methods import Method
 from .results import Result, matrix_latex, matrix_text
 from .stability import sign
+from .symplectic import _residuals_dm
 
 __all__ = ["algebraic_stability", "AlgebraicStabilityResult", "stability_matrix"]
 
@@ -86,11 +87,9 @@ def stability_matrix(m: Method, G, D) -> sp.ImmutableMatrix:
     """The algebraic-stability matrix M of a GLM (or an RK method as a GLM) for given G, D, exactly."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, G, D])
-    A, U, B, V, G, D = (to_dm(sp.Matrix(X), K) for X in (g.A, g.U, g.B, g.V, G, D))
-    BtG = B.transpose() * G
-    top = (D * A + A.transpose() * D - BtG * B).hstack(D * U - BtG * V)
-    bottom = (U.transpose() * D - V.transpose() * G * B).hstack(G - V.transpose() * G * V)
-    return from_dm(top.vstack(bottom))
+    R1, R2, R3 = _residuals_dm(*(to_dm(sp.Matrix(X), K) for X in (g.A, g.U, g.B, g.V, G, D)))
+    # M = [[DA + AᵀD − BᵀGB, DU − BᵀGV], [(DU − BᵀGV)ᵀ, G − VᵀGV]]: the G-symplectic residuals
+    return from_dm(R3.hstack(R2).vstack(R2.transpose().hstack(-R1)))
 
 
 def _nonnegative_minors(M, K, leading=False, strict=False):

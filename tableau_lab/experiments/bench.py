@@ -153,14 +153,13 @@ def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True) -
         for m, path in methods.items():
             if m == "example4_glm" and problem == "kepler":
                 continue          # destroyed by parasitism within 600 steps (docs/seed_figures.md)
-            n = steps
-            row = bench_case(path, problem, n, reps=reps)
+            row = bench_case(path, problem, steps, reps=reps)
             if "failed" not in row:
                 if cref is not None:
-                    c = cref.run_c(path, problem, 0.01, n, reps=reps)
+                    c = cref.run_c(path, problem, 0.01, steps, reps=reps)
                     row["c_us_per_step"] = c["us_per_step"]
                     row["numba_over_c"] = row["us_per_step"] / c["us_per_step"]
-                sec, err = _scipy_seconds(problem, n / 100)
+                sec, err = _scipy_seconds(problem, steps / 100)
                 row["scipy_dop853_seconds"] = sec
                 row["scipy_over_ours"] = sec / row["seconds"]
                 row["scipy_max_H_error"] = err
@@ -219,7 +218,6 @@ def table(res: dict) -> str:
 def save(res: dict, out="reports/bench") -> Path:
     from ..files import atomic_write_text
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "bench.json", json.dumps(res, indent=1, default=float))
     atomic_write_text(out / "bench.md", "# tableau-lab bench\n\n" + table(res) + "\n")
     return out

@@ -37,7 +37,7 @@ class BuildError(RuntimeError):
 @dataclass
 class RunJob:
     """Everything the numeric stage of a quick run needs (picklable, no symbols)."""
-    nm: object                 # NumericMethod (frozen: exact=None, modes filled in)
+    nm: object                 # NumericMethod (frozen: exact=None)
     prob: object               # FrozenProblem or CompiledProblem
     h: object                  # at the working precision (float, or mpf)
     steps: int

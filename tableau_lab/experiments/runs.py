@@ -22,7 +22,7 @@ import numpy as np
 import sympy as sp
 
 from ..exact.tableau_json import load
-from ..numeric.arith import arith
+from ..numeric.arith import is_exact, arith
 from ..numeric.codegen import compile_problem
 from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
@@ -63,17 +63,16 @@ def prepare_quick(method, problem, h, steps, *, precision="float64", project=(),
     the starting and finishing series) and the compiled loop's file."""
     m, P, cp, nm = _setup(method, problem, precision, overrides)
     invs, a = tuple(P.invariants), nm.arith
-    if isinstance(h, int) or isinstance(h, sp.Basic):
+    if isinstance(h, int) or is_exact(h):
         with a.context():
-            h = a.number(h)                       # exact step sizes are rounded once, here
+            h = a.number(h)                       # rounded once, here: the job carries no sympy number
     if frozen:
-        from ..analysis.parasitism import numeric_modes
         from ..analysis.trees import order as tree_order
         from ..numeric.frozen import freeze
         p = max((tree_order(t) for t in (*nm.starting, *nm.finishing)), default=0)
         cp = freeze(cp, invariants=invs, gradients=tuple(project), jac=not nm.explicit or nm.r > 1,
                     derivatives=p, kernels=("dd",) if precision == "dd" else ("f64",))
-        nm = dataclasses.replace(nm, exact=None, modes=numeric_modes(m) if nm.r > 1 else ())
+        nm = dataclasses.replace(nm, exact=None)
     return RunJob(nm, cp, h, steps, start, tuple(project), invs, monitor, precision, m.name, P.name,
                   len(P.q) if P.kind == "hamiltonian" else None)
 
@@ -163,7 +162,8 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
                    for k, point in zip(batch, runs(batch))):
                 break
     # adaptive: the last four points, whose three local slopes agree when the study settled
-    out.slope = fit_order(out.hs[-4:] if not steps else out.hs, out.errors[-4:] if not steps else out.errors, a.eps)
+    k = 0 if steps else -4                  # an adaptive study fits its last four (settled) points
+    out.slope = fit_order(out.hs[k:], out.errors[k:], a.eps)
     return out
 
 

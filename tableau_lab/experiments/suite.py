@@ -258,7 +258,7 @@ def _draw(plt, rows, scenes, out) -> list:
                     continue
                 i, j = methods.index(r["file"]), names.index(r["scene"])
                 if kind == "energy":
-                    M[i, j] = np.log10(max(r["max_H_error"] or 1e-17, 1e-17)) if r["max_H_error"] is not None else np.nan
+                    M[i, j] = np.log10(max(r["max_H_error"], 1e-17)) if r["max_H_error"] is not None else np.nan
                     text = "" if r["max_H_error"] is None else f"{r['max_H_error']:.0e}" + (
                         "" if r["status"] == "completed" else f" {r['status'][0]}")
                 else:
@@ -269,7 +269,7 @@ def _draw(plt, rows, scenes, out) -> list:
                 dark = M[i, j] > -6 if kind == "energy" else M[i, j] < 0.25
                 ax.text(j, i, text, ha="center", va="center", fontsize=6, color="white" if dark else "black")
             im = ax.imshow(M, aspect="auto", cmap="viridis_r" if kind == "energy" else "RdYlGn",
-                           vmin=(-16 if kind == "energy" else 0), vmax=(1 if kind == "energy" else 1))
+                           vmin=(-16 if kind == "energy" else 0), vmax=1)
             ax.set_xticks(range(len(names)), [n.removeprefix("suite_") for n in names], rotation=30, ha="right",
                           fontsize=7)
             ax.set_yticks(range(len(methods)), methods, fontsize=7)

@@ -160,7 +160,7 @@ def reference_state(problem, T, steps=None):
     return np.array([float(x) for x in runs[1]]), gap
 
 
-def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, workers=None, progress=True):
+def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, workers=None):
     """All points of a work–precision scene (independent runs through the executor), the
     reference, then ``data.json`` and the PNG.  Returns the data dict."""
     from .executor import executor
@@ -180,7 +180,6 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
             "invariant": scene.invariant, "reference_error_bound": gap, "series": series}
     data["speedup"] = speedup(data)
     out = Path(out_root) / scene.name
-    out.mkdir(parents=True, exist_ok=True)
     atomic_write_text(out / "data.json", json.dumps(data, indent=1))
     from .plots import draw_workprecision
     draw_workprecision(data, out / f"{scene.name}.png")
@@ -216,14 +215,13 @@ def summary_table(data, levels=(1e-6, 1e-8, 1e-10)) -> str:
     inv = data["invariant"]
     head = " / ".join(f"{lv:g}" for lv in levels)
     rows = [f"| method | sweep | cheapest CPU s with max abs({inv} − {inv}₀) ≤ {head} |", "|---|---|---|"]
+    cheapest = speedup(data, levels)
     for label, pts in data["series"].items():
         key = "rtol" if label in PEERS else "steps"
-        best = []
-        for lv in levels:
-            ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
-            best.append(f"{min(ok):.3f}" if ok else "—")
-        rows.append(f"| {label} | {key} {pts[0][key]:g} … {pts[-1][key]:g} | {' / '.join(best)} |")
-    sp_ = data.get("speedup") or speedup(data, levels)
+        best = [cheapest[f"{lv:g}"]["cpu"][label] for lv in levels]
+        best = " / ".join("—" if b is None else f"{b:.3f}" for b in best)
+        rows.append(f"| {label} | {key} {pts[0][key]:g} … {pts[-1][key]:g} | {best} |")
+    sp_ = data.get("speedup") or cheapest
     rows.append("")
     rows += [f"- max abs({inv} − {inv}₀) ≤ {lv}: DOP853 needs {v['DOP853_over_best']:.1f}× the CPU time of our best "
              f"({v['best']})" if v["DOP853_over_best"] else f"- ≤ {lv}: not reached by both"

@@ -25,8 +25,8 @@ import numpy as np
 __all__ = ["arith", "Arith"]
 
 
-def _is_exact(v) -> bool:
-    """A sympy number (without importing sympy)."""
+def is_exact(v) -> bool:
+    """A sympy object (number, matrix), told without importing sympy."""
     return type(v).__module__.startswith("sympy.")
 
 
@@ -56,7 +56,7 @@ class Arith:
         return float(e) if e.is_Rational else float(sp.N(e, 30))
 
     def array(self, values):
-        return np.array([self.number(v) if _is_exact(v) else v for v in values], dtype=self.dtype)
+        return np.array([self.number(v) if is_exact(v) else v for v in values], dtype=self.dtype)
 
     def matrix(self, M):
         import sympy as sp
@@ -163,9 +163,7 @@ class DDArith(MpArith):
     def eps(self) -> float:
         return 2.0 ** -104
 
-    @property
-    def tol(self) -> float:
-        return 10 * self.eps
+    tol = Arith.tol                # about 10 ulp, as in float64
 
 
 @lru_cache(maxsize=None)

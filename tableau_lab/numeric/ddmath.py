@@ -65,6 +65,8 @@ from numba.core import cgutils
 from numba.core.typing.templates import ConcreteTemplate, infer_global, signature
 from numba.extending import lower_builtin, type_callable
 
+from .arith import is_exact
+
 __all__ = ["dd_get", "dd_set", "two_sum", "quick_two_sum", "two_prod", "two_sqr",
            "dd_from_double", "dd_neg", "dd_abs", "dd_add", "dd_sub", "dd_add_d", "dd_mul", "dd_mul_d",
            "dd_mul_pwr2", "dd_sqr", "dd_div", "dd_sqrt", "dd_pow_int", "dd_exp", "dd_log",
@@ -172,7 +174,7 @@ def _exact(x) -> Fraction:
             x = exact_number(x)
         except ExpressionError as exc:
             raise ValueError(f"to_dd: {exc}") from None
-    if type(x).__module__.startswith("sympy."):     # sympy only when given a sympy number
+    if is_exact(x):                             # sympy only when given a sympy number
         import sympy as sp
         if x.free_symbols or not x.is_number:
             raise ValueError(f"to_dd: {x} is not a constant")
@@ -243,7 +245,7 @@ def to_dd_array(values) -> np.ndarray:
     array([[1.00000000e+00, 0.00000000e+00],
            [3.33333333e-01, 1.85037171e-17]])
     """
-    if isinstance(values, np.ndarray) or type(values).__module__.startswith("sympy."):   # a sympy Matrix
+    if isinstance(values, np.ndarray) or is_exact(values):   # a sympy Matrix
         values = values.tolist()
 
     def convert(v):

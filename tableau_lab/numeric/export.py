@@ -60,8 +60,7 @@ def _newton_data(Aq, Ap, c, a):
     nodes or A is singular (decided exactly)."""
     import mpmath
     from ..exact.field import normal_form
-    from .arith import arith as _arith
-    wp = _arith(f"mp:{max(a.dps, 16) + 20}")
+    wp = arith(f"mp:{max(a.dps, 16) + 20}")
     s = len(c)
     E = None
     if all(normal_form(c[i] - c[j]) != 0 for i in range(s) for j in range(i)):
@@ -91,8 +90,11 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     Aq, Ap, U, Bq, Bp, V, c = _exact_parts(m)
     xi, beta, order, u, w = {}, {}, 0, [1], [1]
     order_identity = None
+    modes = ()
     if m.kind == "glm":
         from ..analysis.glm_order import glm_order
+        from ..analysis.parasitism import numeric_modes
+        modes = numeric_modes(m)             # the parasitism monitor's data, once per method
         res = glm_order(m)
         order, u, w = res.order, res.u, res.w
         order_identity = res.order_identity_start
@@ -115,7 +117,7 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     with a.context():
         return NumericMethod(E=E, Aq_inv=Aqi, Ap_inv=Api, name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
                              Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),
-                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m,
+                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m, modes=modes,
                              order_identity=order if order_identity is None else order_identity)
 
 

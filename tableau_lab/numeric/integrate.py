@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..analysis.trees import order as tree_order, symmetry
-from .arith import _is_exact
+from .arith import is_exact
 from .method import NumericMethod
 from ..analysis.growth import growth_rate
 
@@ -272,13 +272,7 @@ class _Monitor:
 
     def __init__(self, nm, prob, h, start, bound, run):
         self.nm, self.prob, self.h, self.start, self.bound, self.run = nm, prob, h, start, bound, run
-        if nm.modes is not None:
-            self.modes = nm.modes
-        elif nm.r > 1 and nm.exact is not None:
-            from ..analysis.parasitism import numeric_modes
-            self.modes = numeric_modes(nm.exact)
-        else:
-            self.modes = ()
+        self.modes = nm.modes or ()
         if bound is not None and not bound > 0:
             raise ValueError(f"monitor: the bound must be positive, not {bound!r}")
         self.L = np.array([m.left for m in self.modes]) if self.modes else None     # modes × r
@@ -416,7 +410,7 @@ def _stage_scale(nm, h) -> float:
     return abs(float(h)) * nm.s * float(np.max(np.abs(nm.arith.to_float(nm.Aq.reshape(-1)))))
 
 
-def _use_kernel(kernel, a, nm, prob) -> bool:
+def _use_kernel(kernel, a, prob) -> bool:
     if kernel not in ("auto", "compiled", "python"):
         raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
     if kernel == "auto":                   # $TABLEAU_LAB_KERNEL=python: the pure loop unless asked
@@ -461,12 +455,13 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             masks = component_masks(prob, d)
         masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
                       for m in masks)
-        if isinstance(h, int) or _is_exact(h):
+        if isinstance(h, int) or is_exact(h):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
+            import mpmath
             from fractions import Fraction
-            q = Fraction(repr(float(h)))           # a float: the decimal it prints as
-            h = a.number(q.numerator) / a.number(q.denominator)
+            q = Fraction(repr(float(h)))           # a float: the decimal it prints as, rounded once
+            h = mpmath.mpf(q.numerator) / q.denominator
         run = Run(nm.name, problem_name, a.name, float(h), steps,
                   start if (nm.r > 1 or nm.starting) else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
@@ -498,7 +493,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
 
         record(0, Y)
         try:
-            if _use_kernel(kernel, a, nm, prob):
+            if _use_kernel(kernel, a, prob):
                 from .kernels import drive
                 Y = drive(nm, prob, Y, h, steps, every, masks=masks, project=tuple(project), targets=targets,
                           stepper=stepper, record=record, progress=progress, run=run,

@@ -51,7 +51,7 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(e, rational)
 
 
-def function_source(name, state, params, exprs, extra_args="out", scalar=False) -> str:
+def function_source(name, state, params, exprs, scalar=False) -> str:
     """``def name(y, c, out)``: the expressions (a list, or a list of rows) of the symbols
     ``state`` (→ y[i]) and ``params`` (→ c[j]) written into ``out`` (or returned, ``scalar``)."""
     subs = {s: sp.Symbol(f"y[{i}]") for i, s in enumerate(state)}
@@ -61,7 +61,7 @@ def function_source(name, state, params, exprs, extra_args="out", scalar=False) 
     flat = [sp.sympify(e).xreplace(subs) for e in flat]
     temps, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x"), optimizations="basic")
     p = _Printer({"fully_qualified_modules": True})
-    lines = ["@njit(cache=True, error_model='numpy')", f"def {name}(y, c, {extra_args}):" if extra_args else f"def {name}(y, c):"]
+    lines = ["@njit(cache=True, error_model='numpy')", f"def {name}(y, c):" if scalar else f"def {name}(y, c, out):"]
     lines += [f"    {t} = {p.doprint(v)}" for t, v in temps]
     if scalar:
         lines.append(f"    return {p.doprint(reduced[0])}")
@@ -83,7 +83,7 @@ def problem_source(problem, invariant_names) -> str:
     disp_inv, disp_grad = [], []
     for k, name in enumerate(invariant_names):
         I = problem.invariants[name]
-        parts.append(function_source(f"inv{k}_", state, params, [I], extra_args="", scalar=True))
+        parts.append(function_source(f"inv{k}_", state, params, [I], scalar=True))
         parts.append(function_source(f"grad{k}_", state, params, [sp.diff(I, x) for x in state]))
         disp_inv.append(f"    if k == {k}:\n        return inv{k}_(y, c)")
         disp_grad.append(f"    if k == {k}:\n        grad{k}_(y, c, out)")
@@ -92,7 +92,7 @@ def problem_source(problem, invariant_names) -> str:
     return "\n\n".join(parts)
 
 
-LOOP = r'''
+COMMON = r'''
 @njit(cache=True, error_model='numpy')
 def lu_factor_(M, piv):
     n = M.shape[0]
@@ -152,7 +152,9 @@ def converged_(size, prev, tol, floor):
     return (theta < 1.0 and theta / (1.0 - theta) * size <= tol) or (theta >= 0.9 and size <= floor)
 
 
-@njit(cache=True, error_model='numpy', inline='always')
+'''     # LU, stopping test: shared by both loops
+
+LOOP = COMMON + r'''@njit(cache=True, error_model='numpy', inline='always')
 def rhs_(h, Aq, Ap, mq, mp, F, out):
     s, d = F.shape
     for i in range(s):
@@ -256,10 +258,9 @@ def newton_(Ubar, h, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fprev, F, Z
 
 
 @njit(cache=True, error_model='numpy')
-def project_(y, c, proj, target, eps, G, GtG, gpiv, g, lam, z, stats):
+def project_(y, c, proj, target, eps, G, Gz, GtG, gpiv, g, lam, z, stats):
     d = y.shape[0]
     m = proj.shape[0]
-    Gz = np.empty((m, d))
     for k in range(m):
         grad_(proj[k], y, c, G[k])
     for a in range(m):
@@ -346,6 +347,7 @@ def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, 
     inc = np.empty(d)
     m = proj.shape[0]
     G = np.empty((m, d))
+    Gz = np.empty((m, d))                 # ∇g at the iterate: allocated once, not per step
     GtG = np.empty((m, m))
     gpiv = np.empty(m, np.int64)
     g = np.empty(m)
@@ -398,7 +400,7 @@ def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, 
                 comp[l] = (Y[0, l] - y1) + x
                 Yout[0, l] = y1
         Y[:, :] = Yout
-        if m > 0 and project_(Y[0], c, proj, target, eps, G, GtG, gpiv, g, lam, zp, stats) != 0:
+        if m > 0 and project_(Y[0], c, proj, target, eps, G, Gz, GtG, gpiv, g, lam, zp, stats) != 0:
             stats[3] = nrec
             return 3
         for k in range(r):
@@ -416,7 +418,6 @@ def run_(Y, h, n0, n1, steps, every, Aq, Ap, U, Bq, Bp, V, mq, mp, E, Aqi, Api, 
     return 0
 '''
 
-COMMON = LOOP[:LOOP.index("\ndef rhs_")].rsplit("@njit", 1)[0]     # LU, stopping test: shared by both loops
 
 
 # -- double-double (about 32 digits): the same loop with dd values (trailing axis 2: hi, lo) ------
@@ -471,10 +472,7 @@ def dnewton_(Ubar, h, hinv, Aq, Ap, mq, mp, E, Aqi, Api, flags, c, eps, hA, Fpre
     fixed = flags[5] == 1
     amp = 1.0
     if not fixed:
-        for l in range(d):
-            Yst[l, 0] = Ubar[0, l, 0]
-            Yst[l, 1] = Ubar[0, l, 1]
-        jac_(Yst, c, J)
+        jac_(Ubar[0], c, J)
         jmax = 0.0
         for k in range(d):
             for l in range(d):

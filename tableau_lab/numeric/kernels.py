@@ -94,16 +94,20 @@ def _f64(x):
     return np.ascontiguousarray(np.asarray(x, dtype=float))
 
 
+def _dd(x):
+    """Multiprecision numbers (any nesting) → a double-double array (trailing axis hi, lo)."""
+    from .ddmath import to_dd_array
+    return to_dd_array(np.asarray(x, dtype=object))
+
+
 class _Pack:
     """The method, problem and run constants as the loop's arrays: float64, or double-double
     (trailing axis hi, lo) rounded from the multiprecision coefficients."""
 
     def __init__(self, nm, cp, h, masks, project, targets, mod, stepper, dd=False, track=()):
         if dd:
-            from .ddmath import to_dd, to_dd_array
-            num = (lambda x: to_dd_array(np.asarray(x, dtype=object)))
-        else:
-            num = _f64
+            from .ddmath import to_dd
+        num = _dd if dd else _f64
         self.s, self.r, self.dd = nm.s, nm.r, dd
         self.h = to_dd(h) if dd else float(h)
         self.hinv = to_dd(1 / h) if dd else None
@@ -119,21 +123,17 @@ class _Pack:
         # Kahan summation, h·s·max|A| and the stage iteration as the pure stepper has them
         self.flags = np.array([int(nm.explicit), int(nm.E is not None), int(invertible),
                                int(stepper.comp is not None and not dd), 0, int(stepper.fixed)], dtype=np.int64)
-        self.c = num(list(cp.constants)) if dd else _f64([float(v) for v in cp.constants])
-        if dd and not len(cp.constants):
-            self.c = np.zeros((0, 2))
+        self.c = num(list(cp.constants))
         self.hA = stepper.hA
-        self.proj, self.target = self._invariants(mod, project, targets, num, dd)
-        self.track, self.ttarget = self._invariants(mod, track, targets, num, dd)
+        self.proj, self.target = self._invariants(mod, project, targets, num)
+        self.track, self.ttarget = self._invariants(mod, track, targets, num)
         self.tmax = np.zeros(len(track))
-        self.eps = 2.0 ** -104 if dd else float(np.finfo(float).eps)
+        self.eps = nm.arith.eps
 
     @staticmethod
-    def _invariants(mod, names, targets, num, dd):
+    def _invariants(mod, names, targets, num):
         idx = np.array([mod.invariant_index[k] for k in names], dtype=np.int64)
-        if not names:
-            return idx, np.zeros((0, 2)) if dd else np.zeros(0)
-        return idx, num([targets[k] for k in names]) if dd else _f64([float(targets[k]) for k in names])
+        return idx, num([targets[k] for k in names])
 
     def args(self):
         head = (self.h, self.hinv) if self.dd else (self.h,)
@@ -152,8 +152,8 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     from .integrate import not_finite, projection_failed
     dd = nm.arith.name == "dd"
     if dd:
-        from .ddmath import from_dd_array, to_dd_array
-        to_loop, from_loop = (lambda x: to_dd_array(np.asarray(x, dtype=object))), from_dd_array
+        from .ddmath import from_dd_array
+        to_loop, from_loop = _dd, from_dd_array
     else:
         to_loop, from_loop = (lambda x: _f64(x).copy()), (lambda x: x.copy())
     mod = kernel_module(cp.problem, "dd" if dd else "f64")
@@ -161,7 +161,7 @@ def drive(nm, cp, Y, h, steps, every, *, masks, project, targets, stepper, recor
     head, tail = pk.args()
     Y = to_loop(Y)
     r, d = Y.shape[:2]
-    comp = np.zeros(d) if stepper.comp is None or dd else _f64(stepper.comp).copy()
+    comp = _f64(stepper.comp).copy() if pk.flags[3] else np.zeros(d)
     Fprev = np.zeros((pk.s, *Y.shape[1:]))
     stats = np.zeros(6)
     rec = np.empty((chunk // every + 2, *Y.shape))

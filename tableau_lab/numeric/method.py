@@ -1,6 +1,6 @@
 """A method as numbers: the partitioned-GLM coefficients at one precision (``export.py`` rounds
 them from the exact method), with the starting and finishing series and the stage predictor.
-No sympy here: a frozen copy (``exact`` None, ``modes`` filled in) runs in a process that
+No sympy here: a copy with ``exact`` None runs in a process that
 never imports it (``experiments/job.py``)."""
 from __future__ import annotations
 
@@ -35,7 +35,7 @@ class NumericMethod:
     E: np.ndarray | None = None       # stage predictor ℓ_j(1 + c_i) (distinct c, implicit methods)
     Aq_inv: np.ndarray | None = None  # A_q⁻¹, A_p⁻¹ when A_q, A_p are invertible: hF = A⁻¹(Y − Ū)
     Ap_inv: np.ndarray | None = None
-    modes: tuple | None = None        # parasitic modes as numbers (analysis/growth.py); None: from ``exact``
+    modes: tuple = ()                 # parasitic modes as numbers (analysis/growth.py; GLMs)
 
     @property
     def s(self) -> int:

@@ -97,8 +97,7 @@ class _Constants:
             return t
         key = sp.srepr(e)
         if key not in self._seen:            # numbered through the whole document
-            self._count = getattr(self, "_count", 0) + 1
-            self.items.append((rf"\kappa_{{{self._count}}}", e))
+            self.items.append((rf"\kappa_{{{len(self._seen) + 1}}}", e))
             self._seen[key] = self.items[-1][0]
         return self._seen[key]
 
