@@ -1,10 +1,15 @@
 """Test-suite settings.
 
-The compiled loops (numba) cost 25–45 s of compilation per problem on a cold cache, once; the
-suite runs the pure loop by default (TABLEAU_LAB_KERNEL=python: the same algorithm) and
-compiles only where a test asks for ``kernel="compiled"`` or precision dd — tests/test_kernels.py
-proves the two loops agree to round-off.  Set TABLEAU_LAB_KERNEL=auto to run everything compiled.
+The compiled loops (numba) cost seconds of compilation per problem and method shape on a cold
+cache, once; the suite runs the pure loop by default (TABLEAU_LAB_KERNEL=python: the same
+algorithm, numeric/stepcore.py run in Python) and compiles only where a test asks for
+``kernel="compiled"`` or precision dd — tests/test_kernels.py proves the two agree to
+round-off — and then compiles loops for any shape (TABLEAU_LAB_SPECIALISE=0: one module per
+problem, not one per problem and shape; test_kernels.py checks that a specialised loop
+computes the same numbers bit for bit).  Set TABLEAU_LAB_KERNEL=auto to run everything
+compiled.
 """
 import os
 
 os.environ.setdefault("TABLEAU_LAB_KERNEL", "python")
+os.environ.setdefault("TABLEAU_LAB_SPECIALISE", "0")

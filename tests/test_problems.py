@@ -9,8 +9,8 @@ import pytest
 import sympy as sp
 
 from tableau_lab.analysis.trees import TAU, density, from_children, order, symmetry, trees_of_order
-from tableau_lab.numeric.problems import (PROBLEMS, ProblemError, compile_problem, get_problem,
-                                          problem_from_dict, reference)
+from tableau_lab.numeric.codegen import compile_problem, reference
+from tableau_lab.numeric.problems import PROBLEMS, ProblemError, get_problem, problem_from_dict
 
 HAMILTONIAN = [name for name, p in PROBLEMS.items() if p.kind == "hamiltonian"]
 

@@ -76,17 +76,22 @@ def test_failed_run_kept_as_incomplete_data(tmp_path, capsys):
 
 
 def test_ctrl_c_leaves_valid_incomplete_file(tmp_path, monkeypatch):
-    from tableau_lab.numeric import integrate as I
-    calls = {"n": 0}
-    real = I._Stepper.step
+    from tableau_lab.numeric import kernels
+    real = kernels.pure_loop
 
-    def step(self, *a):
-        calls["n"] += 1
-        if calls["n"] == 150:
-            raise KeyboardInterrupt
-        return real(self, *a)
-    monkeypatch.setattr(I._Stepper, "step", step)
-    monkeypatch.setattr(I, "_use_kernel", lambda *a: False)       # the pure loop
+    def interrupted(prob, arith_name):          # the pure loop, interrupted during step 150
+        loop = real(prob, arith_name)
+        g = loop.run.__globals__
+        finish_step = g["finish_step"]
+
+        def finish(n, *a):
+            if n == 150:
+                raise KeyboardInterrupt
+            return finish_step(n, *a)
+        g["finish_step"] = finish
+        return loop
+    monkeypatch.setattr(kernels, "pure_loop", interrupted)
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "python")
     with pytest.raises(KeyboardInterrupt):
         run_scene(_scene(tmp_path), out_root=tmp_path / "out", progress=False)
     out = tmp_path / "out" / "t1"

@@ -7,7 +7,8 @@ import numpy as np
 
 from tableau_lab.cli import main
 from tableau_lab.experiments.workprecision import load_wp_scene, reference_state, run_wp
-from tableau_lab.numeric.problems import get_problem, reference
+from tableau_lab.numeric.problems import get_problem
+from tableau_lab.numeric.codegen import reference
 
 METHODS = Path(__file__).parent.parent / "methods"
 

@@ -11,7 +11,7 @@ import sympy as sp
 from tableau_lab.analysis.symmetry import symmetric
 from tableau_lab.exact.tableau_json import load
 from tableau_lab.numeric.export import to_numeric
-from tableau_lab.numeric.integrate import _Stepper
+from tableau_lab.numeric.integrate import step
 
 METHODS = Path(__file__).parent.parent / "methods"
 
@@ -44,13 +44,12 @@ def test_symmetric_step_is_reversible(name):
         h = mpmath.mpf("0.3")
         Y0 = np.array([[mpmath.mpf(k + 1) / 7 + mpmath.mpf(i) / 3 for i in range(2)] for k in range(nm.r)], dtype=object)
         L = np.array(sp.Matrix(res.L).tolist(), dtype=object) if res.L is not None else np.eye(1, dtype=object)
-        fwd = _Stepper(nm, _Pendulum(), h, 2, (ones, zeros))
-        back = _Stepper(nm, _Pendulum(), -h, 2, (ones, zeros))
-        Y1 = fwd.step(L @ Y0, 1, h)
-        Y2 = back.step(L @ Y1, 1, 0)
+        masks = (ones, zeros)
+        Y1 = step(nm, _Pendulum(), L @ Y0, h, masks=masks)
+        Y2 = step(nm, _Pendulum(), L @ Y1, -h, masks=masks)
         assert max(abs(x) for x in (Y2 - Y0).reshape(-1)) < mpmath.mpf(10) ** -35
         # and a method that is not symmetric does not come back
         rk4 = to_numeric(load(METHODS / "rk4.json"), "mp:40")
-        Z1 = _Stepper(rk4, _Pendulum(), h, 2, (ones, zeros)).step(Y0[:1], 1, h)
-        Z2 = _Stepper(rk4, _Pendulum(), -h, 2, (ones, zeros)).step(Z1, 1, 0)
+        Z1 = step(rk4, _Pendulum(), Y0[:1], h, masks=masks)
+        Z2 = step(rk4, _Pendulum(), Z1, -h, masks=masks)
         assert max(abs(x) for x in (Z2 - Y0[:1]).reshape(-1)) > mpmath.mpf(10) ** -10

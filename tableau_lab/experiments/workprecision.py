@@ -122,17 +122,17 @@ def peer_point(peer, problem, T, rtol, atol_factor, invariant):
     accepted steps."""
     from scipy.integrate import solve_ivp
     from ..numeric.codegen import compile_problem
-    from ..numeric.kernels import kernel_module
+    from ..numeric.kernels import compiled_loop
     cp = compile_problem(problem)
-    mod = kernel_module(cp.problem)
+    mod = compiled_loop(cp.problem)           # its f_ and inv_ (numba compiles only what is called)
     c = np.array([float(v) for v in cp.constants])
     y0 = np.array(cp.y0, dtype=float)
     d = len(y0)
 
     def fun(t, y):
-        out = np.empty(d)
-        mod.f_(y, c, out)
-        return out
+        out = np.empty((1, d))
+        mod.f_(y, c, out, 0)
+        return out[0]
     fun(0.0, y0)                                           # compile / load, not timed
     t0 = time.process_time()
     sol = solve_ivp(fun, (0.0, float(T)), y0, method=peer, rtol=rtol, atol=rtol * atol_factor)
@@ -140,8 +140,13 @@ def peer_point(peer, problem, T, rtol, atol_factor, invariant):
     if not sol.success:
         return {"rtol": rtol, "failed": sol.message}
     k = mod.invariant_index[invariant]
-    I0 = mod.inv_(k, y0, c)
-    err = max(abs(mod.inv_(k, np.ascontiguousarray(sol.y[:, j]), c) - I0) for j in range(sol.y.shape[1]))
+    val = np.empty(1)
+
+    def inv(y):
+        mod.inv_(k, np.ascontiguousarray(y), c, val)
+        return val[0]
+    I0 = inv(y0)
+    err = max(abs(inv(sol.y[:, j]) - I0) for j in range(sol.y.shape[1]))
     return {"rtol": rtol, "cpu": cpu, "nfev": int(sol.nfev), "final": sol.y[:, -1].tolist(),
             "invariant_error": float(err), "steps": int(sol.t.size - 1)}
 

@@ -47,6 +47,11 @@ class Arith:
         """Newton / projection tolerance: about 10 ulp."""
         return 10 * self.eps
 
+    def loop_tolerances(self) -> tuple:
+        """(eps, tol) as the step loop's low-precision numbers (float; mpf for mpmath, where a
+        float would underflow beyond 308 digits)."""
+        return float(self.eps), float(self.tol)
+
     def number(self, e):
         """An exact sympy number at this precision (a rational is rounded once, exactly)."""
         if isinstance(e, int):
@@ -65,17 +70,6 @@ class Arith:
 
     def zeros(self, *shape):
         return np.zeros(shape, dtype=float)
-
-    def solve(self, M, b):
-        return np.linalg.solve(M, b)
-
-    def lu(self, M):
-        """A factorisation reused over many right-hand sides (simplified Newton): here the
-        inverse, as the Newton matrices are small (s·d rows)."""
-        return np.linalg.inv(M)
-
-    def lu_solve(self, lu, b):
-        return lu @ b
 
     def norm(self, x) -> float:
         """Max norm, as a float (for convergence tests and reports)."""
@@ -103,11 +97,15 @@ class MpArith(Arith):
 
     @property
     def eps(self) -> float:
-        return float(mpmath.mpf(10) ** (-self.dps))
+        return float(self.loop_tolerances()[0])
 
     @property
     def tol(self) -> float:
-        return float(mpmath.mpf(10) ** (2 - self.dps))
+        return float(self.loop_tolerances()[1])
+
+    def loop_tolerances(self) -> tuple:
+        with mpmath.workdps(self.dps):
+            return mpmath.mpf(10) ** (-self.dps), mpmath.mpf(10) ** (2 - self.dps)
 
     def number(self, e):
         if isinstance(e, int):
@@ -123,19 +121,6 @@ class MpArith(Arith):
     def zeros(self, *shape):
         with mpmath.workdps(self.dps):
             return np.full(shape, mpmath.mpf(0), dtype=object)
-
-    def solve(self, M, b):
-        with mpmath.workdps(self.dps):
-            x = mpmath.lu_solve(mpmath.matrix(M.tolist()), mpmath.matrix(list(b)))
-        return np.array([x[i] for i in range(len(b))], dtype=object)
-
-    def lu(self, M):
-        with mpmath.workdps(self.dps):
-            return np.array(mpmath.inverse(mpmath.matrix(M.tolist())).tolist(), dtype=object)
-
-    def lu_solve(self, lu, b):
-        with mpmath.workdps(self.dps):
-            return lu @ b
 
     def norm(self, x) -> float:
         return float(max((abs(v) for v in x), default=0))
@@ -164,6 +149,7 @@ class DDArith(MpArith):
         return 2.0 ** -104
 
     tol = Arith.tol                # about 10 ulp, as in float64
+    loop_tolerances = Arith.loop_tolerances     # floats: the dd loop's low precision is float64
 
 
 @lru_cache(maxsize=None)

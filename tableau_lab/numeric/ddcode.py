@@ -231,9 +231,12 @@ def _entries(exprs):
     return [sp.sympify(v) for v in exprs], (len(exprs),)
 
 
-def dd_source(name: str, args, exprs) -> str:
+def dd_source(name: str, args, exprs, at=None, row: bool = False) -> str:
     """The source text of ``def name(y, c, out):`` evaluating ``exprs`` in double-double; see
-    the module docstring.  ``args`` = (symbols of y, symbols of c), the second optional."""
+    the module docstring.  ``args`` = (symbols of y, symbols of c), the second optional.
+    ``at``: the rows of ``out`` that a list of expressions goes to (default 0, 1, …); the
+    other rows are left as they are.  ``row``: ``def name(y, c, out, i)`` writing a list of
+    expressions into row i of a matrix out (no view of the row is made)."""
     if not (isinstance(name, str) and name.isidentifier() and not keyword.iskeyword(name)
             and name not in ddmath.__all__ and name not in ("y", "c", "out")):
         raise ValueError(f"dd_source: {name!r} cannot name the function")
@@ -255,16 +258,21 @@ def dd_source(name: str, args, exprs) -> str:
     for s, r in replacements:
         printer.values[s] = printer.signed(r)
     zeros = [e == 0 for e in reduced]
-    fill = sum(zeros) > 2              # one loop, not hundreds of stores (compile time)
+    fill = at is None and not row and sum(zeros) > 2     # one loop, not hundreds of stores (compile time)
     if fill:
         lines.append("    out[...] = 0.0")
     for index, e, zero in zip(np.ndindex(shape), reduced, zeros):
         if zero and fill:
             continue
+        if at is not None:
+            index = (at[index[0]],) + tuple(index[1:])
+        if row:
+            index = ("i",) + tuple(index)
         where = ", ".join(map(str, index))
         v = printer.value(e)
         lines.append(f"    dd_set(out, {where if len(index) == 1 else f'({where})'}, {v})")
-    return "\n".join([f"def {name}(y, c, out):", *(lines or ["    pass"])]) + "\n"
+    head = f"def {name}(y, c, out, i):" if row else f"def {name}(y, c, out):"
+    return "\n".join([head, *(lines or ["    pass"])]) + "\n"
 
 
 def dd_function(name: str, args, exprs, **njit_options):

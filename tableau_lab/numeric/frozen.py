@@ -42,7 +42,8 @@ class ProblemInfo:
     invariants: tuple          # names
     dimension: int
     key: str                   # a digest of the problem with its parameter values
-    kernel_files: dict = field(default_factory=dict)   # kind -> (module name, path, invariant names)
+    kernel_files: dict = field(default_factory=dict)   # (kind, shape) -> (module name, path, invariant names)
+    separable: bool = False    # H = T(p) + V(q): the stage iteration on the q stages alone
 
 
 class FrozenProblem(ProblemFunctions):
@@ -103,7 +104,8 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
     """The functions of ``cp`` (a CompiledProblem) that a run needs, as a picklable
     :class:`FrozenProblem`: f always; the Jacobian if ``jac``; the named invariants and
     gradients; f⁽ᵐ⁾ for 1 ≤ m < ``derivatives`` (the elementary differentials up to that order);
-    the compiled loops ``kernels`` ("f64", "dd") written to the cache and named."""
+    the compiled loops ``kernels`` ((kind, shape) pairs: "f64" or "dd", and the method shape
+    of :func:`kernels.loop_shape`) written to the cache and named."""
     P = cp.problem
     wanted = ["f"] + (["jac"] if jac else []) + [("invariant", k) for k in invariants]
     wanted += [("gradient", k) for k in gradients] + [("derivative", m) for m in range(1, derivatives)]
@@ -113,8 +115,8 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
     files = {}
     if kernels:
         from .kernels import write_kernel
-        files = {kind: write_kernel(P, kind) for kind in kernels}
+        files = {(kind, shape): write_kernel(P, kind, shape) for kind, shape in kernels}
     info = ProblemInfo(P.name, P.kind, tuple(str(x) for x in getattr(P, "q", ()) or ()), tuple(P.invariants),
                        P.dimension, hashlib.sha256(repr((P.key, cp.backend, cp.dps)).encode()).hexdigest()[:20],
-                       files)
+                       files, P.separable)
     return FrozenProblem(info, cp.backend, cp.dps, cp.constants, cp.y0, codes)

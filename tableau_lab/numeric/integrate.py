@@ -1,24 +1,17 @@
 r"""One integrator for every method kind, in float64 or mpmath ([B16] ch. 5 for the GLM step;
 [HLW06] VII.1 and the seed's §3.2 for projection).
 
-A step of the partitioned GLM of :mod:`export` on y' = f(y) with input values y^[n−1] (r × d):
-
-    Yᵢ = Σₖ Uᵢₖ y^[n−1]ₖ + h Σⱼ (A_q[i,j] P_q + A_p[i,j] P_p) f(Yⱼ)
-    y^[n]ₖ = Σₗ Vₖₗ y^[n−1]ₗ + h Σⱼ (B_q[k,j] P_q + B_p[k,j] P_p) f(Yⱼ)
-
-(P_q, P_p: the masks of the q- and p-components).  Explicit methods evaluate the stages in
-order; implicit ones solve the stage system by simplified Newton with the Jacobian of f at the
-step's first stage input (I − h(A_q ⊗ P_qJ + A_p ⊗ P_pJ) factorised once per step) and fall back
-to fixed-point iteration; the tolerance follows the precision (10 ulp in float64, 10^(2−dps) in
-mpmath).  A stage system that does not converge, and any NaN or overflow, stops the run with
-:class:`IntegrationError` naming the step, the time and the residual.  When V's first row is
-e₁ᵀ (RK and partitioned RK methods, and G-symplectic GLMs written with the principal value
-first), the first output is an increment and is summed with compensation (Kahan).
+The step itself — explicit stages, the stage iteration (simplified Newton, fixed point, or on
+the q stages alone for separable problems) and its fallbacks, the GLM output with Kahan
+summation of the principal increment, projection, invariant tracking and records — is
+:mod:`stepcore`, written once and run compiled (float64, double-double) or in Python
+(float64, mpmath) by :mod:`kernels`; this module prepares a run, starts and finishes it, and
+turns the loop's outcome into a :class:`Run` or an :class:`IntegrationError` naming the step.
 
 GLM runs start from the exported starting method (elementary differentials of f at y₀), or
 naively (y^[0] = u y₀), and report the principal value through the finishing method.
 Projection (optional) moves the first output value onto {I_k(y) = I_k(y₀)} for the chosen
-invariants by simplified Newton on the multipliers: y = ỹ + ∇g(ỹ)λ.
+invariants (Newton on the multipliers: y = ỹ + ∇g(ỹ)λ, in :mod:`stepcore`).
 
 *Parasitism monitor* (GLMs whose V has eigenvalues ζ ≠ 1 on the unit circle, [BHHN14]).  At
 every record the parasitic component of each such ζ is measured: with y_ζ the left eigenvector
@@ -41,22 +34,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.trees import order as tree_order, symmetry
-from .arith import is_exact
-from .method import NumericMethod
 from ..analysis.growth import growth_rate
+from ..analysis.trees import order as tree_order, symmetry
+from . import kernels, limits
+from .arith import is_exact
+from .errors import IntegrationError, ParasiticBoundExceeded, not_finite, projection_failed, stages_failed
+from .method import NumericMethod
 
-__all__ = ["integrate", "Run", "IntegrationError", "ParasiticBoundExceeded", "start_values", "finish",
-           "component_masks"]
-
-
-class IntegrationError(RuntimeError):
-    """A run that cannot continue; the message names step, time and the reason."""
-
-
-class ParasiticBoundExceeded(IntegrationError):
-    """The parasitism monitor stopped the run: a parasitic component exceeded the bound.
-    ``step``, ``t``, ``zeta`` (as printed), ``value``, ``bound``, ``mu``."""
+__all__ = ["integrate", "step", "Run", "IntegrationError", "ParasiticBoundExceeded", "start_values", "finish",
+           "component_masks", "stage_iteration"]
 
 
 @dataclass
@@ -82,7 +68,9 @@ class Run:
     predicted_growth: dict = field(default_factory=dict)  # ζ -> ∫₀ᵗ max Re eig(μ f′(ŷ)) dt at the records (μ ≠ 0)
     growth_parameters: dict = field(default_factory=dict)  # ζ -> μ (complex float)
     compile_seconds: float = 0.0                         # compiled kernel: first call (compile or cache load)
-    tracked: dict = field(default_factory=dict)         # compiled loop: name -> max |I(y^[n]_1) − I(y0)| over all steps
+    tracked: dict = field(default_factory=dict)         # name -> max |I(y^[n]_1) − I(y0)| every track_every steps
+    velocity_evaluations: int = 0                        # separable problems: q-rate evaluations (nfev: forces)
+    fallbacks: int = 0                                   # steps whose first stage iteration failed
 
     def max_invariant_error(self) -> dict:
         """Largest |I − I(y0)| at the records, and over every step where the compiled loop
@@ -120,150 +108,6 @@ def finish(nm: NumericMethod, prob, Y, h, series: bool = True):
         if beta != 0:
             out = out + (beta * h ** tree_order(t) / symmetry(t)) * F[t]
     return out
-
-
-class _Stepper:
-    def __init__(self, nm: NumericMethod, prob, h, d, masks, compensated: bool = True, fixed: bool = False):
-        self.nm, self.prob, self.h = nm, prob, h
-        self.fixed = fixed                         # stage iteration: fixed point instead of simplified Newton
-        self.a = nm.arith
-        self.mq, self.mp = masks
-        self.s, self.r, self.d = nm.s, nm.r, d
-        self.nfev = 0
-        self.newton = 0
-        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
-        self.comp = self.a.zeros(d) if first_is_increment and compensated else None
-        self.tol = self.a.tol
-        self.Fprev = None                          # the last step's stage derivatives (predictor)
-        self.hA = 0.0 if nm.explicit else _stage_scale(nm, h)
-        if not nm.explicit:                        # per method, not per step
-            self.eye = self._identity(nm.s * d)
-
-    def f(self, y):
-        self.nfev += 1
-        return self.prob.f(y)
-
-    def stages(self, Ubar, n, t):
-        nm, h = self.nm, self.h
-        s = self.s
-        if nm.explicit:
-            F = []
-            for i in range(s):
-                Y = Ubar[i].copy()
-                for j in range(i):
-                    if nm.Aq[i, j] != 0 or nm.Ap[i, j] != 0:
-                        Y = Y + h * (nm.Aq[i, j] * self.mq + nm.Ap[i, j] * self.mp) * F[j]
-                F.append(self.f(Y))
-            return np.array(F, dtype=self.a.dtype)
-        return self._newton(Ubar, n, t)
-
-    def _rhs(self, F):
-        return self.h * ((self.nm.Aq @ F) * self.mq + (self.nm.Ap @ F) * self.mp)
-
-    def _identity(self, k):
-        a = self.a
-        if a.dtype is object:
-            return np.array([[a.number(1) if i == j else a.number(0) for j in range(k)] for i in range(k)], dtype=object)
-        return np.eye(k)
-
-    def _newton_matrix(self, Js):
-        """I − h Σ_j (A_q[:, j] ⊗ P_q J_j + A_p[:, j] ⊗ P_p J_j), J_j the Jacobian for stage j."""
-        nm, h, s, d = self.nm, self.h, self.s, self.d
-        M = self.eye.copy()
-        for j, J in enumerate(Js):
-            Jq, Jp = J * self.mq[:, None], J * self.mp[:, None]
-            for i in range(s):
-                if nm.Aq[i, j] != 0 or nm.Ap[i, j] != 0:
-                    M[i * d:(i + 1) * d, j * d:(j + 1) * d] -= h * (nm.Aq[i, j] * Jq + nm.Ap[i, j] * Jp)
-        return M
-
-    def _newton(self, Ubar, n, t):
-        """Simplified Newton (one Jacobian, at the first stage input), started from the previous
-        step's stage derivatives extrapolated to the new stages (``nm.E``; GNI's start) and
-        stopped by Hairer's estimate θ/(1 − θ)·‖ΔY‖ ≤ tol, θ the contraction rate; if it
-        stalls, again from Ū, then full Newton (Jacobians at the current stage values,
-        refreshed each iteration); then fixed point.  Returns the stage derivatives: from the
-        increments, A⁻¹(Y − Ū)/h, when A is invertible (no f-evaluation after convergence)."""
-        a, s, d = self.a, self.s, self.d
-        fixed = self.fixed                 # fixed-point iteration: the same loop with M = I
-        J0 = None if fixed else self.prob.jac(Ubar[0])
-        # attainable accuracy: round-off amplified by the conditioning of the stage system
-        amp = 1 if fixed else 1 + self.hA * (float(np.max(np.abs(a.to_float(J0.reshape(-1))))) if J0.size else 0.0)
-        # iterate on the increments Z = Y − Ū (small, so A⁻¹Z keeps its relative precision)
-        starts = [a.zeros(s, d)]
-        if self.Fprev is not None and self.nm.E is not None:
-            starts.insert(0, self._rhs(self.nm.E @ self.Fprev))
-        tries = [(Z0, False) for Z0 in starts] + [(starts[-1], True)]
-        Minv = None
-        scale = 1 + a.norm(Ubar.reshape(-1))
-        for Z0, full in tries:
-            if Minv is None and not full and not fixed:
-                Minv = a.lu(self._newton_matrix([J0] * s))
-            Z, prev = Z0.copy(), None
-            for it in range(60 if not full else 30):
-                Y = Ubar + Z
-                F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-                M = a.lu(self._newton_matrix([self.prob.jac(Y[j]) for j in range(s)])) if full else Minv
-                R = self._rhs(F) - Z
-                dZ = R if (fixed and not full) else a.lu_solve(M, R.reshape(-1)).reshape(s, d)
-                Z = Z + dZ
-                self.newton += 1
-                if not a.finite(dZ.reshape(-1)):
-                    break
-                size = a.norm(dZ.reshape(-1))
-                # to an ulp of the increments themselves: A⁻¹Z/h feeds the output unscaled by h
-                if _converged(size, prev, a.eps * a.norm(Z.reshape(-1)), 1000 * a.eps * scale * amp):
-                    return self._derivatives(Z, Ubar)
-                if prev is not None and it > 3 and size > prev:
-                    break                   # diverging
-                prev = size
-        return self._fixed_point(Ubar, n, t)
-
-    def _derivatives(self, Z, Ubar):
-        """The stage derivatives f(Yᵢ) of converged stages Y = Ū + Z: A⁻¹Z/h per component
-        class when A_q and A_p are invertible, else evaluated.  Kept for the next step's start."""
-        nm = self.nm
-        if nm.Aq_inv is not None and nm.Ap_inv is not None:
-            F = (1 / self.h) * ((nm.Aq_inv @ Z) * self.mq + (nm.Ap_inv @ Z) * self.mp)
-        else:
-            Y = Ubar + Z
-            F = np.array([self.f(Y[i]) for i in range(self.s)], dtype=self.a.dtype)
-        self.Fprev = F
-        return F
-
-    def _fixed_point(self, Ubar, n, t):
-        a, s = self.a, self.s
-        Y = Ubar.copy()
-        F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-        size = prev = float("inf")
-        for _ in range(200):
-            Ynew = Ubar + self._rhs(F)
-            size = a.norm((Ynew - Y).reshape(-1))
-            Y = Ynew
-            if not a.finite(Y.reshape(-1)):
-                break
-            F = np.array([self.f(Y[i]) for i in range(s)], dtype=a.dtype)
-            scale = 1 + a.norm(Y.reshape(-1))
-            if size <= self.tol * scale or (size >= 0.9 * prev and size <= 1000 * a.eps * scale):
-                self.Fprev = F
-                return F
-            prev = size
-        raise IntegrationError(f"step {n} (t = {float(t):.6g}): the implicit stage equations did not converge "
-                               f"(simplified and full Newton, then fixed-point iteration; last correction {size:.3g}, "
-                               f"tolerance {self.tol:.3g}); try a smaller step size h = {float(self.h):.6g}")
-
-    def step(self, Yin, n, t):
-        nm, h = self.nm, self.h
-        Ubar = nm.U @ Yin
-        F = self.stages(Ubar, n, t)
-        inc = h * ((nm.Bq @ F) * self.mq + (nm.Bp @ F) * self.mp)
-        Yout = nm.V @ Yin + inc
-        if self.comp is not None:                  # Kahan summation of the principal increment
-            x = inc[0] + self.comp
-            y1 = Yin[0] + x
-            self.comp = (Yin[0] - y1) + x
-            Yout[0] = y1
-        return Yout
 
 
 class _Monitor:
@@ -323,61 +167,6 @@ class _Monitor:
                 f"∫ max Re eig(μ f′) dt = {P[-1] - P[k]:.3g}")
 
 
-def _converged(size, prev, tol, floor) -> bool:
-    """Stop a contracting iteration: the correction is below tol, or Hairer's error estimate
-    θ/(1 − θ)·‖Δ‖ (θ = ‖Δ‖/‖Δ_prev‖) is, or it stagnates (θ ≥ 0.9) at the round-off floor."""
-    if size <= tol:
-        return True
-    if prev is None or prev == 0:
-        return False
-    theta = size / prev
-    return (theta < 1 and theta / (1 - theta) * size <= tol) or (theta >= 0.9 and size <= floor)
-
-
-def _project(prob, names, targets, y, a, n, t):
-    """y + ∇g(y)λ with g = invariants − targets, Newton on λ (matrix ∇g(z)ᵀ∇g(y), refreshed each
-    iteration); returns (y, iterations).
-    Converged when g is at the tolerance relative to the size of the invariants' terms, or when
-    the corrections stop shrinking (by half a sweep) with g already at round-off level (1000 ulp)."""
-    G = np.array([prob.gradient(k, y) for k in names], dtype=a.dtype).T          # d × m
-    inv = a.lu(G.T @ G)
-    lam = a.zeros(len(names))
-    # the size of the invariants' terms, not only of their values (FPU: ω²q² terms of a small
-    # H): |I| + Σ|∂I/∂y_l · y_l| bounds the round-off of evaluating I
-    yf = a.to_float(y)
-    scale = 1 + max(abs(float(targets[k])) + float(np.sum(np.abs(a.to_float(G[:, j]) * yf)))
-                    for j, k in enumerate(names))
-    z, prev = y, None
-    for it in range(50):
-        g = np.array([prob.invariant(k, z) - targets[k] for k in names], dtype=a.dtype)
-        res = a.norm(g) / scale
-        if res <= a.tol:
-            return z, it
-        if it > 0:                          # Newton on λ: ∇g(z)ᵀ G at the current point
-            Gz = np.array([prob.gradient(k, z) for k in names], dtype=a.dtype)
-            inv = a.lu(Gz @ G)
-        dl = -a.lu_solve(inv, g)
-        step = a.norm(dl)
-        if prev is not None and step >= 0.5 * prev and res <= 1000 * a.eps:   # stalled at round-off
-            return z, it
-        prev = step
-        lam = lam + dl
-        z = y + G @ lam
-    if res <= 1e4 * a.eps:                  # round-off noise of a large-term invariant (FPU), not divergence
-        return z, 50
-    raise projection_failed(names, n, t, res)
-
-
-def projection_failed(names, n, t, res) -> IntegrationError:
-    return IntegrationError(f"step {n} (t = {float(t):.6g}): projection onto {', '.join(names)} did not converge "
-                            f"(residual {res:.3g} after 50 iterations)")
-
-
-def not_finite(n, t) -> IntegrationError:
-    return IntegrationError(f"step {n} (t = {float(t):.6g}): the solution is not finite (NaN or overflow): the "
-                            "method is unstable at this step size, or the problem is singular here")
-
-
 def component_masks(prob, d: int):
     """(P_q, P_p) as 0/1 vectors: q and p halves for a Hamiltonian problem, all q otherwise."""
     problem = getattr(prob, "problem", None)
@@ -387,27 +176,20 @@ def component_masks(prob, d: int):
     return ([1] * d, [0] * d)
 
 
-def _fixed_point(solver, nm, prob, y0, h, d) -> bool:
-    """Stage iteration: "newton" (simplified Newton), "fixedpoint" (no Jacobian, no LU: for
-    non-stiff problems with many components, as GNI's codes do), or "auto": fixed point when
-    s·d > 24 and h·s·max|A|·ρ(f'(y0)) < 0.1 (the iteration then contracts by ≲ 0.1 a sweep)."""
-    if solver not in ("auto", "newton", "fixedpoint"):
-        raise ValueError(f"solver must be 'auto', 'newton' or 'fixedpoint', not {solver!r}")
+def stage_iteration(solver, nm, prob, y0, h, d) -> int:
+    """The stage iteration mode (:func:`limits.choose_iteration`): h·s·max|A|·ρ(f′(y₀)) from the
+    Jacobian at y₀ (the spectral radius, not the largest entry: q′ = p/m has huge entries 1/m
+    and small eigenvalues); the q stages alone for a separable problem with q/p masks."""
     if nm.explicit or solver == "newton":
-        return False
-    if solver == "fixedpoint":
-        return True
-    if nm.s * d <= 24:
-        return False
-    J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
-    # the spectral radius, not the largest entry: q' = p/m has huge entries 1/m and small eigenvalues
-    return _stage_scale(nm, h) * float(np.max(np.abs(np.linalg.eigvals(J)))) < 0.1
-
-
-def _stage_scale(nm, h) -> float:
-    """h·s·max|A|: how strongly h f' enters the stage equations (Newton's round-off floor, the
-    fixed-point contraction)."""
-    return abs(float(h)) * nm.s * float(np.max(np.abs(nm.arith.to_float(nm.Aq.reshape(-1)))))
+        return limits.choose_iteration(solver, explicit=nm.explicit, separable=False, contraction=0.0)
+    info = getattr(prob, "problem", None)
+    separable = bool(getattr(info, "separable", False)) and info.kind == "hamiltonian"
+    contraction = 0.0
+    if solver == "auto":
+        J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
+        rho = float(np.max(np.abs(np.linalg.eigvals(J)))) if d else 0.0
+        contraction = nm.stage_scale(h) * rho
+    return limits.choose_iteration(solver, explicit=False, separable=separable, contraction=contraction)
 
 
 def _use_kernel(kernel, a, prob) -> bool:
@@ -424,37 +206,40 @@ def _use_kernel(kernel, a, prob) -> bool:
         raise ValueError("the compiled kernel runs float64 or dd on a generated problem (compile_problem)")
     if kernel == "python" or not ok:
         return False
-    from .kernels import available
-    return available()
+    return kernels.available()
 
 
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
-              kernel: str = "auto", monitor: float | None = None, solver: str = "auto") -> Run:
+              kernel: str = "auto", monitor: float | None = None, solver: str = "auto",
+              track_every: int = 1) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
     ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
-    if ``record_states``; memory grows with the records only.  ``compensated=False`` turns the
-    Kahan summation of the principal increment off (to measure what it buys).  ``solver``:
-    the stage iteration (see :func:`_fixed_point`).
-    ``kernel``: "compiled" runs the float64 step loop compiled (:mod:`kernels`), "python" the
-    loop here, "auto" the compiled one when the arithmetic is float64 and the problem is a
-    generated one (same algorithm; results agree to round-off), unless the environment
-    variable TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled.
+    if ``record_states``; memory grows with the records only.  The largest |I − I(y₀)| of the
+    invariants and projected invariants is also tracked every ``track_every`` steps (default:
+    every step; ``Run.tracked``).  ``compensated=False`` turns the Kahan summation of the
+    principal increment off (to measure what it buys).  ``solver``: the stage iteration,
+    "auto", "newton" or "fixedpoint" (:func:`stage_iteration`).
+    ``kernel``: "compiled" runs the step loop compiled (:mod:`kernels`), "python" the same
+    loop in Python, "auto" the compiled one when the arithmetic is float64 and the problem is a
+    generated one (results agree to round-off), unless the environment variable
+    TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled.
     ``monitor``: a bound on the parasitic components of a GLM's input vector, checked at the
     records; exceeding it raises :class:`ParasiticBoundExceeded` (module docstring).  The
     components and the predicted growth are recorded with or without a bound."""
     a = nm.arith
+    if not (isinstance(track_every, int) and track_every >= 1):
+        raise ValueError(f"track_every must be a positive integer, not {track_every!r}")
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
         d = len(y0)
-        if masks is None:
-            masks = component_masks(prob, d)
-        masks = tuple(np.array([a.number(int(x)) if a.dtype is object else float(x) for x in m], dtype=a.dtype)
-                      for m in masks)
+        default_masks = component_masks(prob, d)
+        masks = default_masks if masks is None else masks
+        split_ok = [list(map(int, m)) for m in masks] == [list(m) for m in default_masks]
         if isinstance(h, int) or is_exact(h):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
@@ -467,7 +252,14 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
-        stepper = _Stepper(nm, prob, h, d, masks, compensated, _fixed_point(solver, nm, prob, y0, h, d))
+        mode = stage_iteration(solver, nm, prob, y0, h, d)
+        if mode == limits.SPLIT and not split_ok:
+            mode = limits.FIXED
+        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        loop = _loop(kernel, nm, prob, d)
+        index = loop.invariant_index
+        pk = kernels.Pack(nm, prob, h, masks, mode=mode, compensate=first_is_increment and compensated and a.name != "dd",
+                          project=tuple(project), track=names, targets=targets, index=index)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)
@@ -488,28 +280,30 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 run.values.append(y.copy())          # at the working precision
             watch(n, Y, y)
 
-        def project_step(y, n):
-            return _project(prob, tuple(project), targets, y, a, n, n * h)
+        def settle(out):
+            run.nfev, run.newton_iterations = out.nfev, out.sweeps
+            run.projection_iterations, run.completed, run.tracked = out.projection_iterations, out.completed, out.tracked
+            run.velocity_evaluations, run.fallbacks = out.nvel, out.fallbacks
+            run.compile_seconds = out.compile_seconds
+            run.seconds = time.perf_counter() - t0 - run.compile_seconds
 
         record(0, Y)
         try:
-            if _use_kernel(kernel, a, prob):
-                from .kernels import drive
-                Y = drive(nm, prob, Y, h, steps, every, masks=masks, project=tuple(project), targets=targets,
-                          stepper=stepper, record=record, progress=progress, run=run,
-                          project_step=project_step if project else None, track=names)
-            for n in range(run.completed + 1, steps + 1):
-                Y = stepper.step(Y, n, n * h)
-                if project:
-                    Y[0], its = project_step(Y[0], n)
-                    run.projection_iterations += its
-                if not a.finite(Y.reshape(-1)):
-                    raise not_finite(n, n * h)
-                run.completed = n
-                if n % every == 0 or n == steps:
-                    record(n, Y)
-                    if progress is not None:
-                        progress(n)
+            try:
+                out = kernels.drive(loop, pk, Y, steps, every, record=record, progress=progress,
+                                    track_every=track_every)
+            except BaseException as exc:
+                if hasattr(exc, "outcome"):
+                    settle(exc.outcome)
+                raise
+            settle(out)
+            n, t = out.step, out.step * h
+            if out.status == 1:
+                raise stages_failed(n, t, h, out.last_correction, pk.tol)
+            if out.status == 2:
+                raise not_finite(n, t)
+            if out.status == 3:
+                raise projection_failed(project, n, t, out.projection_residual)
         except KeyboardInterrupt as exc:
             exc.partial = run                      # the records so far, for a valid incomplete file
             raise
@@ -524,9 +318,32 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                 err.partial = run
                 raise err from None
             raise
-        finally:
-            run.nfev, run.newton_iterations = stepper.nfev, stepper.newton
-            run.seconds = time.perf_counter() - t0 - run.compile_seconds
-        run.final = principal(Y)
+        run.final = principal(out.Y)
     return run
 
+
+def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
+    """One step of the pure loop from the input vector Y (r × d) with step h: y^[1] (r × d).
+    ``prob`` needs only ``f`` and ``jac``.  For checks of the step map itself (symmetry)."""
+    a = nm.arith
+    with a.context():
+        Y = np.array(Y, dtype=a.dtype)
+        d = Y.shape[1]
+        masks = component_masks(prob, d) if masks is None else masks
+        mode = stage_iteration(solver, nm, prob, Y[0], h, d)
+        if mode == limits.SPLIT:
+            mode = limits.FIXED
+        pk = kernels.Pack(nm, prob, h, masks, mode=mode, compensate=False, project=(), track=(), targets={},
+                          index={})
+        out = kernels.drive(kernels.pure_loop(prob, a.name), pk, Y, 1, 1, record=lambda n, Y: None)
+        if out.status:
+            raise IntegrationError(f"one step of size {float(h):.6g}: the loop stopped with status {out.status}")
+        return out.Y
+
+
+def _loop(kernel, nm, prob, d):
+    """The compiled module (specialised to the method's shape) or the pure loop for this run."""
+    a = nm.arith
+    if _use_kernel(kernel, a, prob):
+        return kernels.compiled_loop(prob.problem, "dd" if a.name == "dd" else "f64", kernels.loop_shape(nm.s, nm.r, d))
+    return kernels.pure_loop(prob, a.name)

@@ -49,6 +49,13 @@ class NumericMethod:
     def explicit(self) -> bool:
         return bool(all(self.Aq[i, j] == 0 and self.Ap[i, j] == 0 for i in range(self.s) for j in range(i, self.s)))
 
+    def stage_scale(self, h) -> float:
+        """h·s·max|A|: how strongly h f′ enters the stage equations (the fixed-point contraction
+        with ρ(f′), the conditioning of Newton's matrix); 0 for explicit methods."""
+        if self.explicit:
+            return 0.0
+        return abs(float(h)) * self.s * float(np.max(np.abs(self.arith.to_float(self.Aq.reshape(-1)))))
+
     @property
     def partitioned(self) -> bool:
         return self.kind == "prk"

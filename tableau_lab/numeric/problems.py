@@ -11,6 +11,7 @@ and f(y) = (∂H/∂p, −∂H/∂q).
 ((q1, q2, p1, p2), (1/2, 0, 0, sqrt(3)))
 >>> kepler.f_expr[2], kepler.parameters["delta"]         # force -q/r^3 - 0.0075 q/r^5
 (-3*delta*q1/(2*(q1**2 + q2**2)**(5/2)) - q1/(q1**2 + q2**2)**(3/2), 1/200)
+>>> from tableau_lab.numeric.codegen import compile_problem
 >>> c = compile_problem(kepler)
 >>> c.f([1.0, 0.0, 0.0, 1.0])[2], c.invariant("L", c.y0) == 3 ** 0.5 / 2
 (np.float64(-1.0075), True)
@@ -32,8 +33,7 @@ import sympy as sp
 from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
-__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "reference",
-           "compile_problem", "exact_value"]
+__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value"]
 
 
 def _symbols(names: str) -> tuple:
@@ -125,6 +125,16 @@ class Problem:
             return self.rhs
         H = self.hamiltonian
         return tuple(sp.diff(H, s) for s in self.p) + tuple(-sp.diff(H, s) for s in self.q)
+
+    @cached_property
+    def separable(self) -> bool:
+        """H = T(p) + V(q): the q-rate reads p only and the p-rate q only (the stage equations
+        can then be iterated on the q stages alone, :mod:`stepcore`)."""
+        if self.kind != "hamiltonian":
+            return False
+        k = len(self.q)
+        return (all(not (e.free_symbols & set(self.q)) for e in self.f_expr[:k])
+                and all(not (e.free_symbols & set(self.p)) for e in self.f_expr[k:]))
 
     @cached_property
     def key(self) -> tuple:
@@ -368,14 +378,3 @@ def problem_from_dict(d: dict) -> Problem:
     problem.check_initial_state()
     return problem
 
-
-def compile_problem(problem, backend="numpy", dps=None, parameters=None):
-    """f, jac, invariants, gradients, elementary differentials: see ``codegen.compile_problem``."""
-    from .codegen import compile_problem as compile_
-    return compile_(problem, backend, dps, parameters)
-
-
-def reference(problem, t, dps: int = 32, method: str = "auto") -> tuple:
-    """The state at time t to ``dps`` digits (mpmath numbers): see ``codegen.reference``."""
-    from .codegen import reference as reference_
-    return reference_(get_problem(problem), t, dps, method)

@@ -1,0 +1,69 @@
+"""Final states of every method of methods/ on every built-in problem after 10⁵ steps (compiled
+float64, the exact start, max |H − H₀| over the run): a regression record of one version of the
+step loop, to compare two versions.  A script, not a test.
+
+    python benchmarks/regression/finals.py OUT.json [--steps N]
+    python benchmarks/regression/finals.py --compare A.json B.json
+
+Run it once with the previous version first on PYTHONPATH (a git worktree of that commit), once
+with this one; ``--compare`` prints, per case, max |Δy| / max |y| of the finals and the two
+max |H − H₀|.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+STEP = {"harmonic": "1/100", "pendulum": "1/100", "kepler": "1/100", "kepler_unperturbed": "1/100",
+        "henon_heiles": "1/100", "fpu": "1/1000", "outer_solar_system": "10"}
+
+
+def record(out, steps):
+    import sympy as sp
+    from tableau_lab.numeric.integrate import IntegrationError, integrate
+    from tableau_lab.experiments.runs import _setup
+    rows = {}
+    for path in sorted((ROOT / "methods").glob("*.json")):
+        for problem, h in STEP.items():
+            key = f"{path.stem} {problem}"
+            try:
+                _, _, cp, nm = _setup(str(path), problem, "float64", None)
+                run = integrate(nm, cp, cp.y0, sp.Rational(h), steps, invariants=("H",), record_every=steps,
+                                kernel="compiled")
+                rows[key] = {"final": [float(x) for x in run.final], "H": run.max_invariant_error()["H"],
+                             "nfev": run.nfev}
+            except (IntegrationError, ValueError) as exc:
+                rows[key] = {"failed": str(exc)[:200]}
+            print(key, rows[key].get("H", rows[key].get("failed")), flush=True)
+    Path(out).write_text(json.dumps(rows, indent=1))
+
+
+def compare(a, b):
+    A, B = json.loads(Path(a).read_text()), json.loads(Path(b).read_text())
+    worst = 0.0
+    for key in A:
+        x, y = A[key], B.get(key, {})
+        if "final" in x and "final" in y:
+            fa, fb = np.array(x["final"]), np.array(y["final"])
+            rel = float(np.max(np.abs(fa - fb)) / max(np.max(np.abs(fa)), 1e-300))
+            if np.all(np.isfinite(fa)):
+                worst = max(worst, rel)
+            print(f"{key:42s} rel {rel:.2e}  maxH {x['H']:.3e} / {y['H']:.3e}  nfev/step {x['nfev'] / 1e5:.2f} / "
+                  f"{y['nfev'] / 1e5:.2f}")
+        else:
+            print(f"{key:42s} {str(x.get('failed', ''))[:60]!r} / {str(y.get('failed', ''))[:60]!r}")
+    print("largest relative difference of finite finals:", f"{worst:.2e}")
+
+
+if __name__ == "__main__":
+    ap = argparse.ArgumentParser()
+    ap.add_argument("out", nargs="?")
+    ap.add_argument("--steps", type=int, default=10 ** 5)
+    ap.add_argument("--compare", nargs=2)
+    args = ap.parse_args()
+    sys.exit(compare(*args.compare) if args.compare else record(args.out, args.steps))

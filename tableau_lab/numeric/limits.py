@@ -1,0 +1,71 @@
+r"""Every tolerance, iteration cap and switch of the step loop, named once, and the rule that
+chooses the stage iteration.  The step core (:mod:`stepcore`) reads these names in every
+precision (compiled modules import them: numba takes them as compile-time constants); the
+driver (:mod:`kernels`) lays out the flag and counter arrays with the indices below.
+
+The stage iteration (:func:`choose_iteration`; Hairer, Lubich & Wanner, *Geometric Numerical
+Integration*, 2nd ed., Sec. VIII.6): fixed-point iteration where h·s·max|A|·ρ(f′(y₀)) <
+``FIXED_POINT_BELOW`` (non-stiff: the iteration contracts by about that factor a sweep, and
+needs neither a Jacobian nor an LU factorisation), simplified Newton otherwise.  A problem whose
+q-rate depends on p only and whose p-rate on q only (H = T(p) + V(q)) iterates on the q stages
+alone (``SPLIT``: the contraction is then of order (h·‖A‖)²‖∂f_p/∂q‖‖∂f_q/∂p‖, as in Hairer's
+GNI_IRK2 for q″ = f(q)).  A step whose fixed-point iteration fails is redone by simplified
+Newton; after ``SWITCH_AFTER`` such steps the run goes on with Newton (the problem has become
+stiff along the solution).
+
+>>> choose_iteration("auto", explicit=False, separable=True, contraction=0.02)
+2
+>>> choose_iteration("auto", explicit=False, separable=False, contraction=0.5) == NEWTON
+True
+"""
+from __future__ import annotations
+
+from math import comb
+
+# -- stage iteration modes (flags[F_MODE]) ---------------------------------------------------
+NEWTON = 0          # simplified Newton: one Jacobian (at the first stage input) and one LU per step
+FIXED = 1           # fixed point on all components (Newton with M = I)
+SPLIT = 2           # fixed point on the q stages of a separable problem (GNI_IRK2's iteration)
+FULL = 3            # full Newton: Jacobians at the stages, refreshed every sweep (fallback only)
+
+# -- caps and tolerances ------------------------------------------------------------------------
+STAGE_SWEEPS = 60           # sweeps of one attempt of simplified Newton / fixed point
+FULL_NEWTON_SWEEPS = 30     # sweeps of full Newton (the first fallback)
+RESCUE_SWEEPS = 200         # sweeps of the last fallback: fixed point on the stage values
+DIVERGE_AFTER = 3           # sweeps after which a growing correction counts as divergence
+STALL_THETA = 0.9           # contraction rate at which a sweep no longer counts as progress
+ROUNDOFF_FLOOR = 1000.0     # attainable accuracy, in units of eps × the size of the values
+HISTORY = 6                 # steps of stage derivatives kept to extrapolate the next step's start
+# extrapolation in n through the last HISTORY values: Σₘ (−1)^(m+1) C(HISTORY, m) F⁽ⁿ⁻ᵐ⁾, m = 1 … HISTORY
+HISTORY_WEIGHTS = tuple(float((-1) ** (m + 1) * comb(HISTORY, m)) for m in range(1, HISTORY + 1))
+SPLIT_TOL_ULPS = 1.0        # the q-stage iteration stops when its correction is this many ulps of q
+SWITCH_AFTER = 3            # failed fixed-point steps after which the run switches to Newton
+FIXED_POINT_BELOW = 0.1     # h·s·max|A|·ρ(f′) below which fixed-point iteration is chosen
+
+PROJECTION_SWEEPS = 50      # Newton sweeps on the multipliers
+PROJECTION_STALL = 0.5      # corrections shrinking by less than this count as stalled …
+PROJECTION_ROUNDOFF = 1000.0    # … once the residual is below this many eps
+PROJECTION_ACCEPT = 1e4     # after the last sweep, a residual below this many eps is round-off
+
+CHUNK = 1 << 16             # steps per call of a compiled loop (records, progress, Ctrl-C between)
+PURE_CHUNK = 256            # steps per call of the pure (Python) loop
+
+# -- layout of the loop's flag and counter arrays -------------------------------------------------
+F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS = range(8)
+N_FLAGS = 8
+S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACKS = range(9)
+N_STATS = 9
+
+__all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration"]
+
+
+def choose_iteration(solver: str, *, explicit: bool, separable: bool, contraction: float) -> int:
+    """The stage iteration mode for ``solver`` "auto", "newton" or "fixedpoint";
+    ``contraction`` = h·s·max|A|·ρ(f′(y₀)) (see the module docstring)."""
+    if solver not in ("auto", "newton", "fixedpoint"):
+        raise ValueError(f"solver must be 'auto', 'newton' or 'fixedpoint', not {solver!r}")
+    if explicit or solver == "newton":
+        return NEWTON
+    if solver == "auto" and not contraction < FIXED_POINT_BELOW:
+        return NEWTON
+    return SPLIT if separable else FIXED
