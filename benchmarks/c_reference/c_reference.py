@@ -1,20 +1,35 @@
-"""A hand-written C reference (glm_loop.c, ``gcc -O2``) of the compiled float64 step loop, to
-measure the numba kernel against.  A benchmark fixture, not part of the package.
+"""The C reference of the float64 step loop: glm_loop.c, plain C99 compiled with ``gcc -O2``, the
+same algorithm as ``tableau_lab/numeric/stepcore.py`` (explicit stages; the stage iteration
+SPLIT, NEWTON or FIXED with the history predictor; Kahan summation; the same counters), to
+measure the numba loop against and to check that the two compute the same thing.  A benchmark
+fixture, not part of the package (``tableau-lab bench`` loads it from a source checkout).
 
-The method and run constants are the arrays of :class:`tableau_lab.numeric.kernels._Pack`
-(the very object the numba loop gets), the GLM input vector is ``start_values`` (the exact
-start), and the C program runs the same loop as ``kernel_source.LOOP`` (without projection)
-with f and the Jacobian written by hand for the pendulum and the perturbed Kepler problem.
+What both loops get is what ``integrate`` gives the compiled loop: the arrays of
+``kernels.Pack`` (the method, h, the component classes, the flags with the stage-iteration mode
+of ``integrate.stage_iteration`` and the Kahan switch), and y^[0] = ``integrate.start_values``.
+The C program is specialised like the numba loop: the shape (s, r, d) is compile-time
+(``-DS -DR -DD``), stepcore's limits (``limits.py``) and the problem's f, Jacobian and (for a
+separable problem) q- and p-rates are C headers generated here, the latter printed from the
+problem's sympy expressions (the same CSE and the same powers-as-products as the numba code of
+``problem_code.py``), so every built-in problem runs.  One executable per (problem, shape,
+sources, flags) under build/, built once (atomic rename).  Not in C: projection, invariant
+tracking, records and the fallbacks of a failed stage iteration (the C loop stops with
+status 4 where the Python driver would redo the step).
 
-    run_c(method_path, problem, h, steps, reps=5) -> dict(us_per_step, final, nfev, newton, ...)
-    run_numba(method_path, problem, h, steps, reps=5) -> the same dict, from the numba run_
-    c_f_jac(problem, points) -> (f, J) of the hand-written C functions at the points
+    run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact",
+          compensated=True, check_status=True)
+        -> dict(us_per_step, us_per_step_min, final, nfev, sweeps, seconds, seconds_all,
+                status, completed, nvel, mode, shape)
+    run_numba(...)        the same, from the compiled numba loop's ``run`` called directly
+    c_functions(problem, points) -> dict(f, jac[, fq, fp]) of the generated C functions
 
 ``final`` is the raw input vector y^[steps] (r × d), not passed through the finishing method.
-Timings are the median over ``reps`` whole runs of the step loop alone (C: CLOCK_MONOTONIC
-inside the program; numba: perf_counter around the compiled ``run_`` call, compiled before).
+nfev counts f-evaluations (in SPLIT: force evaluations fp; nvel the velocity evaluations fq),
+sweeps the stage-iteration sweeps.  Timings: the median (and min) over ``reps`` whole runs of
+the step loop alone — C: CLOCK_MONOTONIC inside the program; numba: perf_counter around the
+``run`` call, compiled before (not timed).
 
-Run: python benchmarks/c_reference/c_reference.py [--steps N] [--reps R] [--h H]
+Run: python benchmarks/c_reference/c_reference.py [--steps N] [--reps R] [--no-numba] [--cflags "-O3 -march=native ..."]
 """
 from __future__ import annotations
 
@@ -29,39 +44,200 @@ import time
 from pathlib import Path
 
 import numpy as np
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
 
 from tableau_lab.exact.tableau_json import load
+from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
-from tableau_lab.numeric.integrate import _Stepper, component_masks, start_values
-from tableau_lab.numeric.kernels import _Pack, kernel_module
+from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
+from tableau_lab.numeric.kernels import Pack, compiled_loop, loop_shape
+from tableau_lab.numeric.problems import get_problem
 
-__all__ = ["run_c", "run_numba", "c_f_jac", "build", "prepare", "PROBLEMS"]
+__all__ = ["run_c", "run_numba", "c_functions", "build", "prepare", "problem_header", "limits_header", "CASES",
+           "CFLAGS"]
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 SOURCE = HERE / "glm_loop.c"
 BUILD = HERE / "build"
-PROBLEMS = ("pendulum", "kepler")          # the problems glm_loop.c has f and J for
-EPS = float(np.finfo(float).eps)
+CFLAGS = ("-O3", "-march=native", "-std=c99", "-ffp-contract=off")   # the fastest; no FMA contraction: numba has none
+MODE_NAMES = {limits.NEWTON: "newton", limits.FIXED: "fixed", limits.SPLIT: "split"}
+
+# (method, problem, h, steps or None for --steps): the table of main() and the cases of check.py
+CASES = tuple([(m, p, 0.01, 500 if (m, p) == ("example4_glm", "kepler") else None)
+               for m in ("gauss2", "gauss3", "implicit_midpoint", "rk4", "example4_glm", "glm43")
+               for p in ("pendulum", "kepler")]
+              + [("gauss2", "fpu", 0.001, None), ("gauss2", "outer_solar_system", 10.0, None)])
+NOTES = {("example4_glm", "kepler"): "parasitism: blows up after some hundred steps; 500 steps only"}
 
 
-def build() -> Path:
-    """The compiled glm_loop (``gcc -O2``), cached under build/ by the hash of the source."""
-    text = SOURCE.read_bytes()
-    digest = hashlib.sha256(text + b"gcc -O2").hexdigest()[:16]
-    exe = BUILD / f"glm_loop_{digest}"
+# -- generated C ------------------------------------------------------------------------------------
+
+class _CPrinter(C99CodePrinter):
+    """C with the powers of problem_code._Printer (the numba code): integer powers 1..8 as
+    products, half-integer powers as products of square roots, larger integer powers by
+    squaring as numba's ``x**k`` (tl_ipow), every other power pow() (never cbrt)."""
+
+    def _print_Pow(self, e, rational=False):
+        b, x = e.base, e.exp
+        if x.is_Integer and 1 <= abs(int(x)) <= 8:
+            prod = "(" + "*".join([self.parenthesize(b, 100)] * abs(int(x))) + ")"
+            return prod if x > 0 else f"(1.0/{prod})"
+        if x.is_Integer and x != 0:
+            return f"tl_ipow({self._print(b)}, {int(x)})"
+        if x.is_Rational and x.q == 2:
+            root = f"sqrt({self._print(b)})"
+            k = abs(int(x.p))
+            prod = "(" + ("*".join([root] * k) if k <= 8 else f"tl_ipow({root}, {k})") + ")"
+            return prod if x > 0 else f"(1.0/{prod})"
+        return f"pow({self._print(b)}, {self._print(x)})"
+
+
+_IPOW = """\
+/* x**k as numba computes a float to a literal integer power: by squaring, then 1/r if k < 0 */
+static inline double tl_ipow(double a, int k)
+{
+    int e = k < 0 ? -k : k;
+    double r = 1.0;
+    while (e != 0) {
+        if (e & 1)
+            r *= a;
+        e >>= 1;
+        a *= a;
+    }
+    return k < 0 ? 1.0 / r : r;
+}
+"""
+
+
+def _c_function(name, state, params, exprs, at=None) -> str:
+    """``static inline void name(y, c, out)``: problem_code.function_source in C — the same
+    symbols, the same CSE — writing out[at[k]] (a list) or out[i*d + j] (rows, row-major)."""
+    subs = {s: sp.Symbol(f"y[{i}]") for i, s in enumerate(state)}
+    subs.update({p: sp.Symbol(f"c[{j}]") for j, p in enumerate(params)})
+    rows = exprs if (exprs and isinstance(exprs[0], (list, tuple))) else None
+    flat = [e for row in rows for e in row] if rows else list(exprs)
+    flat = [sp.sympify(e).xreplace(subs) for e in flat]
+    temps, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x"), optimizations="basic")
+    p = _CPrinter()
+    lines = [f"static inline void {name}(const double *restrict y, const double *restrict c, double *restrict out)",
+             "{", "    (void)y;", "    (void)c;"]
+    lines += [f"    const double {t} = {p.doprint(v)};" for t, v in temps]
+    width = len(rows[0]) if rows else None
+    for k, v in enumerate(reduced):
+        where = k if width else (at[k] if at else k)
+        lines.append(f"    out[{where}] = {p.doprint(v)};")
+    return "\n".join(lines + ["}"]) + "\n"
+
+
+_HEADERS: dict = {}
+
+
+def problem_header(problem) -> str:
+    """The C header of a problem (a name or a Problem): f_(y, c, out) (out: row i of F),
+    jac_(y, c, out) (d × d row-major) and, if separable, fq_ / fp_ (their components of the
+    row only), from the sympy expressions; TL_PROBLEM_D, TL_PROBLEM_NC, TL_PROBLEM_SEPARABLE."""
+    P = get_problem(problem)
+    if P.key in _HEADERS:
+        return _HEADERS[P.key]
+    state, params = list(P.state), list(P.parameter_symbols.values())
+    f = list(P.f_expr)
+    parts = [f"/* generated by benchmarks/c_reference/c_reference.py from the sympy expressions of problem "
+             f"{P.name!r}: do not edit */",
+             "/* needs <math.h>: glm_loop.c includes it first */",
+             f"#define TL_PROBLEM_D {len(state)}", f"#define TL_PROBLEM_NC {len(params)}",
+             f"#define TL_PROBLEM_SEPARABLE {int(bool(P.separable))}",
+             _IPOW,
+             _c_function("f_", state, params, f),
+             _c_function("jac_", state, params, sp.Matrix(f).jacobian(state).tolist())]
+    if P.separable:
+        k = len(P.q)
+        parts += [_c_function("fq_", state, params, f[:k], list(range(k))),
+                  _c_function("fp_", state, params, f[k:], list(range(k, 2 * k)))]
+    _HEADERS[P.key] = "\n".join(parts) + "\n"
+    return _HEADERS[P.key]
+
+
+def _c_number(v) -> str:
+    return repr(float(v)) if isinstance(v, float) else str(int(v))
+
+
+def limits_header() -> str:
+    """stepcore's constants (tableau_lab/numeric/limits.py) as C: every upper-case number, and
+    the tuples of numbers as static const double arrays."""
+    lines = ["/* generated by benchmarks/c_reference/c_reference.py from tableau_lab/numeric/limits.py: "
+             "do not edit */", "#define TL_LIMITS_H 1"]
+    for name in limits.__all__:
+        v = getattr(limits, name, None)
+        if isinstance(v, bool) or not name.isupper():
+            continue
+        if isinstance(v, (int, float)):
+            lines.append(f"#define {name} ({_c_number(v)})")
+        elif isinstance(v, tuple) and v and all(isinstance(x, (int, float)) for x in v):
+            lines.append(f"static const double {name}[{len(v)}] = {{{', '.join(repr(float(x)) for x in v)}}};")
+    return "\n".join(lines) + "\n"
+
+
+# -- build --------------------------------------------------------------------------------------------
+
+_GCC: dict = {}
+
+
+def _gcc() -> tuple:
+    if "gcc" not in _GCC:
+        gcc = shutil.which("gcc")
+        if gcc is None:
+            raise RuntimeError("gcc not found")
+        version = subprocess.run([gcc, "--version"], check=True, capture_output=True, text=True).stdout
+        _GCC["gcc"] = (gcc, version.splitlines()[0] if version else "")
+    return _GCC["gcc"]
+
+
+def _write_atomic(path: Path, text: str):
+    if path.exists():
+        return
+    tmp = path.with_name(f".{path.name}.{os.getpid()}")
+    tmp.write_text(text)
+    os.replace(tmp, path)
+
+
+def build(problem="pendulum", shape=(1, 1, 2), cflags=None) -> Path:
+    """The glm_loop executable of ``problem`` for the method shape (s, r, d), compiled with
+    ``gcc`` and ``cflags`` (default CFLAGS) once, cached under build/ by a hash of glm_loop.c,
+    the generated headers, the shape, the flags and gcc's version.  (Without arguments: the
+    pendulum at s = r = 1, a check that gcc works.)"""
+    P = get_problem(problem)
+    s, r, d = (int(x) for x in shape)
+    if d != P.dimension:
+        raise ValueError(f"problem {P.name!r} has dimension {P.dimension}, not d = {d}")
+    gcc, version = _gcc()
+    flags = tuple(CFLAGS if cflags is None else cflags)
+    lim, prob = limits_header(), problem_header(P)
+    digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
+                                        f"{s} {r} {d} {' '.join(flags)} {version}".encode()])).hexdigest()[:16]
+    tag = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in P.name)
+    exe = BUILD / f"glm_loop_{tag}_{s}x{r}x{d}_{digest}"
     if exe.exists():
         return exe
     BUILD.mkdir(parents=True, exist_ok=True)
-    gcc = shutil.which("gcc")
-    if gcc is None:
-        raise RuntimeError("gcc not found")
-    tmp = BUILD / f".glm_loop_{digest}.{os.getpid()}"
-    subprocess.run([gcc, "-O2", "-std=c99", "-o", str(tmp), str(SOURCE), "-lm"], check=True)
+    lim_h = BUILD / f"limits_{hashlib.sha256(lim.encode()).hexdigest()[:12]}.h"
+    prob_h = BUILD / f"problem_{tag}_{hashlib.sha256(prob.encode()).hexdigest()[:12]}.h"
+    _write_atomic(lim_h, lim)
+    _write_atomic(prob_h, prob)
+    tmp = BUILD / f".{exe.name}.{os.getpid()}"
+    cmd = [gcc, *flags, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
+           f'-DTL_PROBLEM_HEADER="{prob_h}"',
+           "-o", str(tmp), str(SOURCE), "-lm"]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    if res.returncode != 0:
+        raise RuntimeError(f"gcc failed ({' '.join(cmd)}):\n{res.stderr}")
     os.replace(tmp, exe)                   # atomic: concurrent builds do not see a half-written file
     return exe
 
+
+# -- the arrays both loops get ------------------------------------------------------------------------
 
 def _method_path(method_path) -> Path:
     p = Path(method_path)
@@ -73,26 +249,35 @@ def _method_path(method_path) -> Path:
     raise FileNotFoundError(f"method {method_path!r}: no such file (nor under {ROOT / 'methods'})")
 
 
+_NUMERIC: dict = {}
+
+
 class Prepared:
-    """What both loops get: the method, the compiled problem, the _Pack arrays, y^[0]."""
+    """The numeric method, the compiled problem, the Pack arrays (as integrate makes them for
+    the compiled loop, without projection or tracking), y^[0] and the shape."""
 
-    def __init__(self, method_path, problem, h, start="exact", compensated=True):
-        if problem not in PROBLEMS:
-            raise ValueError(f"glm_loop.c has f and J for {', '.join(PROBLEMS)}, not {problem!r}")
-        self.nm = to_numeric(load(str(_method_path(method_path))))
-        self.cp = compile_problem(problem)
-        self.problem = problem
-        d = len(self.cp.y0)
-        self.masks = tuple(np.array([float(x) for x in m]) for m in component_masks(self.cp, d))
-        self.mod = kernel_module(self.cp.problem)
-        # the pure stepper decides Kahan summation, h·s·max|A| and the stage iteration (Newton here)
-        stepper = _Stepper(self.nm, self.cp, float(h), d, self.masks, compensated, fixed=False)
-        self.pk = _Pack(self.nm, self.cp, float(h), self.masks, (), {}, self.mod, stepper)
-        self.Y0 = np.ascontiguousarray(np.asarray(start_values(self.nm, self.cp, self.cp.y0, float(h), start), dtype=float))
+    def __init__(self, method_path, problem, h, solver="auto", start="exact", compensated=True, mode=None):
+        path = _method_path(method_path).resolve()
+        if path not in _NUMERIC:
+            _NUMERIC[path] = to_numeric(load(str(path)))
+        self.nm = nm = _NUMERIC[path]
+        self.cp = cp = compile_problem(problem)
+        self.h = h = float(h)
+        d = len(cp.y0)
+        self.shape = (nm.s, nm.r, d)
+        a = nm.arith
+        with a.context():
+            masks = component_masks(cp, d)
+            # mode=None: integrate's choice; else forced (check.py: FIXED, which no separable problem gets)
+            self.mode = stage_iteration(solver, nm, cp, cp.y0, h, d) if mode is None else int(mode)
+            first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+            self.pk = Pack(nm, cp, h, masks, mode=self.mode, compensate=first_is_increment and compensated,
+                           project=(), track=(), targets={}, index={})
+            self.Y0 = np.ascontiguousarray(np.asarray(start_values(nm, cp, cp.y0, h, start), dtype=float))
 
 
-def prepare(method_path, problem, h, start="exact", compensated=True) -> Prepared:
-    return Prepared(method_path, problem, h, start, compensated)
+def prepare(method_path, problem, h, solver="auto", start="exact", compensated=True, mode=None) -> Prepared:
+    return Prepared(method_path, problem, h, solver, start, compensated, mode)
 
 
 def _line(key, values) -> str:
@@ -100,131 +285,153 @@ def _line(key, values) -> str:
     return f"{key} {values.size} " + " ".join(f"{float(x):.17g}" for x in values)
 
 
-def _input_text(pr: Prepared, steps, reps, mode=0, Y=None) -> str:
+def _input_text(pr: Prepared, steps, reps) -> str:
     pk = pr.pk
-    Aq, Ap, U, Bq, Bp, V = pk.mats
-    Y = pr.Y0 if Y is None else np.asarray(Y, dtype=float)
-    d = Y.shape[-1]
-    rows = Y.shape[0] if Y.ndim == 2 else 1
-    lines = [f"problem {pr.problem}",
-             _line("dims", [pk.s, rows if mode == 1 else pk.r, d, reps]),
-             _line("steps", [steps]), _line("mode", [mode]),
-             _line("h", [pk.h]), _line("eps", [EPS]), _line("hA", [pk.hA]),
-             _line("flags", pk.flags[:5]), _line("c", pk.c if pk.c.size else [0.0]),
-             _line("Aq", Aq), _line("Ap", Ap), _line("U", U), _line("Bq", Bq), _line("Bp", Bp), _line("V", V),
-             _line("mq", pk.mq), _line("mp", pk.mp), _line("E", pk.E), _line("Aqi", pk.Aqi), _line("Api", pk.Api),
-             _line("Y", Y)]
-    if mode == 1:          # U, Bq, ... are sized for r rows: leave them out of a point evaluation
-        lines = [ln for ln in lines if ln.split()[0] in ("problem", "dims", "steps", "mode", "c", "Y")]
-    return "\n".join(lines) + "\n"
+    return "\n".join([
+        _line("shape", pr.shape), _line("mode", [0]), _line("reps", [reps]), _line("steps", [steps]),
+        _line("h", [pk.h]), _line("hinv", [pk.hinv]), _line("eps", [pk.eps]), _line("hA", [pk.hA]),
+        _line("flags", pk.flags), _line("c", pk.c), _line("A", pk.A), _line("U", pk.U), _line("B", pk.B),
+        _line("V", pk.V), _line("cls", pk.cls), _line("E", pk.E), _line("Ainv", pk.Ainv), _line("Y", pr.Y0)]) + "\n"
 
 
-def _run_exe(text: str) -> dict:
-    exe = build()
+def _run_exe(exe: Path, text: str) -> dict:
     with tempfile.NamedTemporaryFile("w", suffix=".txt", prefix="glm_input_", delete=False) as fh:
         fh.write(text)
         path = fh.name
     try:
-        out = subprocess.run([str(exe), path], check=True, capture_output=True, text=True).stdout
+        res = subprocess.run([str(exe), path], capture_output=True, text=True)
     finally:
         os.unlink(path)
+    if res.returncode != 0:
+        raise RuntimeError(f"{exe.name} failed (exit {res.returncode}): {res.stderr.strip()}")
     parsed: dict = {}
-    for ln in out.splitlines():
+    for ln in res.stdout.splitlines():
         key, *rest = ln.split()
         parsed.setdefault(key, []).append(rest)
     return parsed
 
 
-def run_c(method_path, problem, h, steps, reps=5, *, start="exact", compensated=True, check_status=True) -> dict:
-    """The C loop: ``reps`` whole runs of ``steps`` steps from y^[0]; the median time.
-    Returns dict(us_per_step (median), us_per_step_min, final (r × d), nfev, newton, seconds
-    (median), seconds_all, status, completed).  status 1 (simplified Newton failed) / 2 (non-finite) raise RuntimeError unless
-    ``check_status=False`` (the numba driver would redo a status-1 step on the pure path)."""
-    pr = prepare(method_path, problem, h, start, compensated)
-    out = _run_exe(_input_text(pr, int(steps), int(reps)))
-    status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
-    if status != 0 and check_status:
-        why = "simplified Newton did not converge" if status == 1 else "the state is not finite"
-        raise RuntimeError(f"{method_path} on {problem}: the C loop stopped at step {completed + 1}: {why}")
-    seconds = float(out["seconds"][0][0])
-    times = [float(x) for x in out["seconds_all"][0][1:]]
-    return dict(us_per_step=seconds / steps * 1e6, us_per_step_min=min(times) / steps * 1e6,
-                final=np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.pk.r, -1),
-                nfev=int(out["nfev"][0][0]), newton=int(out["newton"][0][0]),
-                seconds=seconds, seconds_all=times, status=status, completed=completed)
+_WHY = {1: "the stage equations were not solved", 2: "the state is not finite",
+        4: "the stage iteration failed (the Python driver would redo the step by its fallbacks)"}
 
 
-def run_numba(method_path, problem, h, steps, reps=5, *, start="exact", compensated=True) -> dict:
-    """The compiled kernel's ``run_`` called directly (as kernels.drive calls it, in one chunk,
-    no projection, one record at the end): same dict as :func:`run_c`; compiled before timing."""
-    pr = prepare(method_path, problem, h, start, compensated)
-    pk, mod = pr.pk, pr.mod
-    r, d = pr.Y0.shape
-    times = []
-    for rep in range(int(reps) + 1):       # rep 0: compile / load numba's cache, not timed
-        Y = pr.Y0.copy()
-        flags = pk.flags.copy()
-        comp, Fprev, stats = np.zeros(d), np.zeros((pk.s, d)), np.zeros(6)
-        rec, recn = np.empty((2, r, d)), np.empty(2, dtype=np.int64)
-        n1 = 0 if rep == 0 else int(steps)
-        t0 = time.perf_counter()
-        head, tail = pk.args()              # kernels.drive's call, with this rep's flags
-        tail = tuple(flags if x is pk.flags else x for x in tail)
-        status = mod.run_(Y, *head, 0, n1, int(steps), int(steps), *tail, comp, Fprev, rec, recn, stats)
-        if rep:
-            times.append(time.perf_counter() - t0)
+def _result(times, steps, final, stats, status, completed, pr) -> dict:
     seconds = float(np.median(times))
-    return dict(us_per_step=seconds / steps * 1e6, us_per_step_min=min(times) / steps * 1e6, final=Y, nfev=int(stats[0]), newton=int(stats[1]),
-                seconds=seconds, seconds_all=times, status=int(status),
-                completed=int(steps) if status == 0 else int(stats[4]) - 1)
+    return dict(us_per_step=seconds / steps * 1e6, us_per_step_min=min(times) / steps * 1e6, final=final,
+                nfev=int(stats[0]), sweeps=int(stats[1]), nvel=int(stats[2]), seconds=seconds,
+                seconds_all=list(times), status=int(status), completed=int(completed),
+                mode=MODE_NAMES.get(pr.mode, str(pr.mode)) if not pr.nm.explicit else "explicit", shape=pr.shape)
 
 
-def c_f_jac(problem, points):
-    """f and the Jacobian of glm_loop.c's hand-written functions at each point (k × d)."""
-    pr = prepare("methods/gauss2.json", problem, 0.01)
+def _check(status, completed, what, method_path, problem, check_status):
+    if status != 0 and check_status:
+        raise RuntimeError(f"{method_path} on {problem}: the {what} loop stopped at step {completed + 1}: "
+                           f"{_WHY.get(status, f'status {status}')}")
+
+
+def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact", compensated=True,
+          check_status=True, mode=None, cflags=None) -> dict:
+    """The C loop: ``reps`` whole runs of ``steps`` steps from y^[0]; the median time.  A
+    stopped run (status 2: not finite, 4: the stage iteration failed) raises RuntimeError
+    unless ``check_status=False``.  ``mode``: force a stage-iteration mode (limits.NEWTON,
+    FIXED, SPLIT) instead of integrate's choice; ``cflags``: gcc flags instead of CFLAGS."""
+    steps = int(steps)
+    if steps < 1:
+        raise ValueError("steps must be positive")
+    pr = prepare(method_path, problem, h, solver, start, compensated, mode)
+    out = _run_exe(build(pr.cp.problem, pr.shape, cflags), _input_text(pr, steps, int(reps)))
+    status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
+    _check(status, completed, "C", method_path, problem, check_status)
+    final = np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.shape[1], pr.shape[2])
+    stats = [int(out[k][0][0]) for k in ("nfev", "sweeps", "nvel")]
+    return _result([float(x) for x in out["seconds_all"][0][1:]], steps, final, stats, status, completed, pr)
+
+
+def run_numba(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact", compensated=True,
+              check_status=True, mode=None) -> dict:
+    """The compiled numba loop's ``run`` called directly with the same arrays, as kernels.drive
+    calls it, in one chunk (n0 = 0, n1 = every = steps; no projection, no tracking; the
+    workspace allocated once); compiled first (not timed).  The same dict as :func:`run_c`."""
+    steps = int(steps)
+    if steps < 1:
+        raise ValueError("steps must be positive")
+    pr = prepare(method_path, problem, h, solver, start, compensated, mode)
+    pk, (s, r, d) = pr.pk, pr.shape
+    loop = compiled_loop(pr.cp.problem, "f64", loop_shape(s, r, d))
+    stages, work = loop.workspace(s, r, d, len(pk.proj))
+
+    def call(n1):
+        Y, flags = pr.Y0.copy(), pk.flags.copy()
+        comp, Fh = np.zeros(d), np.zeros((limits.HISTORY, s, d))
+        stats, tmax = np.zeros(limits.N_STATS), np.zeros(len(pk.track))
+        rec, recn = np.zeros((3, r, d)), np.zeros(3, dtype=np.int64)
+        t0 = time.perf_counter()
+        status = loop.run(Y, pk.h, pk.hinv, 0, n1, steps, steps, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv,
+                          flags, pk.c, pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, tmax, 1,
+                          comp, Fh, rec, recn, stats, stages, work)
+        return time.perf_counter() - t0, int(status), Y, stats
+
+    call(0)                                 # compile, or load numba's cache: not timed
+    times = []
+    for _ in range(int(reps)):
+        seconds, status, Y, stats = call(steps)
+        times.append(seconds)
+    completed = steps if status == 0 else int(stats[limits.S_STEP]) - 1
+    _check(status, completed, "numba", method_path, problem, check_status)
+    counts = [stats[limits.S_NFEV], stats[limits.S_SWEEPS], stats[limits.S_NVEL]]
+    return _result(times, steps, Y, counts, status, completed, pr)
+
+
+def c_functions(problem, points, cflags=None) -> dict:
+    """The generated C functions at each point (k × d): dict(f, jac (k × d × d), and for a
+    separable problem fq, fp: their own components, NaN elsewhere)."""
+    P = get_problem(problem)
+    cp = compile_problem(P)
     pts = np.atleast_2d(np.asarray(points, dtype=float))
-    out = _run_exe(_input_text(pr, 0, 1, mode=1, Y=pts))
-    d = pts.shape[1]
-    f = np.array([[float(x) for x in row[1:]] for row in out["f"]])
-    J = np.array([[float(x) for x in row[1:]] for row in out["jac"]]).reshape(-1, d, d)
-    return f, J
+    d = P.dimension
+    exe = build(P, (1, 1, d), cflags)
+    text = "\n".join([_line("shape", [1, 1, d]), _line("mode", [1]), _line("c", cp.constants),
+                      _line("points", pts)]) + "\n"
+    out = _run_exe(exe, text)
+    res = {k: np.array([[float(x) for x in row[1:]] for row in out[k]]) for k in ("f", "jac", "fq", "fp") if k in out}
+    res["jac"] = res["jac"].reshape(-1, d, d)
+    return res
 
 
-METHODS = ("gauss2", "implicit_midpoint", "rk4", "example4_glm")
-
+# -- the table ----------------------------------------------------------------------------------------
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--h", type=float, default=0.01)
     ap.add_argument("--steps", type=int, default=100000)
     ap.add_argument("--reps", type=int, default=5)
-    ap.add_argument("--no-numba", action="store_true", help="the C column only")
+    ap.add_argument("--no-numba", action="store_true", help="the C columns only")
+    ap.add_argument("--cflags", default=" ".join(CFLAGS), help=f"gcc flags (default: {' '.join(CFLAGS)})")
     args = ap.parse_args(argv)
-    print(f"h = {args.h}, {args.steps} steps, median (and min) of {args.reps} runs of the step loop alone; "
-          f"numba/C: ratio of the medians; max|dY|: raw final input vectors (indicative timings: other "
-          f"processes may run)")
-    head = (f"{'method':<18} {'problem':<9} {'steps':>7} {'C us/step':>10} {'(min)':>7} {'nfev/step':>9} "
-            f"{'newton/step':>11}")
+    cflags = tuple(args.cflags.split())
+    print(f"{args.steps} steps (h as listed), median of {args.reps} runs of the step loop alone; C: gcc "
+          f"{' '.join(cflags)}; numba/C: ratio of the medians; nfev/step: f-evaluations (split: force "
+          f"evaluations); max|dY|: raw final input vectors.  Indicative timings: other processes share the cores.")
+    head = (f"{'method':<18} {'problem':<19} {'h':>6} {'steps':>7} {'mode':>8} {'C us/step':>10} "
+            f"{'nfev/st C':>9}")
     if not args.no_numba:
-        head += f" {'numba us/step':>13} {'(min)':>7} {'numba/C':>7} {'max|dY|':>9}"
+        head += f" {'numba us/step':>13} {'numba/C':>7} {'nfev/st nb':>10} {'max|dY|':>9}"
     print(head)
-    for method in METHODS:
-        for problem in PROBLEMS:
-            steps = args.steps
-            note = ""
-            if method == "example4_glm" and problem == "kepler":
-                # Example 4 is destroyed by parasitism on Kepler after some hundred steps
-                steps, note = min(steps, 500), "  (parasitism: simplified Newton fails at step 577; 500 steps only)"
-            c = run_c(f"methods/{method}.json", problem, args.h, steps, args.reps)
-            row = (f"{method:<18} {problem:<9} {steps:>7} {c['us_per_step']:>10.3f} {c['us_per_step_min']:>7.3f} "
-                   f"{c['nfev'] / steps:>9.2f} "
-                   f"{c['newton'] / steps:>11.2f}")
-            if not args.no_numba:
-                nb = run_numba(f"methods/{method}.json", problem, args.h, steps, args.reps)
-                diff = float(np.max(np.abs(nb["final"] - c["final"])))
-                row += (f" {nb['us_per_step']:>13.3f} {nb['us_per_step_min']:>7.3f} "
-                        f"{nb['us_per_step'] / c['us_per_step']:>7.2f} {diff:>9.2e}")
-            print(row + note, flush=True)
+    for method, problem, h, n in CASES:
+        steps = min(args.steps, n) if n else args.steps
+        path = ROOT / "methods" / f"{method}.json"
+        c = run_c(path, problem, h, steps, args.reps, check_status=False, cflags=cflags)
+        row = (f"{method:<18} {problem:<19} {h:>6g} {steps:>7} {c['mode']:>8} {c['us_per_step']:>10.3f} "
+               f"{c['nfev'] / steps:>9.2f}")
+        if not args.no_numba:
+            nb = run_numba(path, problem, h, steps, args.reps, check_status=False)
+            diff = float(np.max(np.abs(nb["final"] - c["final"])))
+            row += (f" {nb['us_per_step']:>13.3f} {nb['us_per_step'] / c['us_per_step']:>7.2f} "
+                    f"{nb['nfev'] / steps:>10.2f} {diff:>9.2e}")
+        notes = [NOTES[method, problem]] if (method, problem) in NOTES else []
+        if c["status"]:
+            notes.append(f"C stopped at step {c['completed'] + 1}: {_WHY.get(c['status'], c['status'])}")
+        print(row + ("  (" + "; ".join(notes) + ")" if notes else ""), flush=True)
+    return 0
 
 
 if __name__ == "__main__":

@@ -1,32 +1,43 @@
-/* Hand-written C99 reference of the compiled float64 step loop of tableau_lab
- * (tableau_lab/numeric/kernel_source.py, LOOP: lu_factor_, lu_solve_, converged_, rhs_,
- * newton_, run_), for benchmarking only: not part of the package.  Projection and the
- * per-step invariant tracking (``track``) are left out (the benchmark runs without them).
- * Mirrors the float64 LOOP as of commit a265458 (stage derivatives as rhs_(1/h, Aqi, Api, Z));
+/* C99 reference of the float64 step loop of tableau_lab (tableau_lab/numeric/stepcore.py, run
+ * with ops_f64.py), for benchmarking and sameness checks only: not part of the package.
  * benchmarks/c_reference/check.py tells when the two drift apart.
  *
- * The algorithm, line for line as in the numba loop: the partitioned GLM step
- *   Yi   = sum_k U[i,k] y_k + h sum_j (Aq[i,j] Pq + Ap[i,j] Pp) f(Yj)
- *   y'_k = sum_l V[k,l] y_l + h sum_j (Bq[k,j] Pq + Bp[k,j] Pp) f(Yj)
- * explicit stages in order, or simplified Newton on the stage increments Z = Y - Ubar with one
- * Jacobian (at Ubar[0]) per step, started from the previous step's stage derivatives
- * extrapolated by E, stopped by Hairer's theta/(1 - theta)|dZ| test; stage derivatives from
- * (1/h) A^-1 Z when A is invertible; Kahan summation of the principal increment; a non-finite
- * state or a failed Newton stops the loop with status 2 / 1 (the Python driver would redo the
- * step on the pure path; here the run just reports it).
+ * What is here, function for function as in stepcore.py (same names, same arithmetic in the
+ * same order, so that the f-evaluation counts are equal and the final states agree to
+ * round-off, bit for bit where f is evaluated alike):
+ *   the partitioned GLM step, input y^[n-1] (R x D), component class cls[l] (0 = q, 1 = p)
+ *     Y_i   = sum_k U[i,k] y_k + h sum_j A[cls(l)][i,j] f(Y_j)
+ *     y'_k  = sum_j V[k,j] y_j + h sum_j B[cls(l)][k,j] f(Y_j)   (Kahan on y'_1 if flags[F_COMPENSATE])
+ *   explicit stages in order (explicit_stages), or the run's stage iteration (primary_stages):
+ *     SPLIT  (split_stages): fixed point on the q stages of a separable problem: forces fp_ at
+ *            the q stages -> p stages -> velocities fq_ at the p stages -> new q stages; stop
+ *            when the q and p corrections are SPLIT_TOL_ULPS ulps of the stage values, or on a
+ *            stall at the round-off floor;
+ *     NEWTON / FIXED (newton_stages): simplified Newton on Z = Y - Ubar with the Jacobian at
+ *            Ubar_1 (FIXED: M = I), Hairer's theta test, stage derivatives A^-1 Z / h;
+ *   both started by predict (HISTORY steps of stage derivatives in the ring Fh extrapolated per
+ *   stage, or E times the last step's before that); keep pushes them into the ring.
+ * Not here: projection, invariant tracking, records, and the fallback chain (rescue_step): a
+ * failed primary iteration stops the loop with status 4 (the Python driver would redo the step
+ * by the fallbacks); a non-finite state stops it with status 2.
  *
- * f and the Jacobian are written by hand for two problems:
- *   pendulum  y = (q, p), H = p^2/2 - cos q
- *   kepler    y = (q1, q2, p1, p2), H = |p|^2/2 - 1/r - delta/(2 r^3)   (delta = c[1] = 0.005)
+ * Compile-time constants (as the numba loop is specialised per shape):
+ *   -DS=.. -DR=.. -DD=..   the method's stages s, input values r, and the problem's dimension d;
+ *   -DTL_LIMITS_HEADER: a generated header of stepcore's limits (limits.py: HISTORY,
+ *   HISTORY_WEIGHTS, STAGE_SWEEPS, the F_* indices, ...);
+ *   -DTL_PROBLEM_HEADER: a generated header of the problem (f_, jac_, and fq_/fp_ if separable;
+ *   TL_PROBLEM_D, TL_PROBLEM_NC, TL_PROBLEM_SEPARABLE), printed from its sympy expressions by
+ *   c_reference.py; both included below, after the system headers.
+ * Build (c_reference.build does it, cached under build/):
+ *   gcc -O2 -std=c99 -ffp-contract=off -DS=2 -DR=1 -DD=4 -DTL_LIMITS_HEADER='"limits.h"' \
+ *       -DTL_PROBLEM_HEADER='"problem_kepler.h"' -o glm_loop glm_loop.c -lm
  *
- * Input (file given as argv[1]): lines "key count v1 ... vcount" (doubles written %.17g), and
- * "problem NAME".  Keys: dims (s r d reps), steps, mode (0: run, 1: print f and J at each row
- * of Y), h, eps, hA, flags (explicit, has_E, has_inv, compensated, have_prev), c, Aq, Ap, U,
- * Bq, Bp, V, mq, mp, E, Aqi, Api, Y (r x d, row-major).
- * Output (stdout): status, completed, nfev, newton, seconds (median over the reps of the step
- * loop alone, CLOCK_MONOTONIC), seconds_all, final (r x d, %.17g).
- *
- * Build: gcc -O2 -o glm_loop glm_loop.c -lm
+ * Input (file argv[1]): lines "key count v1 ... vcount", doubles written %.17g.  Keys: shape
+ * (S R D, checked), mode (0: run the loop; 1: print f, J, fq, fp at each point), reps, steps,
+ * h, hinv, eps, hA, flags (N_FLAGS, limits' F_* layout), c, A (2 S S), U (S R), B (2 R S),
+ * V (R R), cls (D), E (S S), Ainv (2 S S), Y (R D, row-major); mode 1: points (n D).
+ * Output (stdout): status, completed, step, nfev, sweeps, nvel, seconds (median over the reps
+ * of the step loop alone, CLOCK_MONOTONIC), seconds_all, final (R x D, %.17g).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -35,123 +46,78 @@
 #include <string.h>
 #include <time.h>
 
-#define MAXS 8
-#define MAXR 8
-#define MAXD 8
-#define MAXSD (MAXS * MAXD)
+#if !defined(S) || !defined(R) || !defined(D)
+#error "compile with the method shape: -DS=.. -DR=.. -DD=.."
+#endif
+#if !defined(TL_LIMITS_HEADER) || !defined(TL_PROBLEM_HEADER)
+#error "name the generated headers: -DTL_LIMITS_HEADER='\"limits.h\"' -DTL_PROBLEM_HEADER='\"problem.h\"'"
+#endif
+#include TL_LIMITS_HEADER
+#include TL_PROBLEM_HEADER
+#if TL_PROBLEM_D != D
+#error "D is not the dimension of the problem"
+#endif
+
+#define SD (S * D)
+#define NC (TL_PROBLEM_NC > 0 ? TL_PROBLEM_NC : 1)
 #define MAXREPS 1000
-#define MAX(a, b) ((b) > (a) ? (b) : (a))     /* Python's max(a, b) */
+#define MAX(a, b) ((b) > (a) ? (b) : (a))       /* Python's (and numba's) max(a, b) */
+#define MIN(a, b) ((b) < (a) ? (b) : (a))
 
-enum { PENDULUM = 0, KEPLER = 1 };
+/* the method and run constants: the arrays of kernels.Pack */
+typedef struct {
+    double A[2][S][S], U[S][R], B[2][R][S], V[R][R], E[S][S], Ainv[2][S][S];
+    int cls[D];
+    double h, hinv, eps, hA;
+    double c[NC];
+    long flags[N_FLAGS];
+} Pack;
 
-/* ---- the problems, by hand ------------------------------------------------------------ */
+/* the loop's arrays (stepcore.workspace), the history ring, the Kahan carry and the counters */
+typedef struct {
+    double Ubar[S][D], F[S][D], Z[S][D], W[S][D], Yst[D], J[D][D], M[SD][SD], Rv[SD];
+    int piv[SD];
+    double Yout[R][D], comp[D], Fh[HISTORY][S][D];
+    long flags[N_FLAGS];
+    long nfev, sweeps, nvel, step;
+} Work;
 
-static void f_pendulum(const double *y, double *out)
+/* ---- core (stepcore.py, same order of operations) -------------------------------------- */
+
+static int lu_factor(double M[SD][SD], int piv[SD])
 {
-    out[0] = y[1];
-    out[1] = -sin(y[0]);
-}
-
-static void jac_pendulum(const double *y, double *J)          /* d x d, row-major */
-{
-    J[0] = 0.0;
-    J[1] = 1.0;
-    J[2] = -cos(y[0]);
-    J[3] = 0.0;
-}
-
-/* f = (p1, p2, -q1 g, -q2 g),  g = 1/r^3 + 1.5 delta / r^5 */
-static void f_kepler(const double *y, const double *c, double *out)
-{
-    const double delta = c[1];
-    const double r2 = y[0] * y[0] + y[1] * y[1];
-    const double r = sqrt(r2);
-    const double ir3 = 1.0 / (r2 * r);
-    const double g = ir3 * (1.0 + 1.5 * delta / r2);
-    out[0] = y[2];
-    out[1] = y[3];
-    out[2] = -y[0] * g;
-    out[3] = -y[1] * g;
-}
-
-/* d(-qi g)/dqj = -g delta_ij - qi dg/dqj,  dg/dqj = -qj (3/r^5 + 7.5 delta/r^7) =: -qj k
- * so J[2+i][j] = -g delta_ij + qi qj k;  dp/dp rows: J[i][2+i] = 1. */
-static void jac_kepler(const double *y, const double *c, double *J)
-{
-    const double delta = c[1];
-    const double q1 = y[0], q2 = y[1];
-    const double r2 = q1 * q1 + q2 * q2;
-    const double r = sqrt(r2);
-    const double ir2 = 1.0 / r2;
-    const double ir3 = ir2 / r;
-    const double ir5 = ir3 * ir2;
-    const double g = ir3 + 1.5 * delta * ir5;
-    const double k = 3.0 * ir5 + 7.5 * delta * ir5 * ir2;
-    const double off = q1 * q2 * k;
-    memset(J, 0, 16 * sizeof(double));
-    J[0 * 4 + 2] = 1.0;
-    J[1 * 4 + 3] = 1.0;
-    J[2 * 4 + 0] = q1 * q1 * k - g;
-    J[2 * 4 + 1] = off;
-    J[3 * 4 + 0] = off;
-    J[3 * 4 + 1] = q2 * q2 * k - g;
-}
-
-static int problem;          /* loop-invariant: the branches below are perfectly predicted */
-
-static inline void f_(const double *y, const double *c, double *out)
-{
-    if (problem == KEPLER)
-        f_kepler(y, c, out);
-    else
-        f_pendulum(y, out);
-}
-
-static inline void jac_(const double *y, const double *c, double *J)
-{
-    if (problem == KEPLER)
-        jac_kepler(y, c, J);
-    else
-        jac_pendulum(y, J);
-}
-
-/* ---- the loop -------------------------------------------------------------------------- */
-
-/* LU with partial pivoting in place, M n x n row-major; 1 when singular */
-static int lu_factor_(double *M, int n, int *piv)
-{
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < SD; k++) {
         int p = k;
-        double big = fabs(M[k * n + k]);
-        for (int i = k + 1; i < n; i++)
-            if (fabs(M[i * n + k]) > big) {
-                big = fabs(M[i * n + k]);
+        double big = fabs(M[k][k]);
+        for (int i = k + 1; i < SD; i++)
+            if (fabs(M[i][k]) > big) {
+                big = fabs(M[i][k]);
                 p = i;
             }
         piv[k] = p;
         if (big == 0.0)
             return 1;
         if (p != k)
-            for (int j = 0; j < n; j++) {
-                double tmp = M[k * n + j];
-                M[k * n + j] = M[p * n + j];
-                M[p * n + j] = tmp;
+            for (int j = 0; j < SD; j++) {
+                double tmp = M[k][j];
+                M[k][j] = M[p][j];
+                M[p][j] = tmp;
             }
-        double inv = 1.0 / M[k * n + k];
-        for (int i = k + 1; i < n; i++) {
-            double m = M[i * n + k] * inv;
-            M[i * n + k] = m;
+        double inv = 1.0 / M[k][k];
+        for (int i = k + 1; i < SD; i++) {
+            double m = M[i][k] * inv;
+            M[i][k] = m;
             if (m != 0.0)
-                for (int j = k + 1; j < n; j++)
-                    M[i * n + j] -= m * M[k * n + j];
+                for (int j = k + 1; j < SD; j++)
+                    M[i][j] -= m * M[k][j];
         }
     }
     return 0;
 }
 
-static void lu_solve_(const double *M, int n, const int *piv, double *b)
+static inline void lu_solve(double M[SD][SD], const int piv[SD], double b[SD])
 {
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < SD; k++) {
         int p = piv[k];
         if (p != k) {
             double tmp = b[k];
@@ -159,223 +125,387 @@ static void lu_solve_(const double *M, int n, const int *piv, double *b)
             b[p] = tmp;
         }
     }
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < SD; i++) {
         double acc = b[i];
         for (int j = 0; j < i; j++)
-            acc -= M[i * n + j] * b[j];
+            acc -= M[i][j] * b[j];
         b[i] = acc;
     }
-    for (int i = n - 1; i >= 0; i--) {
+    for (int i = SD - 1; i >= 0; i--) {
         double acc = b[i];
-        for (int j = i + 1; j < n; j++)
-            acc -= M[i * n + j] * b[j];
-        b[i] = acc / M[i * n + i];
+        for (int j = i + 1; j < SD; j++)
+            acc -= M[i][j] * b[j];
+        b[i] = acc / M[i][i];
     }
 }
 
-static int converged_(double size, double prev, double tol, double floor_)
+static inline int converged(double size, double prev, double tol, double floor_)
 {
     if (size <= tol)
         return 1;
     if (prev <= 0.0)
         return 0;
     double theta = size / prev;
-    return (theta < 1.0 && theta / (1.0 - theta) * size <= tol) || (theta >= 0.9 && size <= floor_);
+    return (theta < 1.0 && theta / (1.0 - theta) * size <= tol) || (theta >= STALL_THETA && size <= floor_);
 }
 
-/* the method and run constants (the arrays of kernels._Pack) */
-typedef struct {
-    int s, r, d;
-    double h, eps, hA;
-    long flags[5];          /* explicit, has_E, has_inv, compensated, have_prev */
-    double c[16];
-    int nc;
-    double Aq[MAXS * MAXS], Ap[MAXS * MAXS], U[MAXS * MAXR];
-    double Bq[MAXR * MAXS], Bp[MAXR * MAXS], V[MAXR * MAXR];
-    double mq[MAXD], mp[MAXD];
-    double E[MAXS * MAXS], Aqi[MAXS * MAXS], Api[MAXS * MAXS];
-} Pack;
-
-/* work arrays: allocated once (static), never per step */
-typedef struct {
-    double Ubar[MAXS * MAXD], F[MAXS * MAXD], Z[MAXS * MAXD], W[MAXS * MAXD], Fprev[MAXS * MAXD];
-    double Yst[MAXD], J[MAXD * MAXD], M[MAXSD * MAXSD], R[MAXSD];
-    int piv[MAXSD];
-    double Yout[MAXR * MAXD], inc[MAXD], comp[MAXD];
-    long nfev, newton;
-} Work;
-
-/* out = h (Aq F o mq + Ap F o mp), s x d */
-static void rhs_(double h, const double *Aq, const double *Ap, const double *mq, const double *mp, int s, int d,
-                 const double *F, double *out)
+/* h sum_j A[cls[l]][i][j] F[j][l]: the stage sum of component l (Aq_i, Ap_i: row i of A[0], A[1];
+ * also rows of B) */
+static inline double combine(double h, const double Aq_i[S], const double Ap_i[S], int cls_l,
+                             double F[S][D], int l)
 {
-    for (int i = 0; i < s; i++)
-        for (int l = 0; l < d; l++) {
-            double aq = 0.0, ap = 0.0;
-            for (int j = 0; j < s; j++) {
-                aq += Aq[i * s + j] * F[j * d + l];
-                ap += Ap[i * s + j] * F[j * d + l];
-            }
-            out[i * d + l] = h * (aq * mq[l] + ap * mp[l]);
-        }
+    const double *a_i = cls_l == 0 ? Aq_i : Ap_i;
+    double acc = 0.0;
+    for (int j = 0; j < S; j++) {
+        const double a = a_i[j];
+        if (a != 0.0)
+            acc = acc + a * F[j][l];
+    }
+    return h * acc;
 }
 
-static int newton_(Pack *P, Work *w)
+static inline void stage_sums(double h, double A[2][S][S], const int cls[D], double F[S][D],
+                              double out[S][D])
 {
-    const int s = P->s, d = P->d, sd = s * d;
-    const double h = P->h, eps = P->eps;
-    const double *c = P->c;
-    double *Ubar = w->Ubar, *F = w->F, *Z = w->Z, *W = w->W, *Yst = w->Yst, *J = w->J, *M = w->M,
-           *R = w->R;
-    jac_(Ubar, c, J);
-    double jmax = 0.0;
-    for (int k = 0; k < d * d; k++)
-        jmax = MAX(jmax, fabs(J[k]));
-    const double amp = 1.0 + P->hA * jmax;
-    double scale = 0.0;
-    for (int k = 0; k < sd; k++)
-        scale = MAX(scale, fabs(Ubar[k]));
-    scale += 1.0;
-    for (int a = 0; a < sd; a++)
-        for (int b = 0; b < sd; b++)
-            M[a * sd + b] = a == b ? 1.0 : 0.0;
-    for (int i = 0; i < s; i++)
-        for (int j = 0; j < s; j++) {
-            double aq = P->Aq[i * s + j], ap = P->Ap[i * s + j];
-            if (aq != 0.0 || ap != 0.0)
-                for (int k = 0; k < d; k++) {
-                    double wk = h * (aq * P->mq[k] + ap * P->mp[k]);
-                    for (int l = 0; l < d; l++)
-                        M[(i * d + k) * sd + j * d + l] -= wk * J[k * d + l];
+    for (int i = 0; i < S; i++)
+        for (int l = 0; l < D; l++)
+            out[i][l] = combine(h, A[0][i], A[1][i], cls[l], F, l);
+}
+
+static inline void stage_input(double Ubar[S][D], double Z[S][D], int i, double Yst[D])
+{
+    for (int l = 0; l < D; l++)
+        Yst[l] = Ubar[i][l] + Z[i][l];
+}
+
+static inline void eval_stages(double Ubar[S][D], double Z[S][D], const double *c, double Yst[D],
+                               double F[S][D])
+{
+    for (int i = 0; i < S; i++) {
+        stage_input(Ubar, Z, i, Yst);
+        f_(Yst, c, F[i]);
+    }
+}
+
+/* W ~ the new step's stage derivatives: the ring's HISTORY steps extrapolated in n, or E times
+ * the last step's */
+static inline void predict(double E[S][S], double Fh[HISTORY][S][D], const long flags[N_FLAGS],
+                           double W[S][D])
+{
+    const long k = flags[F_NHIST];
+    const long pos = flags[F_HPOS];
+    if (k >= HISTORY) {
+        for (int i = 0; i < S; i++)
+            for (int l = 0; l < D; l++) {
+                double acc = 0.0;
+                for (int m = 0; m < HISTORY; m++) {
+                    long slot = pos - 1 - m;
+                    if (slot < 0)
+                        slot += HISTORY;
+                    acc = acc + HISTORY_WEIGHTS[m] * Fh[slot][i][l];
                 }
+                W[i][l] = acc;
+            }
+    } else {
+        const long last = pos > 0 ? pos - 1 : HISTORY - 1;
+        for (int i = 0; i < S; i++)
+            for (int l = 0; l < D; l++) {
+                double acc = 0.0;
+                for (int j = 0; j < S; j++)
+                    acc = acc + E[i][j] * Fh[last][j][l];
+                W[i][l] = acc;
+            }
+    }
+}
+
+static inline int can_predict(const long flags[N_FLAGS])
+{
+    return flags[F_NHIST] >= HISTORY || (flags[F_NHIST] > 0 && flags[F_HAS_E] == 1);
+}
+
+static inline void keep(double F[S][D], double Fh[HISTORY][S][D], long flags[N_FLAGS])
+{
+    const long pos = flags[F_HPOS];
+    for (int i = 0; i < S; i++)
+        for (int l = 0; l < D; l++)
+            Fh[pos][i][l] = F[i][l];
+    flags[F_HPOS] = pos + 1 < HISTORY ? pos + 1 : 0;
+    flags[F_NHIST] = MIN(flags[F_NHIST] + 1, HISTORY);
+}
+
+static inline void explicit_stages(Pack *P, Work *w)
+{
+    const double h = P->h;
+    for (int i = 0; i < S; i++) {
+        for (int l = 0; l < D; l++) {
+            double acc = w->Ubar[i][l];
+            const int k = P->cls[l];
+            for (int j = 0; j < i; j++) {
+                const double a = P->A[k][i][j];
+                if (a != 0.0)
+                    acc = acc + (h * a) * w->F[j][l];
+            }
+            w->Yst[l] = acc;
         }
-    if (lu_factor_(M, sd, w->piv) != 0)
-        return 1;
-    const int predicted = P->flags[1] == 1 && P->flags[4] == 1;
+        f_(w->Yst, P->c, w->F[i]);
+    }
+    w->nfev += S;
+}
+
+/* M[block i, j] -= h A[cls, i, j] J */
+static inline void subtract_block(double M[SD][SD], double hlo, double A[2][S][S], const int cls[D],
+                                  double J[D][D], int i, int j)
+{
+    for (int k = 0; k < D; k++) {
+        const double wk = hlo * A[cls[k]][i][j];
+        if (wk != 0.0)
+            for (int l = 0; l < D; l++)
+                M[i * D + k][j * D + l] -= wk * J[k][l];
+    }
+}
+
+static inline void identity(double M[SD][SD])
+{
+    for (int a = 0; a < SD; a++)
+        for (int b = 0; b < SD; b++)
+            M[a][b] = a == b ? 1.0 : 0.0;
+}
+
+/* f(Y_i) of converged stages Y = Ubar + Z: A^-1 Z / h when A is invertible, else evaluated */
+static inline void stage_derivatives(Pack *P, Work *w)
+{
+    if (w->flags[F_HAS_INV] == 1) {
+        stage_sums(P->hinv, P->Ainv, P->cls, w->Z, w->F);
+    } else {
+        eval_stages(w->Ubar, w->Z, P->c, w->Yst, w->F);
+        w->nfev += S;
+    }
+    keep(w->F, w->Fh, w->flags);
+}
+
+/* simplified Newton (NEWTON) or fixed point (FIXED: M = I) on the stage increments Z; 0 when
+ * converged (F holds the stage derivatives), else 1 */
+static int newton_stages(long mode, Pack *P, Work *w)
+{
+    const double h = P->h, eps = P->eps;
+    const double hlo = h;
+    double amp = 1.0;
+    if (mode != FIXED) {                    /* round-off amplified by the stage system's conditioning */
+        for (int l = 0; l < D; l++)
+            w->Yst[l] = w->Ubar[0][l];
+        jac_(w->Yst, P->c, &w->J[0][0]);
+        double jmax = 0.0;
+        for (int k = 0; k < D; k++)
+            for (int l = 0; l < D; l++)
+                jmax = MAX(jmax, fabs(w->J[k][l]));
+        amp = 1.0 + P->hA * jmax;
+    }
+    if (mode == NEWTON) {
+        identity(w->M);
+        for (int i = 0; i < S; i++)
+            for (int j = 0; j < S; j++)
+                subtract_block(w->M, hlo, P->A, P->cls, w->J, i, j);
+        if (lu_factor(w->M, w->piv) != 0)
+            return 1;
+    }
+    double scale = 0.0;
+    for (int i = 0; i < S; i++)
+        for (int l = 0; l < D; l++)
+            scale = MAX(scale, fabs(w->Ubar[i][l]));
+    scale += 1.0;
+    const int predicted = can_predict(w->flags);
     for (int attempt = 0; attempt < (predicted ? 2 : 1); attempt++) {
         if (attempt == 0 && predicted) {
-            for (int i = 0; i < s; i++)
-                for (int l = 0; l < d; l++) {
-                    double acc = 0.0;
-                    for (int j = 0; j < s; j++)
-                        acc += P->E[i * s + j] * w->Fprev[j * d + l];
-                    W[i * d + l] = acc;
-                }
-            rhs_(h, P->Aq, P->Ap, P->mq, P->mp, s, d, W, Z);
+            predict(P->E, w->Fh, w->flags, w->W);
+            stage_sums(h, P->A, P->cls, w->W, w->Z);
         } else {
-            for (int k = 0; k < sd; k++)
-                Z[k] = 0.0;
+            for (int i = 0; i < S; i++)
+                for (int l = 0; l < D; l++)
+                    w->Z[i][l] = 0.0;
         }
         double prev = -1.0;
-        for (int it = 0; it < 60; it++) {
-            for (int i = 0; i < s; i++) {
-                for (int l = 0; l < d; l++)
-                    Yst[l] = Ubar[i * d + l] + Z[i * d + l];
-                f_(Yst, c, F + i * d);
-            }
-            w->nfev += s;
-            rhs_(h, P->Aq, P->Ap, P->mq, P->mp, s, d, F, W);
-            for (int k = 0; k < sd; k++)
-                R[k] = W[k] - Z[k];
-            lu_solve_(M, sd, w->piv, R);
-            w->newton += 1;
+        for (int it = 0; it < STAGE_SWEEPS; it++) {
+            eval_stages(w->Ubar, w->Z, P->c, w->Yst, w->F);
+            w->nfev += S;
+            stage_sums(h, P->A, P->cls, w->F, w->W);
+            for (int i = 0; i < S; i++)
+                for (int l = 0; l < D; l++)
+                    w->Rv[i * D + l] = w->W[i][l] - w->Z[i][l];
+            if (mode != FIXED)
+                lu_solve(w->M, w->piv, w->Rv);
+            w->sweeps += 1;
             double size = 0.0, zn = 0.0;
             int finite = 1;
-            for (int k = 0; k < sd; k++) {
-                double dz = R[k];
-                if (!isfinite(dz))
-                    finite = 0;
-                Z[k] += dz;
-                size = MAX(size, fabs(dz));
-                zn = MAX(zn, fabs(Z[k]));
-            }
+            for (int i = 0; i < S; i++)
+                for (int l = 0; l < D; l++) {
+                    const double dz = w->Rv[i * D + l];
+                    if (!isfinite(dz))
+                        finite = 0;
+                    const double z = w->Z[i][l] + dz;
+                    w->Z[i][l] = z;
+                    size = MAX(size, fabs(dz));
+                    zn = MAX(zn, fabs(z));
+                }
             if (!finite)
                 break;
-            if (converged_(size, prev, eps * zn, 1000.0 * eps * scale * amp)) {
-                if (P->flags[2] == 1) {         /* F = A^-1 Z / h */
-                    rhs_(1.0 / h, P->Aqi, P->Api, P->mq, P->mp, s, d, Z, F);
-                } else {
-                    for (int i = 0; i < s; i++) {
-                        for (int l = 0; l < d; l++)
-                            Yst[l] = Ubar[i * d + l] + Z[i * d + l];
-                        f_(Yst, c, F + i * d);
-                    }
-                    w->nfev += s;
-                }
-                memcpy(w->Fprev, F, (size_t)sd * sizeof(double));
-                P->flags[4] = 1;
+            if (converged(size, prev, eps * zn, ROUNDOFF_FLOOR * eps * scale * amp)) {
+                stage_derivatives(P, w);
                 return 0;
             }
-            if (prev >= 0.0 && it > 3 && size > prev)
-                break;
+            if (prev >= 0.0 && it > DIVERGE_AFTER && size > prev)
+                break;                      /* diverging */
             prev = size;
         }
     }
     return 1;
 }
 
-/* steps 1..steps from Y (r x d, updated in place); 0 when done, 1 (Newton failed) or
- * 2 (non-finite state) with *failed the step */
-static int run_(Pack *P, Work *w, double *Y, long steps, long *failed)
+#if TL_PROBLEM_SEPARABLE
+/* fixed point on the q stages of a separable problem (SPLIT); 0 when converged (F holds the
+ * stage derivatives of the last sweep), else 1 */
+static int split_stages(Pack *P, Work *w)
 {
-    const int s = P->s, r = P->r, d = P->d;
-    const double h = P->h;
-    const double *c = P->c;
-    double *Ubar = w->Ubar, *F = w->F, *Yst = w->Yst, *Yout = w->Yout, *inc = w->inc, *comp = w->comp;
-    for (long n = 1; n <= steps; n++) {
-        for (int i = 0; i < s; i++)
-            for (int l = 0; l < d; l++) {
-                double acc = 0.0;
-                for (int k = 0; k < r; k++)
-                    acc += P->U[i * r + k] * Y[k * d + l];
-                Ubar[i * d + l] = acc;
-            }
-        if (P->flags[0] == 1) {
-            for (int i = 0; i < s; i++) {
-                for (int l = 0; l < d; l++)
-                    Yst[l] = Ubar[i * d + l];
-                for (int j = 0; j < i; j++) {
-                    double aq = P->Aq[i * s + j], ap = P->Ap[i * s + j];
-                    if (aq != 0.0 || ap != 0.0)
-                        for (int l = 0; l < d; l++)
-                            Yst[l] += h * (aq * P->mq[l] + ap * P->mp[l]) * F[j * d + l];
-                }
-                f_(Yst, c, F + i * d);
-            }
-            w->nfev += s;
-        } else if (newton_(P, w) != 0) {
-            P->flags[4] = 0;
-            *failed = n;
-            return 1;
+    const double h = P->h, eps = P->eps;
+    const int *cls = P->cls;
+    for (int i = 0; i < S; i++)
+        for (int l = 0; l < D; l++)
+            w->Z[i][l] = 0.0;
+    if (can_predict(w->flags)) {
+        predict(P->E, w->Fh, w->flags, w->W);  /* forces predicted -> p stages -> velocities -> q stages */
+        for (int i = 0; i < S; i++)
+            for (int l = 0; l < D; l++)
+                if (cls[l] == 1)
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], cls[l], w->W, l);
+        for (int j = 0; j < S; j++) {
+            stage_input(w->Ubar, w->Z, j, w->Yst);
+            fq_(w->Yst, P->c, w->F[j]);
         }
-        for (int k = 0; k < r; k++)
-            for (int l = 0; l < d; l++) {
-                double acc = 0.0;
-                for (int j = 0; j < r; j++)
-                    acc += P->V[k * r + j] * Y[j * d + l];
-                double bq = 0.0, bp = 0.0;
-                for (int j = 0; j < s; j++) {
-                    bq += P->Bq[k * s + j] * F[j * d + l];
-                    bp += P->Bp[k * s + j] * F[j * d + l];
+        w->nvel += S;
+        for (int i = 0; i < S; i++)
+            for (int l = 0; l < D; l++)
+                if (cls[l] == 0)
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+    }
+    double prev = -1.0;
+    for (int it = 0; it < STAGE_SWEEPS; it++) {
+        for (int j = 0; j < S; j++) {       /* forces at the q stages */
+            stage_input(w->Ubar, w->Z, j, w->Yst);
+            fp_(w->Yst, P->c, w->F[j]);
+        }
+        w->nfev += S;
+        double dp = 0.0, pn = 0.0;
+        for (int i = 0; i < S; i++)         /* the p stages */
+            for (int l = 0; l < D; l++)
+                if (cls[l] == 1) {
+                    const double z = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+                    dp = MAX(dp, fabs(z - w->Z[i][l]));
+                    w->Z[i][l] = z;
+                    pn = MAX(pn, fabs(w->Ubar[i][l] + z));
                 }
-                double x = h * (bq * P->mq[l] + bp * P->mp[l]);
-                if (k == 0)
-                    inc[l] = x;
-                Yout[k * d + l] = acc + x;
+        for (int j = 0; j < S; j++) {       /* velocities at the p stages */
+            stage_input(w->Ubar, w->Z, j, w->Yst);
+            fq_(w->Yst, P->c, w->F[j]);
+        }
+        w->nvel += S;
+        w->sweeps += 1;
+        double size = 0.0, qn = 0.0;
+        for (int i = 0; i < S; i++)         /* the new q stages */
+            for (int l = 0; l < D; l++)
+                if (cls[l] == 0) {
+                    const double z = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+                    size = MAX(size, fabs(z - w->Z[i][l]));
+                    w->Z[i][l] = z;
+                    qn = MAX(qn, fabs(w->Ubar[i][l] + z));
+                }
+        if (!isfinite(size))
+            return 1;
+        if ((size <= SPLIT_TOL_ULPS * eps * qn && dp <= SPLIT_TOL_ULPS * eps * pn) ||
+            (prev > 0.0 && size >= STALL_THETA * prev && size <= ROUNDOFF_FLOOR * eps * qn)) {
+            keep(w->F, w->Fh, w->flags);
+            return 0;
+        }
+        if (prev >= 0.0 && it > DIVERGE_AFTER && size > prev)
+            return 1;
+        prev = size;
+    }
+    return 1;
+}
+#endif
+
+/* the stage equations of one step by the run's iteration: 0, or 1 */
+static inline int primary_stages(Pack *P, Work *w)
+{
+    const long mode = w->flags[F_MODE];
+    if (mode == SPLIT) {
+#if TL_PROBLEM_SEPARABLE
+        return split_stages(P, w);
+#else
+        return 1;                           /* no q/p rates: not a separable problem */
+#endif
+    }
+    return newton_stages(mode, P, w);
+}
+
+/* Ubar = U y^[n-1] */
+static inline void stage_inputs(Pack *P, double Y[R][D], double Ubar[S][D])
+{
+    for (int i = 0; i < S; i++)
+        for (int l = 0; l < D; l++) {
+            double acc = 0.0;
+            for (int k = 0; k < R; k++) {
+                const double u = P->U[i][k];
+                if (u != 0.0)
+                    acc = acc + u * Y[k][l];
             }
-        if (P->flags[3] == 1)
-            for (int l = 0; l < d; l++) {
-                double x = inc[l] + comp[l];
-                double y1 = Y[l] + x;
-                comp[l] = (Y[l] - y1) + x;
-                Yout[l] = y1;
+            Ubar[i][l] = acc;
+        }
+}
+
+/* y^[n] = V y^[n-1] + h B F (Kahan on the principal value); 0, or 2 (not finite) */
+static inline int finish_step(Pack *P, Work *w, double Y[R][D])
+{
+    for (int k = 0; k < R; k++)
+        for (int l = 0; l < D; l++) {
+            double acc = 0.0;
+            for (int j = 0; j < R; j++) {
+                const double v = P->V[k][j];
+                if (v != 0.0)
+                    acc = acc + v * Y[j][l];
             }
-        memcpy(Y, Yout, (size_t)(r * d) * sizeof(double));
-        for (int k = 0; k < r * d; k++)
-            if (!isfinite(Y[k])) {
-                *failed = n;
+            double x = combine(P->h, P->B[0][k], P->B[1][k], P->cls[l], w->F, l);
+            if (k == 0 && w->flags[F_COMPENSATE] == 1) {  /* Kahan: y1 + (increment + carry) */
+                x = x + w->comp[l];
+                const double y1 = acc + x;
+                w->comp[l] = (acc - y1) + x;
+                w->Yout[k][l] = y1;
+            } else {
+                w->Yout[k][l] = acc + x;
+            }
+        }
+    for (int k = 0; k < R; k++)
+        for (int l = 0; l < D; l++)
+            Y[k][l] = w->Yout[k][l];
+    for (int k = 0; k < R; k++)
+        for (int l = 0; l < D; l++)
+            if (!isfinite(Y[k][l]))
                 return 2;
-            }
+    return 0;
+}
+
+/* steps 1 .. steps from Y (updated in place): 0 done, 2 non-finite state, 4 the stage iteration
+ * failed at step w->step (Y is y^[n-1]) */
+static int run(Pack *P, Work *w, double Y[R][D], long steps)
+{
+    for (long n = 1; n <= steps; n++) {
+        w->step = n;
+        stage_inputs(P, Y, w->Ubar);
+        if (w->flags[F_EXPLICIT] == 1)
+            explicit_stages(P, w);
+        else if (primary_stages(P, w) != 0)
+            return 4;
+        const int status = finish_step(P, w, Y);
+        if (status != 0)
+            return status;
     }
     return 0;
 }
@@ -388,17 +518,20 @@ static void die(const char *msg, const char *what)
     exit(2);
 }
 
-static void read_into(FILE *fp, const char *key, double *dst, int n, int want)
+static void read_into(FILE *fp, const char *key, double *dst, long n, long want)
 {
     if (n != want) {
-        fprintf(stderr, "glm_loop: %s: %d values, expected %d\n", key, n, want);
+        fprintf(stderr, "glm_loop: %s: %ld values, expected %ld\n", key, n, want);
         exit(2);
     }
-    for (int i = 0; i < n; i++) {
+    for (long i = 0; i < n; i++) {
         char tok[64];
         if (fscanf(fp, "%63s", tok) != 1)
             die("unexpected end of input in ", key);
-        dst[i] = strtod(tok, NULL);
+        char *end;
+        dst[i] = strtod(tok, &end);
+        if (*end != '\0')
+            die("not a number in ", key);
     }
 }
 
@@ -415,8 +548,18 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+static void print_row(const char *key, const double *v, int n)
+{
+    printf("%s %d", key, n);
+    for (int i = 0; i < n; i++)
+        printf(" %.17g", v[i]);
+    printf("\n");
+}
+
 static Pack P0;
 static Work work;
+static double Y0[R][D], Y[R][D];
+static double seconds[MAXREPS], sorted[MAXREPS];
 
 int main(int argc, char **argv)
 {
@@ -425,140 +568,125 @@ int main(int argc, char **argv)
     FILE *fp = fopen(argv[1], "r");
     if (!fp)
         die("cannot open ", argv[1]);
-    double dims[4] = {0, 0, 0, 1}, tmp[64], Y0[MAXR * MAXD];
-    long steps = 0;
-    int mode = 0, have_dims = 0;
+    double tmp[64], *points = NULL;
+    long steps = 0, reps = 1, npoints = 0;
+    int mode = 0, have_shape = 0, have_c = 0;
     char key[64];
-    problem = -1;
     while (fscanf(fp, "%63s", key) == 1) {
-        if (strcmp(key, "problem") == 0) {
-            char name[64];
-            if (fscanf(fp, "%63s", name) != 1)
-                die("missing problem name", NULL);
-            if (strcmp(name, "pendulum") == 0)
-                problem = PENDULUM;
-            else if (strcmp(name, "kepler") == 0)
-                problem = KEPLER;
-            else
-                die("unknown problem ", name);
-            continue;
-        }
-        int n;
-        if (fscanf(fp, "%d", &n) != 1)
+        long n;
+        if (fscanf(fp, "%ld", &n) != 1 || n < 0)
             die("missing count after ", key);
-        const int s = P0.s, r = P0.r, d = P0.d;
-        if (strcmp(key, "dims") == 0) {
-            read_into(fp, key, dims, n, 4);
-            P0.s = (int)dims[0];
-            P0.r = (int)dims[1];
-            P0.d = (int)dims[2];
-            if (P0.s < 1 || P0.s > MAXS || P0.r < 1 || P0.r > MAXR || P0.d < 1 || P0.d > MAXD)
-                die("sizes out of range (s, r, d <= 8)", NULL);
-            if (dims[3] < 1 || dims[3] > MAXREPS)
-                die("reps out of range", NULL);
-            have_dims = 1;
-            continue;
-        }
-        if (!have_dims)
-            die("dims must come first", NULL);
-        if (strcmp(key, "steps") == 0) {
-            read_into(fp, key, tmp, n, 1);
-            steps = (long)tmp[0];
+        if (strcmp(key, "shape") == 0) {
+            read_into(fp, key, tmp, n, 3);
+            if ((int)tmp[0] != S || (int)tmp[1] != R || (int)tmp[2] != D)
+                die("the input's shape is not the compiled one (S, R, D)", NULL);
+            have_shape = 1;
         } else if (strcmp(key, "mode") == 0) {
             read_into(fp, key, tmp, n, 1);
             mode = (int)tmp[0];
+        } else if (strcmp(key, "reps") == 0) {
+            read_into(fp, key, tmp, n, 1);
+            reps = (long)tmp[0];
+            if (reps < 1 || reps > MAXREPS)
+                die("reps out of range", NULL);
+        } else if (strcmp(key, "steps") == 0) {
+            read_into(fp, key, tmp, n, 1);
+            steps = (long)tmp[0];
         } else if (strcmp(key, "h") == 0)
             read_into(fp, key, &P0.h, n, 1);
+        else if (strcmp(key, "hinv") == 0)
+            read_into(fp, key, &P0.hinv, n, 1);
         else if (strcmp(key, "eps") == 0)
             read_into(fp, key, &P0.eps, n, 1);
         else if (strcmp(key, "hA") == 0)
             read_into(fp, key, &P0.hA, n, 1);
         else if (strcmp(key, "flags") == 0) {
-            read_into(fp, key, tmp, n, 5);
-            for (int i = 0; i < 5; i++)
+            read_into(fp, key, tmp, n, N_FLAGS);
+            for (int i = 0; i < N_FLAGS; i++)
                 P0.flags[i] = (long)tmp[i];
         } else if (strcmp(key, "c") == 0) {
-            if (n > 16)
-                die("too many constants", NULL);
-            read_into(fp, key, P0.c, n, n);
-            P0.nc = n;
-        } else if (strcmp(key, "Aq") == 0)
-            read_into(fp, key, P0.Aq, n, s * s);
-        else if (strcmp(key, "Ap") == 0)
-            read_into(fp, key, P0.Ap, n, s * s);
+            read_into(fp, key, P0.c, n, TL_PROBLEM_NC);
+            have_c = 1;
+        } else if (strcmp(key, "A") == 0)
+            read_into(fp, key, &P0.A[0][0][0], n, 2 * S * S);
         else if (strcmp(key, "U") == 0)
-            read_into(fp, key, P0.U, n, s * r);
-        else if (strcmp(key, "Bq") == 0)
-            read_into(fp, key, P0.Bq, n, r * s);
-        else if (strcmp(key, "Bp") == 0)
-            read_into(fp, key, P0.Bp, n, r * s);
+            read_into(fp, key, &P0.U[0][0], n, S * R);
+        else if (strcmp(key, "B") == 0)
+            read_into(fp, key, &P0.B[0][0][0], n, 2 * R * S);
         else if (strcmp(key, "V") == 0)
-            read_into(fp, key, P0.V, n, r * r);
-        else if (strcmp(key, "mq") == 0)
-            read_into(fp, key, P0.mq, n, d);
-        else if (strcmp(key, "mp") == 0)
-            read_into(fp, key, P0.mp, n, d);
-        else if (strcmp(key, "E") == 0)
-            read_into(fp, key, P0.E, n, s * s);
-        else if (strcmp(key, "Aqi") == 0)
-            read_into(fp, key, P0.Aqi, n, s * s);
-        else if (strcmp(key, "Api") == 0)
-            read_into(fp, key, P0.Api, n, s * s);
+            read_into(fp, key, &P0.V[0][0], n, R * R);
+        else if (strcmp(key, "cls") == 0) {
+            read_into(fp, key, tmp, n, D);
+            for (int l = 0; l < D; l++) {
+                P0.cls[l] = (int)tmp[l];
+                if (P0.cls[l] != 0 && P0.cls[l] != 1)
+                    die("cls must be 0 or 1", NULL);
+            }
+        } else if (strcmp(key, "E") == 0)
+            read_into(fp, key, &P0.E[0][0], n, S * S);
+        else if (strcmp(key, "Ainv") == 0)
+            read_into(fp, key, &P0.Ainv[0][0][0], n, 2 * S * S);
         else if (strcmp(key, "Y") == 0)
-            read_into(fp, key, Y0, n, r * d);
-        else
+            read_into(fp, key, &Y0[0][0], n, R * D);
+        else if (strcmp(key, "points") == 0) {
+            if (n % D != 0)
+                die("points: a multiple of D values needed", NULL);
+            points = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1));
+            if (!points)
+                die("out of memory", NULL);
+            read_into(fp, key, points, n, n);
+            npoints = n / D;
+        } else
             die("unknown key ", key);
     }
     fclose(fp);
-    if (problem < 0 || !have_dims)
-        die("input needs problem and dims", NULL);
-    if ((problem == PENDULUM && P0.d != 2) || (problem == KEPLER && (P0.d != 4 || P0.nc < 2)))
-        die("dimension or constants do not fit the problem", NULL);
-    const int r = P0.r, d = P0.d;
+    if (!have_shape || (TL_PROBLEM_NC > 0 && !have_c))
+        die("the input needs shape and c", NULL);
 
-    if (mode == 1) {                 /* f and J at each row of Y: to check the hand-written J */
-        for (int k = 0; k < r; k++) {
-            double f[MAXD], J[MAXD * MAXD];
-            f_(Y0 + k * d, P0.c, f);
-            jac_(Y0 + k * d, P0.c, J);
-            printf("f %d", d);
-            for (int i = 0; i < d; i++)
-                printf(" %.17g", f[i]);
-            printf("\njac %d", d * d);
-            for (int i = 0; i < d * d; i++)
-                printf(" %.17g", J[i]);
-            printf("\n");
+    if (mode == 1) {                        /* the generated functions at each point */
+        for (long k = 0; k < npoints; k++) {
+            double f[D], J[D][D], fq[D], fp[D];
+            const double *y = points + k * D;
+            for (int l = 0; l < D; l++)
+                fq[l] = fp[l] = NAN;        /* fq_ / fp_ write their own components only */
+            f_(y, P0.c, f);
+            jac_(y, P0.c, &J[0][0]);
+            print_row("f", f, D);
+            print_row("jac", &J[0][0], D * D);
+#if TL_PROBLEM_SEPARABLE
+            fq_(y, P0.c, fq);
+            fp_(y, P0.c, fp);
+            print_row("fq", fq, D);
+            print_row("fp", fp, D);
+#endif
         }
+        free(points);
         return 0;
     }
 
-    const int reps = (int)dims[3];
-    double seconds[MAXREPS], Y[MAXR * MAXD];
     int status = 0;
-    long failed = 0;
-    for (int rep = 0; rep < reps; rep++) {
-        Pack P = P0;                                /* have_prev as given (0): a fresh run */
-        memset(&work, 0, sizeof work);              /* comp, Fprev, counters */
-        memcpy(Y, Y0, sizeof(double) * (size_t)(r * d));
-        double t0 = now();
-        status = run_(&P, &work, Y, steps, &failed);
+    for (long rep = 0; rep < reps; rep++) {
+        memset(&work, 0, sizeof work);      /* Kahan carry, history ring, counters */
+        memcpy(work.flags, P0.flags, sizeof work.flags);
+        memcpy(Y, Y0, sizeof Y);
+        const double t0 = now();
+        status = run(&P0, &work, Y, steps);
         seconds[rep] = now() - t0;
     }
-    double sorted[MAXREPS];
     memcpy(sorted, seconds, sizeof(double) * (size_t)reps);
     qsort(sorted, (size_t)reps, sizeof(double), cmp_double);
-    double median = reps % 2 ? sorted[reps / 2] : 0.5 * (sorted[reps / 2 - 1] + sorted[reps / 2]);
+    const double median = reps % 2 ? sorted[reps / 2] : 0.5 * (sorted[reps / 2 - 1] + sorted[reps / 2]);
     printf("status %d\n", status);
-    printf("completed %ld\n", status == 0 ? steps : failed - 1);
+    printf("completed %ld\n", status == 0 ? steps : work.step - 1);
+    printf("step %ld\n", work.step);
     printf("nfev %ld\n", work.nfev);
-    printf("newton %ld\n", work.newton);
+    printf("sweeps %ld\n", work.sweeps);
+    printf("nvel %ld\n", work.nvel);
     printf("seconds %.9g\n", median);
-    printf("seconds_all %d", reps);
-    for (int i = 0; i < reps; i++)
+    printf("seconds_all %ld", reps);
+    for (long i = 0; i < reps; i++)
         printf(" %.9g", seconds[i]);
-    printf("\nfinal %d", r * d);
-    for (int k = 0; k < r * d; k++)
-        printf(" %.17g", Y[k]);
     printf("\n");
+    print_row("final", &Y[0][0], R * D);
     return 0;
 }

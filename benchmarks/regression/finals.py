@@ -2,8 +2,12 @@
 float64, the exact start, max |H − H₀| over the run): a regression record of one version of the
 step loop, to compare two versions.  A script, not a test.
 
-    python benchmarks/regression/finals.py OUT.json [--steps N]
+    python benchmarks/regression/finals.py OUT.json [--steps N] [--perturb] [--precision dd] [--cases C.json]
     python benchmarks/regression/finals.py --compare A.json B.json
+
+``--perturb`` starts from y₀(1 + u), u the unit round-off: the difference to the unperturbed
+finals is how far one rounding error reaches after 10⁵ steps (tests/test_regression.py
+compares two versions against it).
 
 Run it once with the previous version first on PYTHONPATH (a git worktree of that commit), once
 with this one; ``--compare`` prints, per case, max |Δy| / max |y| of the finals and the two
@@ -16,6 +20,7 @@ import json
 import sys
 from pathlib import Path
 
+import mpmath
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -23,7 +28,7 @@ STEP = {"harmonic": "1/100", "pendulum": "1/100", "kepler": "1/100", "kepler_unp
         "henon_heiles": "1/100", "fpu": "1/1000", "outer_solar_system": "10"}
 
 
-def record(out, steps):
+def record(out, steps, perturb=False, precision="float64", cases=None):
     import sympy as sp
     from tableau_lab.numeric.integrate import IntegrationError, integrate
     from tableau_lab.experiments.runs import _setup
@@ -31,11 +36,15 @@ def record(out, steps):
     for path in sorted((ROOT / "methods").glob("*.json")):
         for problem, h in STEP.items():
             key = f"{path.stem} {problem}"
+            if cases is not None and key not in cases:
+                continue
             try:
-                _, _, cp, nm = _setup(str(path), problem, "float64", None)
-                run = integrate(nm, cp, cp.y0, sp.Rational(h), steps, invariants=("H",), record_every=steps,
-                                kernel="compiled")
-                rows[key] = {"final": [float(x) for x in run.final], "H": run.max_invariant_error()["H"],
+                _, _, cp, nm = _setup(str(path), problem, precision, None)
+                y0 = cp.y0 * (1 + np.finfo(float).eps) if perturb else cp.y0      # one ulp: round-off's reach
+                run = integrate(nm, cp, y0, sp.Rational(h), steps, invariants=("H",), record_every=steps,
+                                kernel="compiled" if precision == "float64" else "auto")
+                rows[key] = {"final": [float(x) if precision == "float64" else mpmath.nstr(x, 34) for x in run.final],
+                             "H": run.max_invariant_error()["H"],
                              "nfev": run.nfev}
             except (IntegrationError, ValueError) as exc:
                 rows[key] = {"failed": str(exc)[:200]}
@@ -65,5 +74,10 @@ if __name__ == "__main__":
     ap.add_argument("out", nargs="?")
     ap.add_argument("--steps", type=int, default=10 ** 5)
     ap.add_argument("--compare", nargs=2)
+    ap.add_argument("--perturb", action="store_true", help="start from y0 (1 + u): how far round-off reaches")
+    ap.add_argument("--precision", default="float64", help="float64 or dd (finals as 32-digit strings)")
+    ap.add_argument("--cases", help="a JSON file with a list of 'method problem' keys (default: all)")
     args = ap.parse_args()
-    sys.exit(compare(*args.compare) if args.compare else record(args.out, args.steps))
+    cases = set(json.loads(Path(args.cases).read_text())) if args.cases else None
+    sys.exit(compare(*args.compare) if args.compare else record(args.out, args.steps, args.perturb, args.precision,
+                                                                 cases))

@@ -213,15 +213,15 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
               kernel: str = "auto", monitor: float | None = None, solver: str = "auto",
-              track_every: int = 1) -> Run:
+              track_every: int = limits.TRACK_EVERY) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
     ``gradient`` for projection/records, ``elementary_differentials`` for GLM starts).
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
     if ``record_states``; memory grows with the records only.  The largest |I − I(y₀)| of the
-    invariants and projected invariants is also tracked every ``track_every`` steps (default:
-    every step; ``Run.tracked``).  ``compensated=False`` turns the Kahan summation of the
+    invariants and projected invariants is also tracked every ``track_every`` steps (default
+    ``limits.TRACK_EVERY``; 1 for every step; ``Run.tracked``).  ``compensated=False`` turns the Kahan summation of the
     principal increment off (to measure what it buys).  ``solver``: the stage iteration,
     "auto", "newton" or "fixedpoint" (:func:`stage_iteration`).
     ``kernel``: "compiled" runs the step loop compiled (:mod:`kernels`), "python" the same

@@ -47,6 +47,9 @@ PROJECTION_STALL = 0.5      # corrections shrinking by less than this count as s
 PROJECTION_ROUNDOFF = 1000.0    # … once the residual is below this many eps
 PROJECTION_ACCEPT = 1e4     # after the last sweep, a residual below this many eps is round-off
 
+TRACK_EVERY = 1             # default stride of the invariant tracking: every step (its cost: docs/speed.md)
+INLINE_LINEAR_ALGEBRA = 16  # s·d up to which a compiled loop inlines (unrolls) the Newton matrix's LU
+INLINE_PROBLEM_DIMENSION = 12   # d up to which f (and the q-, p-rates) are inlined into the loop
 CHUNK = 1 << 16             # steps per call of a compiled loop (records, progress, Ctrl-C between)
 PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 

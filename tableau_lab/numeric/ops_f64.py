@@ -18,7 +18,7 @@ def kernel(fn):         # replaced by numba's njit in a compiled module
     return fn
 
 
-helper = prim = kernel
+helper = prim = heavy = kernel
 
 # ---- operations ----
 

@@ -62,23 +62,23 @@ def function_source(name, state, params, exprs, at=None, deco=None, row=False) -
 
 
 _DECO = "@njit(cache=True, error_model='numpy')\n"
-_HOT = ("f_", "fq_", "fp_")
+HOT = ("f_", "fq_", "fp_")           # evaluated in every sweep of the stage iteration
 
 
-def problem_source(problem, invariant_names, dd: bool = False, hot: str | None = None) -> str:
+def problem_source(problem, invariant_names, dd: bool = False, hot: str | None = None, cold: str | None = None) -> str:
     """f_, jac_, inv_(k, y, c, out) / grad_(k, y, c, out) for the invariants in
     ``invariant_names`` (index k in that order), and for a separable problem fq_ and fp_, of a
     :class:`~.problems.Problem`; in float64, or in double-double (``dd``, :mod:`ddcode`).
     ``hot``: the decorator line of the functions evaluated in the stage iteration (f_, fq_,
-    fp_), e.g. one that inlines them into the loop."""
+    fp_), e.g. one that inlines them into the loop; ``cold``: that of the others."""
     if dd:
         from .ddcode import dd_source
 
         def source(name, exprs, at=None, row=False):
-            return (hot if hot and name in _HOT else _DECO) + dd_source(name, (state, params), exprs, at, row)
+            return (hot if hot and name in HOT else cold or _DECO) + dd_source(name, (state, params), exprs, at, row)
     else:
         def source(name, exprs, at=None, row=False):
-            return function_source(name, state, params, exprs, at, hot if name in _HOT else None, row)
+            return function_source(name, state, params, exprs, at, hot if name in HOT else cold, row)
     state, params = list(problem.state), list(problem.parameter_symbols.values())
     f = list(problem.f_expr)
     parts = [source("f_", f, row=True), source("jac_", sp.Matrix(f).jacobian(state).tolist())]
@@ -92,6 +92,6 @@ def problem_source(problem, invariant_names, dd: bool = False, hot: str | None =
         parts.append(source(f"grad{k}_", [sp.diff(I, x) for x in state], row=True))
         disp_inv.append(f"    if k == {k}:\n        inv{k}_(y, c, out)")
         disp_grad.append(f"    if k == {k}:\n        grad{k}_(y, c, out, i)")
-    parts.append(f"{_DECO}def inv_(k, y, c, out):\n" + "\n".join(disp_inv) + "\n    return\n")
-    parts.append(f"{_DECO}def grad_(k, y, c, out, i):\n" + "\n".join(disp_grad) + "\n    return\n")
+    parts.append(f"{cold or _DECO}def inv_(k, y, c, out):\n" + "\n".join(disp_inv) + "\n    return\n")
+    parts.append(f"{cold or _DECO}def grad_(k, y, c, out, i):\n" + "\n".join(disp_grad) + "\n    return\n")
     return "\n\n".join(parts)

@@ -41,7 +41,7 @@ multipliers, y = ỹ + ∇g(ỹ)λ.  Statuses of :func:`run`: 0 done, 1 stage eq
 import numpy as np
 
 from .ops_f64 import *  # noqa: F401,F403 -- the arithmetic; kernels.py binds one per precision
-from .ops_f64 import g1, g2, g3, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
+from .ops_f64 import g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
     waddlo, wmadd, wmat, wmul, wsub, wvec, wzero
 from .limits import (DIVERGE_AFTER, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST,
                      HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
@@ -90,7 +90,7 @@ def dims(A, Y):
     return A.shape[1], Y.shape[0], Y.shape[1]
 
 
-@prim
+@heavy
 def lu_factor(M, piv, n):
     """LU with partial pivoting in place (low precision); 1 if singular."""
     for k in range(n):
@@ -118,7 +118,7 @@ def lu_factor(M, piv, n):
     return 0
 
 
-@prim
+@heavy
 def lu_solve(M, piv, b, n):
     for k in range(n):
         p = piv[k]
@@ -150,7 +150,7 @@ def converged(size, prev, tol, floor):
     return (theta < 1.0 and theta / (1.0 - theta) * size <= tol) or (theta >= STALL_THETA and size <= floor)
 
 
-@prim
+@helper
 def combine(h, A, cls, i, F, l, s):
     """h Σⱼ A[cls[l], i, j] F[j, l]: the stage sum of component l."""
     k = cls[l]
@@ -169,7 +169,7 @@ def stage_sums(h, A, cls, F, out, s, d):
             p2(out, i, l, combine(h, A, cls, i, F, l, s))
 
 
-@prim
+@helper
 def stage_input(Ubar, Z, i, Yst, d):
     for l in range(d):
         p1(Yst, l, wadd(g2(Ubar, i, l), g2(Z, i, l)))
@@ -241,7 +241,7 @@ def explicit_stages(Ubar, h, A, cls, c, Yst, F, stats, s, d):
     stats[S_NFEV] += s
 
 
-@prim
+@heavy
 def subtract_block(M, hlo, A, cls, J, i, j, d):
     """M[block i, j] −= h A[cls, i, j] J (block column j of I − h(A ⊗ J), per component class)."""
     for k in range(d):
@@ -251,7 +251,7 @@ def subtract_block(M, hlo, A, cls, J, i, j, d):
                 M[i * d + k, j * d + l] -= w * wlo(g2(J, k, l))
 
 
-@prim
+@heavy
 def identity(M, n):
     for a in range(n):
         for b in range(n):
@@ -269,7 +269,7 @@ def stage_derivatives(Ubar, hinv, Ainv, cls, c, flags, Z, Yst, F, Fh, stats, s, 
     keep(F, Fh, flags, s, d)
 
 
-@prim
+@helper
 def newton_stages(mode, Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M, piv, R, W,
                   stats, s, d):
     """Simplified Newton (``NEWTON``), fixed point (``FIXED``: M = I) or full Newton (``FULL``)

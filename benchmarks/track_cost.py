@@ -1,0 +1,54 @@
+"""What the invariant tracking costs, and what a cold compile costs: a script, not a test.
+
+For 2-stage Gauss on the pendulum and Kepler, RK4 and 3-stage Gauss on Kepler (float64, h = 0.01,
+2·10⁵ steps; best of 5) and 2-stage Gauss in double-double (2·10⁴ steps): µs/step without
+invariants, with the invariants tracked every step and every ``limits.TRACK_EVERY`` steps, and
+the compile seconds of each (problem, shape) loop into an empty cache (a temporary
+TABLEAU_LAB_CACHE unless one is set).
+
+Run: python benchmarks/track_cost.py
+"""
+import os
+import tempfile
+
+os.environ.setdefault("TABLEAU_LAB_CACHE", tempfile.mkdtemp(prefix="tableau_lab_cold_"))
+
+import sympy as sp  # noqa: E402
+
+from tableau_lab.exact.tableau_json import load  # noqa: E402
+from tableau_lab.numeric import limits  # noqa: E402
+from tableau_lab.numeric.codegen import compile_problem  # noqa: E402
+from tableau_lab.numeric.export import to_numeric  # noqa: E402
+from tableau_lab.numeric.integrate import integrate  # noqa: E402
+
+METHODS = os.path.join(os.path.dirname(__file__), "..", "methods")
+
+
+def best(nm, cp, steps, **kw):
+    return min(integrate(nm, cp, cp.y0, sp.Rational(1, 100), steps, record_every=steps, **kw).seconds
+               for _ in range(5)) / steps * 1e6
+
+
+def main():
+    print(f"cache: {os.environ['TABLEAU_LAB_CACHE']}")
+    print("precision  method  problem   compile s  µs/step  tracked every step  every "
+          f"{limits.TRACK_EVERY} steps  f-evals/step")
+    for prec, cases, steps in [("float64", [("gauss2", "pendulum"), ("gauss2", "kepler"), ("rk4", "kepler"),
+                                            ("gauss3", "kepler")], 200000),
+                               ("dd", [("gauss2", "pendulum"), ("gauss2", "kepler")], 20000)]:
+        for m, prob in cases:
+            cp = compile_problem(prob) if prec == "float64" else compile_problem(prob, "mpmath", dps=32)
+            nm = to_numeric(load(os.path.join(METHODS, f"{m}.json")), prec)
+            first = integrate(nm, cp, cp.y0, sp.Rational(1, 100), 10, kernel="compiled" if prec == "float64" else "auto")
+            invs = tuple(cp.problem.invariants)
+            plain = best(nm, cp, steps)
+            every = best(nm, cp, steps, invariants=invs, track_every=1)
+            stride = best(nm, cp, steps, invariants=invs)
+            run = integrate(nm, cp, cp.y0, sp.Rational(1, 100), steps, record_every=steps)
+            print(f"{prec:9s}  {m:6s}  {prob:8s}  {first.compile_seconds:9.1f}  {plain:7.3f}  "
+                  f"{every:7.3f} (+{100 * (every / plain - 1):3.0f} %)    {stride:7.3f} (+{100 * (stride / plain - 1):3.0f} %)"
+                  f"   {run.nfev / steps:.2f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
