@@ -194,7 +194,7 @@ def _run(args) -> int:
               f"start {res['start']}" + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
         print(f"  final: {fin}")
         print("  max |I − I(0)|: " + ", ".join(f"{k} {v:.3e}" for k, v in res["max_invariant_error"].items()))
-        print(f"  f evaluations {res['nfev']}, Newton iterations {res['newton_iterations']}, "
+        print(f"  f evaluations {res['nfev']}, stage-iteration sweeps {res['newton_iterations']}, "
               f"projection iterations {res['projection_iterations']}, {res['seconds']:.3f} s")
     return EXIT_OK
 

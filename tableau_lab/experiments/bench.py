@@ -56,7 +56,7 @@ def _setup(method, problem, precision):
 
 def bench_case(method, problem, steps, h="1/100", precision="float64", reps=5, kernel="auto"):
     """One case: median seconds of ``reps`` runs → steps/s; compile (first call) seconds apart;
-    nfev, Newton iterations, max invariant errors of the last run."""
+    nfev, stage-iteration sweeps, max invariant errors of the last run."""
     from ..numeric.integrate import IntegrationError, integrate
     nm, cp = _setup(method, problem, precision)
     h = sp.Rational(h)

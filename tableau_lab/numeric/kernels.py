@@ -324,8 +324,10 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
     tmax = np.zeros(len(pk.track))
     rec = pk.zeros(chunk // every + 2, r, d)
     recn = np.zeros(chunk // every + 2, dtype=np.int64)
-    stages, work = loop.workspace(pk.A.shape[1], r, d, len(pk.proj))
     out = Outcome()
+    first = compiled and loop.__name__ not in _COMPILE
+    t0 = time.perf_counter()
+    stages, work = loop.workspace(pk.A.shape[1], r, d, len(pk.proj))     # compiled (or loaded) once, too
 
     def call(n0, n1):
         return int(loop.run(Yl, pk.h, pk.hinv, n0, n1, steps, every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv,
@@ -352,9 +354,8 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
         records()
         return status
 
-    if compiled and loop.__name__ not in _COMPILE:
+    if first:
         import numba
-        t0 = time.perf_counter()
         call(0, 0)
         args = (Yl, pk.h, pk.hinv, 0, steps, every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv, pk.flags, pk.c,
                 pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, tmax, track_every, comp, Fh, rec,

@@ -14,29 +14,36 @@ theirs: ``wadd``, ``wmul``, ``g2``, ``wlo`` … come from an arithmetic module (
 arithmetic module and the problem's generated functions into one module that numba compiles
 (float64, double-double), or executes it as it is with Python wrappers of the problem (the pure
 loop: the reference, and mpmath at any precision).  ``dims`` is replaced by constants in a
-module specialised to one method shape (s, r, d), so that the small loops unroll.
+module specialised to one method shape (s, r, d), so that the small loops unroll.  The
+decorators say how numba compiles each function: ``kernel`` (an entry point, without reference
+counting: nothing here allocates), ``helper`` (inlined into its caller), ``prim`` (small, left
+to LLVM to inline), ``heavy`` (the Newton matrix's linear algebra: inlined for small s·d only);
+in the pure loop they do nothing.
 
 Stage equations (``flags[F_MODE]``, chosen by :func:`limits.choose_iteration`):
 
 * explicit methods evaluate the stages in order;
 * ``NEWTON``: simplified Newton on the increments Z = Y − Ū with one Jacobian (at Ū₁) per step,
-  started from the previous step's stage derivatives extrapolated to the new nodes
-  (E[i, j] = ℓⱼ(1 + cᵢ)), stopped by Hairer's estimate θ/(1 − θ)‖ΔZ‖ ≤ u‖Z‖ (θ the observed
-  contraction); the stage derivatives then come from A⁻¹Z/h (no f-evaluation after
-  convergence) when A is invertible;
+  started from the predicted stage derivatives (:func:`predict`: the last ``HISTORY`` steps'
+  extrapolated per stage, or the last step's extrapolated to the new nodes, E[i, j] =
+  ℓⱼ(1 + cᵢ)), stopped by Hairer's estimate θ/(1 − θ)‖ΔZ‖ ≤ u‖Z‖ (θ the observed contraction);
+  the stage derivatives then come from A⁻¹Z/h (no f-evaluation after convergence) when A is
+  invertible;
 * ``FIXED``: the same with M = I (no Jacobian, no LU);
 * ``SPLIT`` (H = T(p) + V(q)): fixed point on the q stages only — forces at the q stages, the p
   stages from them, the velocities at the p stages, new q stages — as GNI_IRK2 iterates for
-  q″ = f(q); the stage derivatives are those of the last sweep (no extra evaluation), the
-  tolerance an ulp of the q stages; started from the extrapolated forces.
-* A failed step is redone by simplified Newton (after ``SWITCH_AFTER`` failures the run stays
-  with Newton), then full Newton, then fixed point on the stage values (``RESCUE_SWEEPS``);
-  if all fail, the loop stops with status 1.
+  q″ = f(q); the stage derivatives are those of the last sweep (no extra evaluation), stopped
+  when the corrections of the q and the p stages are at round-off; started from the predicted
+  forces.
+* A step whose iteration fails leaves the loop (status 4) and is redone by :func:`rescue_step`:
+  simplified Newton (after ``SWITCH_AFTER`` failures the run stays with Newton), then full
+  Newton, then fixed point on the stage values (``RESCUE_SWEEPS``); if all fail, status 1.
 
 The principal increment is summed with compensation (Kahan) when V's first row is e₁ᵀ
 (``flags[F_COMPENSATE]``).  Projection moves y^[n]₁ onto {I_k = I_k(y₀)} by Newton on the
 multipliers, y = ỹ + ∇g(ỹ)λ.  Statuses of :func:`run`: 0 done, 1 stage equations not solved,
-2 non-finite state, 3 projection failed (the state is that before the failing step).
+2 non-finite state, 3 projection failed, 4 the stage iteration failed (for ``rescue_step``; the
+state is that before the failing step).
 """
 import numpy as np
 
