@@ -1,4 +1,4 @@
-"""The C reference of the float64 step loop: glm_loop.c, plain C99 compiled with ``gcc -O2``, the
+"""The C reference of the float64 step loop: glm_loop.c, plain C99 compiled with gcc (CFLAGS), the
 same algorithm as ``tableau_lab/numeric/stepcore.py`` (explicit stages; the stage iteration
 SPLIT, NEWTON or FIXED with the history predictor; Kahan summation; the same counters), to
 measure the numba loop against and to check that the two compute the same thing.  A benchmark
@@ -11,13 +11,19 @@ The C program is specialised like the numba loop: the shape (s, r, d) is compile
 (``-DS -DR -DD``), stepcore's limits (``limits.py``) and the problem's f, Jacobian and (for a
 separable problem) q- and p-rates are C headers generated here, the latter printed from the
 problem's sympy expressions (the same CSE and the same powers-as-products as the numba code of
-``problem_code.py``), so every built-in problem runs.  One executable per (problem, shape,
-sources, flags) under build/, built once (atomic rename).  Not in C: projection, invariant
+``problem_code.py``), so every built-in problem runs.  glm_loop.c is built twice from the same
+source, flags and headers: as a shared library (``-shared -fPIC -DGLM_LIBRARY``) whose entry
+``glm_run`` :func:`run_c` calls IN PROCESS through ctypes (the numpy arrays passed by
+``ndarray.ctypes``; the default, ``inprocess=True``), and as an executable whose main() reads
+the arrays from a text file and calls the same ``glm_run`` (``inprocess=False``, and
+:func:`c_functions`).  One library and one executable per (problem, shape, sources, flags) under
+build/, each built once (atomic rename); a library is loaded once per process and keeps no
+state between calls (glm_run zeroes all its static work at every call).  Not in C: projection, invariant
 tracking, records and the fallbacks of a failed stage iteration (the C loop stops with
 status 4 where the Python driver would redo the step).
 
     run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact",
-          compensated=True, check_status=True)
+          compensated=True, check_status=True, mode=None, cflags=None, inprocess=True)
         -> dict(us_per_step, us_per_step_min, final, nfev, sweeps, seconds, seconds_all,
                 status, completed, nvel, mode, shape)
     run_numba(...)        the same, from the compiled numba loop's ``run`` called directly
@@ -26,14 +32,16 @@ status 4 where the Python driver would redo the step).
 ``final`` is the raw input vector y^[steps] (r × d), not passed through the finishing method.
 nfev counts f-evaluations (in SPLIT: force evaluations fp; nvel the velocity evaluations fq),
 sweeps the stage-iteration sweeps.  Timings: the median (and min) over ``reps`` whole runs of
-the step loop alone — C: CLOCK_MONOTONIC inside the program; numba: perf_counter around the
-``run`` call, compiled before (not timed).
+the step loop alone — C: CLOCK_MONOTONIC inside glm_run around the loop (in process through
+ctypes, or in the executable: the same code, comparable µs/step); numba: perf_counter around
+the ``run`` call, compiled before (not timed).
 
 Run: python benchmarks/c_reference/c_reference.py [--steps N] [--reps R] [--no-numba] [--cflags "-O3 -march=native ..."]
 """
 from __future__ import annotations
 
 import argparse
+import ctypes
 import hashlib
 import os
 import shutil
@@ -55,7 +63,7 @@ from tableau_lab.numeric.integrate import component_masks, stage_iteration, star
 from tableau_lab.numeric.kernels import Pack, compiled_loop, loop_shape
 from tableau_lab.numeric.problems import get_problem
 
-__all__ = ["run_c", "run_numba", "c_functions", "build", "prepare", "problem_header", "limits_header", "CASES",
+__all__ = ["run_c", "run_numba", "c_functions", "build", "library", "prepare", "problem_header", "limits_header", "CASES",
            "CFLAGS"]
 
 HERE = Path(__file__).resolve().parent
@@ -203,11 +211,12 @@ def _write_atomic(path: Path, text: str):
     os.replace(tmp, path)
 
 
-def build(problem="pendulum", shape=(1, 1, 2), cflags=None) -> Path:
-    """The glm_loop executable of ``problem`` for the method shape (s, r, d), compiled with
+def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False) -> Path:
+    """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
+    -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d), compiled with
     ``gcc`` and ``cflags`` (default CFLAGS) once, cached under build/ by a hash of glm_loop.c,
-    the generated headers, the shape, the flags and gcc's version.  (Without arguments: the
-    pendulum at s = r = 1, a check that gcc works.)"""
+    the generated headers, the shape, the flags, the kind and gcc's version.  (Without
+    arguments: the pendulum at s = r = 1, a check that gcc works.)"""
     P = get_problem(problem)
     s, r, d = (int(x) for x in shape)
     if d != P.dimension:
@@ -215,10 +224,12 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None) -> Path:
     gcc, version = _gcc()
     flags = tuple(CFLAGS if cflags is None else cflags)
     lim, prob = limits_header(), problem_header(P)
+    kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
-                                        f"{s} {r} {d} {' '.join(flags)} {version}".encode()])).hexdigest()[:16]
+                                        f"{s} {r} {d} {' '.join(flags)} {version}".encode()]
+                                       + ([" ".join(kind).encode()] if shared else []))).hexdigest()[:16]
     tag = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in P.name)
-    exe = BUILD / f"glm_loop_{tag}_{s}x{r}x{d}_{digest}"
+    exe = BUILD / (f"libglm_loop_{tag}_{s}x{r}x{d}_{digest}.so" if shared else f"glm_loop_{tag}_{s}x{r}x{d}_{digest}")
     if exe.exists():
         return exe
     BUILD.mkdir(parents=True, exist_ok=True)
@@ -227,7 +238,7 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None) -> Path:
     _write_atomic(lim_h, lim)
     _write_atomic(prob_h, prob)
     tmp = BUILD / f".{exe.name}.{os.getpid()}"
-    cmd = [gcc, *flags, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
+    cmd = [gcc, *flags, *kind, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
            f'-DTL_PROBLEM_HEADER="{prob_h}"',
            "-o", str(tmp), str(SOURCE), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
@@ -235,6 +246,35 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None) -> Path:
         raise RuntimeError(f"gcc failed ({' '.join(cmd)}):\n{res.stderr}")
     os.replace(tmp, exe)                   # atomic: concurrent builds do not see a half-written file
     return exe
+
+
+_LIBS: dict = {}
+_NSTATS = 6                                # glm_run's stats: status, completed, step, nfev, sweeps, nvel
+
+
+def library(problem="pendulum", shape=(1, 1, 2), cflags=None) -> ctypes.CDLL:
+    """The shared library of :func:`build` (``shared=True``) loaded by ctypes, once per path and
+    process, with the argument types of glm_run / glm_functions / glm_shape set, its compiled
+    shape checked.  Each (problem, shape, flags) is its own file, loaded RTLD_LOCAL: the
+    libraries' equal symbol names do not clash."""
+    path = build(problem, shape, cflags, shared=True)
+    key = str(path)
+    if key not in _LIBS:
+        lib = ctypes.CDLL(key)
+        f64 = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
+        i64 = np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")
+        lib.glm_shape.argtypes, lib.glm_shape.restype = [i64], None
+        lib.glm_run.argtypes = [f64, i64, f64, f64, f64, f64, f64, i64, f64, f64, ctypes.c_int64, ctypes.c_int64,
+                                f64, i64, f64]
+        lib.glm_run.restype = ctypes.c_int
+        lib.glm_functions.argtypes, lib.glm_functions.restype = [f64] * 6, None
+        got = np.zeros(6, dtype=np.int64)
+        lib.glm_shape(got)
+        s, r, d = (int(x) for x in shape)
+        if tuple(got[:4]) != (s, r, d, limits.N_FLAGS) or int(got[5]) != _NSTATS:
+            raise RuntimeError(f"{path.name}: compiled shape {tuple(got)} is not ({s}, {r}, {d}, {limits.N_FLAGS})")
+        _LIBS[key] = lib
+    return _LIBS[key]
 
 
 # -- the arrays both loops get ------------------------------------------------------------------------
@@ -329,17 +369,50 @@ def _check(status, completed, what, method_path, problem, check_status):
                            f"{_WHY.get(status, f'status {status}')}")
 
 
+def _run_lib(pr: Prepared, steps, reps, cflags) -> tuple:
+    """glm_run of the problem's shared library, in this process: (status, completed, final,
+    [nfev, sweeps, nvel], seconds of each rep)."""
+    (s, r, d), pk = pr.shape, pr.pk
+    lib = library(pr.cp.problem, pr.shape, cflags)
+    f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
+    i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
+    args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
+                U=f64(pk.U), B=f64(pk.B), V=f64(pk.V), cls=i64(pk.cls), E=f64(pk.E), Ainv=f64(pk.Ainv))
+    want = dict(consts=4, flags=limits.N_FLAGS, c=len(pr.cp.constants), A=2 * s * s, U=s * r, B=2 * r * s, V=r * r,
+                cls=d, E=s * s, Ainv=2 * s * s)
+    for k, n in want.items():              # C reads exactly these counts: never past an array's end
+        if args[k].size != n:
+            raise ValueError(f"{k}: {args[k].size} values, the library of shape {pr.shape} reads {n}")
+    Y = f64(pr.Y0).copy()
+    if Y.size != r * d:
+        raise ValueError(f"Y: {Y.size} values, expected {r * d}")
+    stats, seconds = np.zeros(_NSTATS, dtype=np.int64), np.zeros(reps)
+    status = lib.glm_run(*args.values(), steps, reps, Y, stats, seconds)
+    if status < 0:
+        raise RuntimeError(f"glm_run: bad arguments ({pr.cp.problem}, shape {pr.shape})")
+    return int(stats[0]), int(stats[1]), Y.reshape(r, d), [int(x) for x in stats[3:6]], [float(x) for x in seconds]
+
+
 def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact", compensated=True,
-          check_status=True, mode=None, cflags=None) -> dict:
-    """The C loop: ``reps`` whole runs of ``steps`` steps from y^[0]; the median time.  A
-    stopped run (status 2: not finite, 4: the stage iteration failed) raises RuntimeError
-    unless ``check_status=False``.  ``mode``: force a stage-iteration mode (limits.NEWTON,
-    FIXED, SPLIT) instead of integrate's choice; ``cflags``: gcc flags instead of CFLAGS."""
-    steps = int(steps)
+          check_status=True, mode=None, cflags=None, inprocess=True) -> dict:
+    """The C loop: ``reps`` whole runs of ``steps`` steps from y^[0]; the median time.  By
+    default in this process: glm_run of the shared library (:func:`library`) through ctypes;
+    ``inprocess=False``: the executable, the arrays through a text file (the same glm_run, the
+    same timing inside C around the step loop alone; bit-identical results).  A stopped run
+    (status 2: not finite, 4: the stage iteration failed) raises RuntimeError unless
+    ``check_status=False``.  ``mode``: force a stage-iteration mode (limits.NEWTON, FIXED,
+    SPLIT) instead of integrate's choice; ``cflags``: gcc flags instead of CFLAGS."""
+    steps, reps = int(steps), int(reps)
     if steps < 1:
         raise ValueError("steps must be positive")
+    if reps < 1:
+        raise ValueError("reps must be positive")
     pr = prepare(method_path, problem, h, solver, start, compensated, mode)
-    out = _run_exe(build(pr.cp.problem, pr.shape, cflags), _input_text(pr, steps, int(reps)))
+    if inprocess:
+        status, completed, final, stats, times = _run_lib(pr, steps, reps, cflags)
+        _check(status, completed, "C", method_path, problem, check_status)
+        return _result(times, steps, final, stats, status, completed, pr)
+    out = _run_exe(build(pr.cp.problem, pr.shape, cflags), _input_text(pr, steps, reps))
     status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
     _check(status, completed, "C", method_path, problem, check_status)
     final = np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.shape[1], pr.shape[2])

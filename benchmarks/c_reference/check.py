@@ -12,7 +12,10 @@ a test.  Prints
   (nfev), sweeps and velocity evaluations (nvel) equal, the raw final input vectors y^[n]
   (r × d) to round-off: max|ΔY|/max|Y| (0: bit for bit);
 * the public path: finish(C's y^[n]) against integrate(..., kernel="compiled").final, and its
-  counters (checks that run_numba calls ``run`` as kernels.drive does).
+  counters (checks that run_numba calls ``run`` as kernels.drive does);
+* the two C paths on a few cases: run_c in process (the shared library through ctypes, the
+  default) against run_c(inprocess=False) (the executable): equal status and counters,
+  bit-identical finals, also over repeated calls of one library and several libraries loaded.
 
 Run: python benchmarks/c_reference/check.py [--steps 1000]
 """
@@ -152,6 +155,39 @@ def check_loops(steps) -> bool:
     return ok
 
 
+# (method, problem, h, options): the in-process library against the executable
+PATHS = (("gauss2", "kepler", 0.01, {}), ("rk4", "pendulum", 0.01, {}), ("gauss2", "fpu", 0.001, {}),
+         ("glm43", "kepler", 0.01, dict(start="naive")), ("gauss3", "pendulum", 0.01, dict(solver="newton")),
+         ("implicit_midpoint", "kepler", 0.01, dict(mode=limits.FIXED)), ("example4_glm", "kepler", 0.01, {}))
+
+
+def check_paths(steps) -> bool:
+    """run_c in process (ctypes) against run_c(inprocess=False) (the executable); each in-process
+    case run twice (reps 2, then 1 after the other libraries): a library keeps no state."""
+    ok = True
+    print(f"\nC in process (ctypes, shared library) against the C executable, {steps} steps: status, counters "
+          f"and raw finals (bit for bit), twice in process")
+    print(f"{'method':<18} {'problem':<19} {'options':<18} {'status':>6} {'nfev':>7} {'sweeps':>7} {'nvel':>7} "
+          f"{'equal':>6}")
+    keys = ("status", "completed", "nfev", "sweeps", "nvel")
+    first = {}
+    for method, problem, h, opts in PATHS:
+        path = f"methods/{method}.json"
+        lib = run_c(path, problem, h, steps, reps=2, check_status=False, **opts)
+        exe = run_c(path, problem, h, steps, reps=1, check_status=False, inprocess=False, **opts)
+        first[method, problem] = lib
+        good = (sorted(lib) == sorted(exe) and all(lib[k] == exe[k] for k in keys)
+                and np.array_equal(lib["final"], exe["final"]) and len(lib["seconds_all"]) == 2)
+        ok &= good
+        print(f"{method:<18} {problem:<19} {_label(opts):<18} {lib['status']:>6} {lib['nfev']:>7} {lib['sweeps']:>7} "
+              f"{lib['nvel']:>7} {'ok' if good else 'DIFFERENT':>6}", flush=True)
+    again = all(np.array_equal(run_c(f"methods/{m}.json", p, h, steps, reps=1, check_status=False, **o)["final"],
+                               first[m, p]["final"]) for m, p, h, o in PATHS)
+    ok &= again
+    print(f"in process again, after the other libraries: {'ok' if again else 'DIFFERENT'}")
+    return ok
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--steps", type=int, default=1000)
@@ -159,6 +195,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     ok = check_functions(np.random.default_rng(args.seed))
     ok &= check_loops(args.steps)
+    ok &= check_paths(args.steps)
     print("\nall ok" if ok else "\nSOME CHECKS FAILED")
     return 0 if ok else 1
 

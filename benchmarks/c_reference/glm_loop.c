@@ -28,13 +28,21 @@
  *   -DTL_PROBLEM_HEADER: a generated header of the problem (f_, jac_, and fq_/fp_ if separable;
  *   TL_PROBLEM_D, TL_PROBLEM_NC, TL_PROBLEM_SEPARABLE), printed from its sympy expressions by
  *   c_reference.py; both included below, after the system headers.
- * Build (c_reference.build does it, cached under build/):
- *   gcc -O2 -std=c99 -ffp-contract=off -DS=2 -DR=1 -DD=4 -DTL_LIMITS_HEADER='"limits.h"' \
- *       -DTL_PROBLEM_HEADER='"problem_kepler.h"' -o glm_loop glm_loop.c -lm
+ * Two builds of this one file (c_reference.build does them, cached under build/):
+ *   the shared library (-DGLM_LIBRARY -shared -fPIC): the entry glm_run (the timed repetitions
+ *   of the loop, see below), glm_functions (f, J, fq, fp at a point) and glm_shape, called in
+ *   process through ctypes by c_reference.run_c;
+ *     gcc -O3 -march=native -std=c99 -ffp-contract=off -shared -fPIC -DGLM_LIBRARY -DS=2 -DR=1 -DD=4 \
+ *         -DTL_LIMITS_HEADER='"limits.h"' -DTL_PROBLEM_HEADER='"problem_kepler.h"' -o libglm.so glm_loop.c -lm
+ *   the executable (no -DGLM_LIBRARY): main() reads an input file and calls the same glm_run;
+ *     gcc -O3 -march=native -std=c99 -ffp-contract=off -DS=2 -DR=1 -DD=4 -DTL_LIMITS_HEADER='"limits.h"' \
+ *         -DTL_PROBLEM_HEADER='"problem_kepler.h"' -o glm_loop glm_loop.c -lm
+ * glm_run keeps no state between calls: its static Pack, Work and Y are zeroed at the start of
+ * every call, and every repetition starts from y^[0] with a zeroed Kahan carry, ring and counters.
  *
- * Input (file argv[1]): lines "key count v1 ... vcount", doubles written %.17g.  Keys: shape
- * (S R D, checked), mode (0: run the loop; 1: print f, J, fq, fp at each point), reps, steps,
- * h, hinv, eps, hA, flags (N_FLAGS, limits' F_* layout), c, A (2 S S), U (S R), B (2 R S),
+ * Executable input (file argv[1]): lines "key count v1 ... vcount", doubles written %.17g.  Keys:
+ * shape (S R D, checked), mode (0: run the loop; 1: print f, J, fq, fp at each point), reps,
+ * steps, h, hinv, eps, hA, flags (N_FLAGS, limits' F_* layout), c, A (2 S S), U (S R), B (2 R S),
  * V (R R), cls (D), E (S S), Ainv (2 S S), Y (R D, row-major); mode 1: points (n D).
  * Output (stdout): status, completed, step, nfev, sweeps, nvel, seconds (median over the reps
  * of the step loop alone, CLOCK_MONOTONIC), seconds_all, final (R x D, %.17g).
@@ -43,6 +51,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 #include <time.h>
 
@@ -63,6 +72,12 @@
 #define MAXREPS 1000
 #define MAX(a, b) ((b) > (a) ? (b) : (a))       /* Python's (and numba's) max(a, b) */
 #define MIN(a, b) ((b) < (a) ? (b) : (a))
+#define GLM_NSTATS 6                            /* glm_run's stats: status, completed, step, nfev, sweeps, nvel */
+#if defined(__GNUC__)
+#define TL_EXPORT __attribute__((visibility("default")))
+#else
+#define TL_EXPORT
+#endif
 
 /* the method and run constants: the arrays of kernels.Pack */
 typedef struct {
@@ -510,7 +525,111 @@ static int run(Pack *P, Work *w, double Y[R][D], long steps)
     return 0;
 }
 
-/* ---- input, repetitions, output ------------------------------------------------------- */
+/* ---- the entry: repetitions of the timed loop (shared by the library and main) ------- */
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* everything one call uses: static, as the executable has always held it, zeroed entirely at
+ * the start of every glm_run, so that no state survives a call (not reentrant: one call at a
+ * time per library) */
+static Pack P0;
+static Work work;
+static double Y0[R][D], Y1[R][D];
+
+/* the compiled shape, for the loader's check: S, R, D, N_FLAGS, TL_PROBLEM_NC, GLM_NSTATS */
+TL_EXPORT void glm_shape(int64_t out[6])
+{
+    out[0] = S;
+    out[1] = R;
+    out[2] = D;
+    out[3] = N_FLAGS;
+    out[4] = TL_PROBLEM_NC;
+    out[5] = GLM_NSTATS;
+}
+
+/* reps whole runs of steps steps from y^[0] = Y (R x D, row-major), each from a fresh Kahan
+ * carry, history ring and counters; the step loop alone timed by CLOCK_MONOTONIC into
+ * seconds[rep].  consts: h, hinv, eps, hA; flags: N_FLAGS (limits' F_* layout); c:
+ * TL_PROBLEM_NC; A, Ainv: 2 S S; U: S R; B: 2 R S; V: R R; cls: D (0 or 1); E: S S.  On return
+ * Y holds the last run's y^[steps] (or y^[n-1] where it stopped) and stats: status, completed,
+ * step, nfev, sweeps, nvel (GLM_NSTATS values) of the last run.  Returns the status (0 done,
+ * 2 not finite, 4 the stage iteration failed), or -1 for bad arguments. */
+TL_EXPORT int glm_run(const double *consts, const int64_t *flags, const double *c, const double *A,
+                      const double *U, const double *B, const double *V, const int64_t *cls,
+                      const double *E, const double *Ainv, int64_t steps, int64_t reps, double *Y,
+                      int64_t *stats, double *seconds)
+{
+    if (reps < 1 || steps < 0)
+        return -1;
+    for (int l = 0; l < D; l++)
+        if (cls[l] != 0 && cls[l] != 1)
+            return -1;
+    memset(&P0, 0, sizeof P0);
+    memset(&work, 0, sizeof work);
+    memset(Y0, 0, sizeof Y0);
+    memset(Y1, 0, sizeof Y1);
+    Pack *P = &P0;
+    P->h = consts[0];
+    P->hinv = consts[1];
+    P->eps = consts[2];
+    P->hA = consts[3];
+    for (int i = 0; i < N_FLAGS; i++)
+        P->flags[i] = (long)flags[i];
+    for (int i = 0; i < TL_PROBLEM_NC; i++)
+        P->c[i] = c[i];
+    memcpy(P->A, A, sizeof P->A);
+    memcpy(P->U, U, sizeof P->U);
+    memcpy(P->B, B, sizeof P->B);
+    memcpy(P->V, V, sizeof P->V);
+    memcpy(P->E, E, sizeof P->E);
+    memcpy(P->Ainv, Ainv, sizeof P->Ainv);
+    for (int l = 0; l < D; l++)
+        P->cls[l] = (int)cls[l];
+    memcpy(Y0, Y, sizeof Y0);
+    Work *w = &work;
+    int status = 0;
+    for (int64_t rep = 0; rep < reps; rep++) {
+        memset(w, 0, sizeof *w);            /* Kahan carry, history ring, counters */
+        memcpy(w->flags, P->flags, sizeof w->flags);
+        memcpy(Y1, Y0, sizeof Y1);
+        const double t0 = now();
+        status = run(P, w, Y1, (long)steps);
+        seconds[rep] = now() - t0;
+    }
+    memcpy(Y, Y1, sizeof Y1);
+    stats[0] = status;
+    stats[1] = status == 0 ? steps : w->step - 1;
+    stats[2] = w->step;
+    stats[3] = w->nfev;
+    stats[4] = w->sweeps;
+    stats[5] = w->nvel;
+    return status;
+}
+
+/* the generated functions at one point y (D): f (D), J (D x D), fq, fp (D: their own
+ * components, NaN elsewhere; all NaN if the problem is not separable) */
+TL_EXPORT void glm_functions(const double *y, const double *c, double *f, double *J, double *fq, double *fp)
+{
+    double cc[NC] = {0.0};
+    for (int i = 0; i < TL_PROBLEM_NC; i++)
+        cc[i] = c[i];
+    for (int l = 0; l < D; l++)
+        fq[l] = fp[l] = NAN;                /* fq_ / fp_ write their own components only */
+    f_(y, cc, f);
+    jac_(y, cc, J);
+#if TL_PROBLEM_SEPARABLE
+    fq_(y, cc, fq);
+    fp_(y, cc, fp);
+#endif
+}
+
+#ifndef GLM_LIBRARY
+/* ---- the executable: input file, glm_run, output ----------------------------------------- */
 
 static void die(const char *msg, const char *what)
 {
@@ -535,13 +654,6 @@ static void read_into(FILE *fp, const char *key, double *dst, long n, long want)
     }
 }
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
@@ -556,9 +668,10 @@ static void print_row(const char *key, const double *v, int n)
     printf("\n");
 }
 
-static Pack P0;
-static Work work;
-static double Y0[R][D], Y[R][D];
+/* the input, as glm_run takes it */
+static double in_consts[4], in_c[NC], in_A[2 * S * S], in_U[S * R], in_B[2 * R * S], in_V[R * R],
+    in_E[S * S], in_Ainv[2 * S * S], in_Y[R * D];
+static int64_t in_flags[N_FLAGS], in_cls[D];
 static double seconds[MAXREPS], sorted[MAXREPS];
 
 int main(int argc, char **argv)
@@ -593,41 +706,41 @@ int main(int argc, char **argv)
             read_into(fp, key, tmp, n, 1);
             steps = (long)tmp[0];
         } else if (strcmp(key, "h") == 0)
-            read_into(fp, key, &P0.h, n, 1);
+            read_into(fp, key, &in_consts[0], n, 1);
         else if (strcmp(key, "hinv") == 0)
-            read_into(fp, key, &P0.hinv, n, 1);
+            read_into(fp, key, &in_consts[1], n, 1);
         else if (strcmp(key, "eps") == 0)
-            read_into(fp, key, &P0.eps, n, 1);
+            read_into(fp, key, &in_consts[2], n, 1);
         else if (strcmp(key, "hA") == 0)
-            read_into(fp, key, &P0.hA, n, 1);
+            read_into(fp, key, &in_consts[3], n, 1);
         else if (strcmp(key, "flags") == 0) {
             read_into(fp, key, tmp, n, N_FLAGS);
             for (int i = 0; i < N_FLAGS; i++)
-                P0.flags[i] = (long)tmp[i];
+                in_flags[i] = (int64_t)tmp[i];
         } else if (strcmp(key, "c") == 0) {
-            read_into(fp, key, P0.c, n, TL_PROBLEM_NC);
+            read_into(fp, key, in_c, n, TL_PROBLEM_NC);
             have_c = 1;
         } else if (strcmp(key, "A") == 0)
-            read_into(fp, key, &P0.A[0][0][0], n, 2 * S * S);
+            read_into(fp, key, in_A, n, 2 * S * S);
         else if (strcmp(key, "U") == 0)
-            read_into(fp, key, &P0.U[0][0], n, S * R);
+            read_into(fp, key, in_U, n, S * R);
         else if (strcmp(key, "B") == 0)
-            read_into(fp, key, &P0.B[0][0][0], n, 2 * R * S);
+            read_into(fp, key, in_B, n, 2 * R * S);
         else if (strcmp(key, "V") == 0)
-            read_into(fp, key, &P0.V[0][0], n, R * R);
+            read_into(fp, key, in_V, n, R * R);
         else if (strcmp(key, "cls") == 0) {
             read_into(fp, key, tmp, n, D);
             for (int l = 0; l < D; l++) {
-                P0.cls[l] = (int)tmp[l];
-                if (P0.cls[l] != 0 && P0.cls[l] != 1)
+                in_cls[l] = (int64_t)tmp[l];
+                if (in_cls[l] != 0 && in_cls[l] != 1)
                     die("cls must be 0 or 1", NULL);
             }
         } else if (strcmp(key, "E") == 0)
-            read_into(fp, key, &P0.E[0][0], n, S * S);
+            read_into(fp, key, in_E, n, S * S);
         else if (strcmp(key, "Ainv") == 0)
-            read_into(fp, key, &P0.Ainv[0][0][0], n, 2 * S * S);
+            read_into(fp, key, in_Ainv, n, 2 * S * S);
         else if (strcmp(key, "Y") == 0)
-            read_into(fp, key, &Y0[0][0], n, R * D);
+            read_into(fp, key, in_Y, n, R * D);
         else if (strcmp(key, "points") == 0) {
             if (n % D != 0)
                 die("points: a multiple of D values needed", NULL);
@@ -645,48 +758,39 @@ int main(int argc, char **argv)
 
     if (mode == 1) {                        /* the generated functions at each point */
         for (long k = 0; k < npoints; k++) {
-            double f[D], J[D][D], fq[D], fp[D];
-            const double *y = points + k * D;
-            for (int l = 0; l < D; l++)
-                fq[l] = fp[l] = NAN;        /* fq_ / fp_ write their own components only */
-            f_(y, P0.c, f);
-            jac_(y, P0.c, &J[0][0]);
+            double f[D], J[D * D], fq[D], fp_[D];
+            glm_functions(points + k * D, in_c, f, J, fq, fp_);
             print_row("f", f, D);
-            print_row("jac", &J[0][0], D * D);
+            print_row("jac", J, D * D);
 #if TL_PROBLEM_SEPARABLE
-            fq_(y, P0.c, fq);
-            fp_(y, P0.c, fp);
             print_row("fq", fq, D);
-            print_row("fp", fp, D);
+            print_row("fp", fp_, D);
 #endif
         }
         free(points);
         return 0;
     }
 
-    int status = 0;
-    for (long rep = 0; rep < reps; rep++) {
-        memset(&work, 0, sizeof work);      /* Kahan carry, history ring, counters */
-        memcpy(work.flags, P0.flags, sizeof work.flags);
-        memcpy(Y, Y0, sizeof Y);
-        const double t0 = now();
-        status = run(&P0, &work, Y, steps);
-        seconds[rep] = now() - t0;
-    }
+    int64_t stats[GLM_NSTATS];
+    const int status = glm_run(in_consts, in_flags, in_c, in_A, in_U, in_B, in_V, in_cls, in_E, in_Ainv,
+                               steps, reps, in_Y, stats, seconds);
+    if (status < 0)
+        die("glm_run: bad arguments", NULL);
     memcpy(sorted, seconds, sizeof(double) * (size_t)reps);
     qsort(sorted, (size_t)reps, sizeof(double), cmp_double);
     const double median = reps % 2 ? sorted[reps / 2] : 0.5 * (sorted[reps / 2 - 1] + sorted[reps / 2]);
     printf("status %d\n", status);
-    printf("completed %ld\n", status == 0 ? steps : work.step - 1);
-    printf("step %ld\n", work.step);
-    printf("nfev %ld\n", work.nfev);
-    printf("sweeps %ld\n", work.sweeps);
-    printf("nvel %ld\n", work.nvel);
+    printf("completed %lld\n", (long long)stats[1]);
+    printf("step %lld\n", (long long)stats[2]);
+    printf("nfev %lld\n", (long long)stats[3]);
+    printf("sweeps %lld\n", (long long)stats[4]);
+    printf("nvel %lld\n", (long long)stats[5]);
     printf("seconds %.9g\n", median);
     printf("seconds_all %ld", reps);
     for (long i = 0; i < reps; i++)
         printf(" %.9g", seconds[i]);
     printf("\n");
-    print_row("final", &Y[0][0], R * D);
+    print_row("final", in_Y, R * D);
     return 0;
 }
+#endif /* GLM_LIBRARY */
