@@ -3,9 +3,10 @@ or pure Python (float64 as the reference, mpmath at any precision), and driven i
 
 A compiled loop is one module per problem, arithmetic and method shape (s, r, d), written
 under the cache directory (``$TABLEAU_LAB_CACHE``, else ``~/.cache/tableau_lab``) with a name
-that hashes its text: the arithmetic module's operations, :mod:`stepcore`'s functions and the
-problem's generated functions (:mod:`problem_code`), then ``dims`` returning the shape as
-constants (the small loops over stages, values and components unroll).  numba caches the
+that hashes its text: the arithmetic module's operations, :mod:`stepcore`'s functions, an
+import of the problem's generated functions (:mod:`problem_code`; a module of their own,
+compiled once per problem and arithmetic for every shape), then ``dims`` returning the shape
+as constants (the small loops over stages, values and components unroll).  numba caches the
 machine code beside it, so the compile cost is paid once per problem and shape (reported as
 ``compile_seconds``, never inside a rate); the method's coefficients and the step size are
 data.  The pure loop executes the same :mod:`stepcore` text with :mod:`ops_f64` or
