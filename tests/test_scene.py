@@ -82,13 +82,13 @@ def test_ctrl_c_leaves_valid_incomplete_file(tmp_path, monkeypatch):
     def interrupted(prob, arith_name):          # the pure loop, interrupted during step 150
         loop = real(prob, arith_name)
         g = loop.run.__globals__
-        finish_step = g["finish_step"]
+        after_step = g["after_step"]
 
-        def finish(n, *a):
+        def after(n, *a):
             if n == 150:
                 raise KeyboardInterrupt
-            return finish_step(n, *a)
-        g["finish_step"] = finish
+            return after_step(n, *a)
+        g["after_step"] = after
         return loop
     monkeypatch.setattr(kernels, "pure_loop", interrupted)
     monkeypatch.setenv("TABLEAU_LAB_KERNEL", "python")

@@ -60,7 +60,8 @@ from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
-from tableau_lab.numeric.kernels import Pack, compiled_loop, loop_shape
+from tableau_lab.numeric.kernels import LoopState, Pack, compiled_loop, loop_shape
+from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
 __all__ = ["run_c", "run_numba", "c_functions", "build", "library", "prepare", "problem_header", "limits_header", "CASES",
@@ -123,17 +124,11 @@ static inline double tl_ipow(double a, int k)
 def _c_function(name, state, params, exprs, at=None) -> str:
     """``static inline void name(y, c, out)``: problem_code.function_source in C — the same
     symbols, the same CSE — writing out[at[k]] (a list) or out[i*d + j] (rows, row-major)."""
-    subs = {s: sp.Symbol(f"y[{i}]") for i, s in enumerate(state)}
-    subs.update({p: sp.Symbol(f"c[{j}]") for j, p in enumerate(params)})
-    rows = exprs if (exprs and isinstance(exprs[0], (list, tuple))) else None
-    flat = [e for row in rows for e in row] if rows else list(exprs)
-    flat = [sp.sympify(e).xreplace(subs) for e in flat]
-    temps, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x"), optimizations="basic")
+    temps, reduced, width = cse_entries(state, params, exprs)
     p = _CPrinter()
     lines = [f"static inline void {name}(const double *restrict y, const double *restrict c, double *restrict out)",
              "{", "    (void)y;", "    (void)c;"]
     lines += [f"    const double {t} = {p.doprint(v)};" for t, v in temps]
-    width = len(rows[0]) if rows else None
     for k, v in enumerate(reduced):
         where = k if width else (at[k] if at else k)
         lines.append(f"    out[{where}] = {p.doprint(v)};")
@@ -310,9 +305,7 @@ class Prepared:
             masks = component_masks(cp, d)
             # mode=None: integrate's choice; else forced (check.py: FIXED, which no separable problem gets)
             self.mode = stage_iteration(solver, nm, cp, cp.y0, h, d) if mode is None else int(mode)
-            first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
-            self.pk = Pack(nm, cp, h, masks, mode=self.mode, compensate=first_is_increment and compensated,
-                           project=(), track=(), targets={}, index={})
+            self.pk = Pack(nm, cp, h, masks, mode=self.mode, compensated=compensated)
             self.Y0 = np.ascontiguousarray(np.asarray(start_values(nm, cp, cp.y0, h, start), dtype=float))
 
 
@@ -431,18 +424,12 @@ def run_numba(method_path, problem, h, steps, reps=5, *, solver="auto", start="e
     pr = prepare(method_path, problem, h, solver, start, compensated, mode)
     pk, (s, r, d) = pr.pk, pr.shape
     loop = compiled_loop(pr.cp.problem, "f64", loop_shape(s, r, d))
-    stages, work = loop.workspace(s, r, d, len(pk.proj))
 
     def call(n1):
-        Y, flags = pr.Y0.copy(), pk.flags.copy()
-        comp, Fh = np.zeros(d), np.zeros((limits.HISTORY, s, d))
-        stats, tmax = np.zeros(limits.N_STATS), np.zeros(len(pk.track))
-        rec, recn = np.zeros((3, r, d)), np.zeros(3, dtype=np.int64)
+        st = LoopState(loop, pk, pr.Y0, steps, steps)       # kernels.drive's arrays and argument list
         t0 = time.perf_counter()
-        status = loop.run(Y, pk.h, pk.hinv, 0, n1, steps, steps, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv,
-                          flags, pk.c, pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, tmax, 1,
-                          comp, Fh, rec, recn, stats, stages, work)
-        return time.perf_counter() - t0, int(status), Y, stats
+        status = loop.run(*st.args(0, n1))
+        return time.perf_counter() - t0, int(status), st.Y, st.stats
 
     call(0)                                 # compile, or load numba's cache: not timed
     times = []

@@ -235,7 +235,7 @@ static inline void predict(double E[S][S], double Fh[HISTORY][S][D], const long 
 
 static inline int can_predict(const long flags[N_FLAGS])
 {
-    return flags[F_NHIST] >= HISTORY || (flags[F_NHIST] > 0 && flags[F_HAS_E] == 1);
+    return flags[F_PREDICT] == 1 && (flags[F_NHIST] >= HISTORY || (flags[F_NHIST] > 0 && flags[F_HAS_E] == 1));
 }
 
 static inline void keep(double F[S][D], double Fh[HISTORY][S][D], long flags[N_FLAGS])

@@ -3,7 +3,7 @@ float64, the exact start, max |H − H₀| over the run): a regression record of
 step loop, to compare two versions.  A script, not a test.
 
     python benchmarks/regression/finals.py OUT.json [--steps N] [--perturb] [--precision dd] [--cases C.json]
-    python benchmarks/regression/finals.py --compare A.json B.json
+    python benchmarks/regression/finals.py --compare A.json B.json [--dd DD.json]
 
 ``--perturb`` starts from y₀(1 + u), u the unit round-off: the difference to the unperturbed
 finals is how far one rounding error reaches after 10⁵ steps (tests/test_regression.py
@@ -52,7 +52,7 @@ def record(out, steps, perturb=False, precision="float64", cases=None):
     Path(out).write_text(json.dumps(rows, indent=1))
 
 
-def compare(a, b):
+def compare(a, b, dd=None):
     A, B = json.loads(Path(a).read_text()), json.loads(Path(b).read_text())
     worst = 0.0
     for key in A:
@@ -67,6 +67,19 @@ def compare(a, b):
         else:
             print(f"{key:42s} {str(x.get('failed', ''))[:60]!r} / {str(y.get('failed', ''))[:60]!r}")
     print("largest relative difference of finite finals:", f"{worst:.2e}")
+    if dd:                                  # both against the double-double run of the same method
+        D = json.loads(Path(dd).read_text())
+        errs = []
+        for key in D:
+            exact = np.array([float(x) for x in D[key]["final"]])
+            fa, fb = np.array(A[key]["final"]), np.array(B[key]["final"])
+            scale = np.max(np.abs(fa))
+            errs.append((key, np.max(np.abs(fa - exact)) / scale, np.max(np.abs(fb - exact)) / scale))
+        for key, ea, eb in errs:
+            print(f"{key:42s} distance to double-double {ea:.2e} (A) / {eb:.2e} (B)")
+        print(f"B closer to double-double in {sum(eb < ea for _, ea, eb in errs)} of {len(errs)}; median distance "
+              f"A {np.median([e[1] for e in errs]):.1e}, B {np.median([e[2] for e in errs]):.1e}; "
+              f"B within 5x of A in {sum(eb <= 5 * ea for _, ea, eb in errs)}")
 
 
 if __name__ == "__main__":
@@ -74,10 +87,11 @@ if __name__ == "__main__":
     ap.add_argument("out", nargs="?")
     ap.add_argument("--steps", type=int, default=10 ** 5)
     ap.add_argument("--compare", nargs=2)
+    ap.add_argument("--dd", help="with --compare: finals of the same methods in double-double, to measure both against")
     ap.add_argument("--perturb", action="store_true", help="start from y0 (1 + u): how far round-off reaches")
     ap.add_argument("--precision", default="float64", help="float64 or dd (finals as 32-digit strings)")
     ap.add_argument("--cases", help="a JSON file with a list of 'method problem' keys (default: all)")
     args = ap.parse_args()
     cases = set(json.loads(Path(args.cases).read_text())) if args.cases else None
-    sys.exit(compare(*args.compare) if args.compare else record(args.out, args.steps, args.perturb, args.precision,
+    sys.exit(compare(*args.compare, args.dd) if args.compare else record(args.out, args.steps, args.perturb, args.precision,
                                                                  cases))

@@ -5,9 +5,9 @@ Not tests: nothing here asserts a time.  The standard set runs each case for 10�
 compiled float64 loop and with ``benchmarks/c_reference`` — the same algorithm (the stage
 iteration on the q stages of a separable problem with the predicted start, or simplified
 Newton; Kahan summation of the principal value) written in C99, the problem's functions printed
-as C from its symbols, the method's shape as compile-time constants, ``gcc -O2`` — timing the
-step loop alone in both, ``reps`` times each, interleaved (ours, C, ours, C, …) so that the
-drift of a shared machine hits both alike.  It prints the median µs/step of each, their ratio
+as C from its symbols, the method's shape as compile-time constants, ``gcc -O3 -march=native``,
+called in this process through ctypes — timing the step loop alone in both, ``reps`` times
+each, interleaved (ours, C, ours, C, …) so that the drift of a shared machine hits both alike.  It prints the median µs/step of each, their ratio
 (ours/C: the figure to watch, as absolute times drift), the f-evaluations per step of each (for
 separable problems: force evaluations, as Hairer's GNI codes count them), the goal of each row,
 and Hairer's GNI_IRK2 (gfortran -O2) as measured for issue 14 on this machine class, for

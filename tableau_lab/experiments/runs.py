@@ -23,11 +23,10 @@ import sympy as sp
 
 from ..exact.tableau_json import load
 from ..numeric.arith import is_exact, arith
-from ..numeric.codegen import compile_problem
+from ..numeric.codegen import compile_problem, reference
 from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
 from ..numeric.problems import get_problem
-from ..numeric.codegen import reference
 from .executor import executor
 from .job import RunJob
 

@@ -42,7 +42,7 @@ class ProblemInfo:
     invariants: tuple          # names
     dimension: int
     key: str                   # a digest of the problem with its parameter values
-    kernel_files: dict = field(default_factory=dict)   # (kind, shape) -> (module name, path, invariant names)
+    kernel_files: dict = field(default_factory=dict)   # (kind, shape) -> kernels.write_kernel's tuple
     separable: bool = False    # H = T(p) + V(q): the stage iteration on the q stages alone
 
 

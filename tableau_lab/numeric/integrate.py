@@ -182,14 +182,22 @@ def stage_iteration(solver, nm, prob, y0, h, d) -> int:
     and small eigenvalues); the q stages alone for a separable problem with q/p masks."""
     if nm.explicit or solver == "newton":
         return limits.choose_iteration(solver, explicit=nm.explicit, separable=False, contraction=0.0)
-    info = getattr(prob, "problem", None)
-    separable = bool(getattr(info, "separable", False)) and info.kind == "hamiltonian"
+    separable = bool(getattr(getattr(prob, "problem", None), "separable", False))
     contraction = 0.0
     if solver == "auto":
         J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
         rho = float(np.max(np.abs(np.linalg.eigvals(J)))) if d else 0.0
         contraction = nm.stage_scale(h) * rho
     return limits.choose_iteration(solver, explicit=False, separable=separable, contraction=contraction)
+
+
+def _mode(solver, nm, prob, y0, h, masks) -> int:
+    """:func:`stage_iteration`, with the q stages alone only where the masks are the problem's
+    own q/p halves."""
+    d = len(y0)
+    mode = stage_iteration(solver, nm, prob, y0, h, d)
+    own = [list(map(int, m)) for m in masks] == [list(m) for m in component_masks(prob, d)]
+    return limits.FIXED if mode == limits.SPLIT and not own else mode
 
 
 def _use_kernel(kernel, a, prob) -> bool:
@@ -213,7 +221,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
               kernel: str = "auto", monitor: float | None = None, solver: str = "auto",
-              track_every: int = limits.TRACK_EVERY) -> Run:
+              track_every: int = limits.TRACK_EVERY, predict: bool = True) -> Run:
     """Run ``steps`` steps of size h from y0 (a state vector at the method's precision).
 
     ``prob`` is a compiled problem (``f``, ``jac`` for implicit methods, ``invariant`` and
@@ -222,8 +230,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     if ``record_states``; memory grows with the records only.  The largest |I − I(y₀)| of the
     invariants and projected invariants is also tracked every ``track_every`` steps (default
     ``limits.TRACK_EVERY``; 1 for every step; ``Run.tracked``).  ``compensated=False`` turns the Kahan summation of the
-    principal increment off (to measure what it buys).  ``solver``: the stage iteration,
-    "auto", "newton" or "fixedpoint" (:func:`stage_iteration`).
+    principal increment off, ``predict=False`` the predicted start of the stage iteration (to
+    measure what they buy).  ``solver``: the stage iteration, "auto", "newton" or "fixedpoint"
+    (:func:`stage_iteration`).
     ``kernel``: "compiled" runs the step loop compiled (:mod:`kernels`), "python" the same
     loop in Python, "auto" the compiled one when the arithmetic is float64 and the problem is a
     generated one (results agree to round-off), unless the environment variable
@@ -237,9 +246,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     with a.context():
         y0 = np.array(list(y0), dtype=a.dtype)
         d = len(y0)
-        default_masks = component_masks(prob, d)
-        masks = default_masks if masks is None else masks
-        split_ok = [list(map(int, m)) for m in masks] == [list(m) for m in default_masks]
+        masks = component_masks(prob, d) if masks is None else masks
         if isinstance(h, int) or is_exact(h):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
@@ -252,14 +259,10 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
-        mode = stage_iteration(solver, nm, prob, y0, h, d)
-        if mode == limits.SPLIT and not split_ok:
-            mode = limits.FIXED
-        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
         loop = _loop(kernel, nm, prob, d)
-        index = loop.invariant_index
-        pk = kernels.Pack(nm, prob, h, masks, mode=mode, compensate=first_is_increment and compensated and a.name != "dd",
-                          project=tuple(project), track=names, targets=targets, index=index)
+        pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, y0, h, masks), compensated=compensated,
+                          predict=predict, project=tuple(project), track=names, targets=targets,
+                          index=loop.invariant_index)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)
@@ -330,11 +333,7 @@ def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
         Y = np.array(Y, dtype=a.dtype)
         d = Y.shape[1]
         masks = component_masks(prob, d) if masks is None else masks
-        mode = stage_iteration(solver, nm, prob, Y[0], h, d)
-        if mode == limits.SPLIT:
-            mode = limits.FIXED
-        pk = kernels.Pack(nm, prob, h, masks, mode=mode, compensate=False, project=(), track=(), targets={},
-                          index={})
+        pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, Y[0], h, masks), compensated=False)
         out = kernels.drive(kernels.pure_loop(prob, a.name), pk, Y, 1, 1, record=lambda n, Y: None)
         if out.status:
             raise IntegrationError(f"one step of size {float(h):.6g}: the loop stopped with status {out.status}")

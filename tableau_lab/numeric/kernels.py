@@ -42,7 +42,7 @@ import numpy as np
 from ..files import atomic_write_text
 from . import limits as L
 
-__all__ = ["available", "cache_dir", "loop_shape", "write_kernel", "compiled_loop", "pure_loop", "Pack", "Outcome", "drive"]
+__all__ = ["available", "cache_dir", "loop_shape", "write_kernel", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
 _MODULES: dict = {}        # module name -> module
@@ -228,8 +228,12 @@ class Pack:
     float64, double-double (trailing axis hi, lo, rounded from the multiprecision values) or
     mpmath (object arrays)."""
 
-    def __init__(self, nm, prob, h, masks, *, mode, compensate, project, track, targets, index):
+    def __init__(self, nm, prob, h, masks, *, mode, compensated=True, predict=True, project=(), track=(),
+                 targets=None, index=None):
+        """``compensated``: Kahan summation of the principal value where V's first row is e₁ᵀ
+        (not in double-double, which carries it); ``predict``: the predicted stage start."""
         a = nm.arith
+        targets, index = targets or {}, index or {}
         self.kind = {"float64": "f64", "dd": "dd"}.get(a.name, "mp")
         num = self.num
         mq = np.array([float(x) for x in masks[0]])
@@ -241,13 +245,15 @@ class Pack:
         self.A = num(np.array([nm.Aq, nm.Ap]))
         self.B = num(np.array([nm.Bq, nm.Bp]))
         self.U, self.V = num(nm.U), num(nm.V)
-        zero = np.array([[0 * nm.Aq[0, 0]] * nm.s] * nm.s, dtype=nm.Aq.dtype)
+        zero = nm.Aq * 0
         invertible = nm.Aq_inv is not None and nm.Ap_inv is not None
         self.Ainv = num(np.array([nm.Aq_inv, nm.Ap_inv]) if invertible else np.array([zero, zero]))
         self.E = num(nm.E if nm.E is not None else zero)
+        first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
+        compensate = compensated and first_is_increment and self.kind != "dd"
         self.flags = np.zeros(L.N_FLAGS, dtype=np.int64)
-        self.flags[[L.F_EXPLICIT, L.F_HAS_E, L.F_HAS_INV, L.F_COMPENSATE, L.F_MODE, L.F_HAS_JAC]] = (
-            int(nm.explicit), int(nm.E is not None), int(invertible), int(compensate), mode, 1)
+        self.flags[[L.F_EXPLICIT, L.F_HAS_E, L.F_HAS_INV, L.F_COMPENSATE, L.F_MODE, L.F_HAS_JAC, L.F_PREDICT]] = (
+            int(nm.explicit), int(nm.E is not None), int(invertible), int(compensate), mode, 1, int(predict))
         self.c = num(list(getattr(prob, "constants", ()))) if self.kind != "mp" else np.zeros(0)
         self.eps, self.tol = a.loop_tolerances()
         self.hA = nm.stage_scale(h)
@@ -309,6 +315,31 @@ class Outcome:
     compile_seconds: float = 0.0
 
 
+class LoopState:
+    """The arrays one run of a loop works on (input vector, Kahan carry, the ring of stage
+    derivatives, counters, tracked maxima, records, the :func:`~.stepcore.workspace`) and the
+    argument list of ``run`` and ``rescue_step``, written here once.  The flags are the pack's,
+    copied: the loop changes them (history, mode)."""
+
+    def __init__(self, loop, pk: Pack, Y, steps: int, every: int, track_every: int = 1, chunk: int | None = None):
+        self.pk, self.steps, self.every, self.track_every = pk, steps, every, track_every
+        self.Y = pk.num(Y).copy()              # the loop writes it: never the caller's array
+        r, d = self.Y.shape[:2]
+        s = pk.A.shape[1]
+        self.flags = pk.flags.copy()
+        self.comp, self.Fh = pk.zeros(d), pk.zeros(L.HISTORY, s, d)
+        self.stats, self.tmax = np.zeros(L.N_STATS), np.zeros(len(pk.track))
+        slots = (chunk or steps) // every + 2
+        self.rec, self.recn = pk.zeros(slots, r, d), np.zeros(slots, dtype=np.int64)
+        self.stages, self.work = loop.workspace(s, r, d, len(pk.proj))
+
+    def args(self, n0: int, n1: int) -> tuple:
+        pk = self.pk
+        return (self.Y, pk.h, pk.hinv, n0, n1, self.steps, self.every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv,
+                self.flags, pk.c, pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, self.tmax,
+                self.track_every, self.comp, self.Fh, self.rec, self.recn, self.stats, self.stages, self.work)
+
+
 def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, track_every: int = 1,
           chunk: int | None = None) -> Outcome:
     """Steps 1..steps of ``loop`` (a compiled module or a pure loop) from the input vector Y
@@ -317,30 +348,11 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
     carries the outcome so far as ``exc.outcome``."""
     compiled = pk.kind != "mp" and loop.__name__ != "pure"
     chunk = chunk or (L.CHUNK if compiled else L.PURE_CHUNK)
-    Yl = pk.num(Y)
-    r, d = Yl.shape[:2]
-    comp = pk.zeros(d)
-    Fh = pk.zeros(L.HISTORY, pk.A.shape[1], d)
-    stats = np.zeros(L.N_STATS)
-    tmax = np.zeros(len(pk.track))
-    rec = pk.zeros(chunk // every + 2, r, d)
-    recn = np.zeros(chunk // every + 2, dtype=np.int64)
     out = Outcome()
     first = compiled and loop.__name__ not in _COMPILE
     t0 = time.perf_counter()
-    stages, work = loop.workspace(pk.A.shape[1], r, d, len(pk.proj))     # compiled (or loaded) once, too
-
-    def call(n0, n1):
-        return int(loop.run(Yl, pk.h, pk.hinv, n0, n1, steps, every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv,
-                            pk.flags, pk.c, pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, tmax,
-                            track_every, comp, Fh, rec, recn, stats, stages, work))
-
-    def rescue(n):
-        return int(loop.rescue_step(Yl, pk.h, pk.hinv, n, steps, every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E,
-                                    pk.Ainv, pk.flags, pk.c, pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track,
-                                    pk.ttarget, tmax, track_every, comp, Fh, rec, recn, stats, stages, work))
-
-
+    st = LoopState(loop, pk, Y, steps, every, track_every, chunk)     # the workspace: compiled (or loaded) once
+    stats, recn, rec = st.stats, st.recn, st.rec
     done = [0, False]                          # records of the current call handed over; inside record()
 
     def records():
@@ -349,36 +361,33 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
             record(int(recn[k]), pk.back(rec[k]))
             done[1] = False
 
-    def call_and_record(fn, *a):
+    def call(fn, n0, n1):
         done[0] = 0
-        status = fn(*a)
+        status = int(fn(*st.args(n0, n1)))
         records()
         return status
 
     if first:
         import numba
-        call(0, 0)
-        args = (Yl, pk.h, pk.hinv, 0, steps, every, pk.A, pk.U, pk.B, pk.V, pk.cls, pk.E, pk.Ainv, pk.flags, pk.c,
-                pk.eps, pk.tol, pk.hA, pk.proj, pk.target, pk.track, pk.ttarget, tmax, track_every, comp, Fh, rec,
-                recn, stats, stages, work)
-        loop.rescue_step.compile(tuple(numba.typeof(x) for x in args))
+        loop.run(*st.args(0, 0))
+        loop.rescue_step.compile(tuple(numba.typeof(x) for x in st.args(0, 0)))
         _COMPILE[loop.__name__] = time.perf_counter() - t0
         out.compile_seconds = _COMPILE[loop.__name__]
     n = 0
     try:
         while n < steps:
             n1 = min(steps, n + chunk)
-            status = call_and_record(call, n, n1)
+            status = call(loop.run, n, n1)
             if status == 4:                    # the stage iteration failed: the fallbacks, once
                 n = int(stats[L.S_STEP])
-                status = call_and_record(rescue, n)
+                status = call(loop.rescue_step, n - 1, n)
                 if status == 0:
                     out.completed = n
-                    _count(out, stats, tmax, pk)
+                    _count(out, st)
                     continue
             out.completed = n1 if status == 0 else int(stats[L.S_STEP]) - 1
             n = out.completed
-            _count(out, stats, tmax, pk)
+            _count(out, st)
             if status != 0:
                 out.status, out.step = status, int(stats[L.S_STEP])
                 break
@@ -393,14 +402,15 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
                 records()
             except BaseException:
                 pass
-        _count(out, stats, tmax, pk)
+        _count(out, st)
         exc.outcome = out
         raise
-    out.Y = pk.back(Yl)
+    out.Y = pk.back(st.Y)
     return out
 
 
-def _count(out, stats, tmax, pk):
+def _count(out, st: LoopState):
+    stats, tmax, pk = st.stats, st.tmax, st.pk
     out.nfev, out.nvel, out.sweeps = int(stats[L.S_NFEV]), int(stats[L.S_NVEL]), int(stats[L.S_SWEEPS])
     out.projection_iterations, out.fallbacks = int(stats[L.S_PROJ]), int(stats[L.S_FALLBACKS])
     out.projection_residual, out.last_correction = float(stats[L.S_PROJ_RES]), float(stats[L.S_LAST])

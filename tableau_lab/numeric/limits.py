@@ -54,8 +54,8 @@ CHUNK = 1 << 16             # steps per call of a compiled loop (records, progre
 PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
-F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS = range(8)
-N_FLAGS = 8
+F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT = range(9)
+N_FLAGS = 9
 S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACKS = range(9)
 N_STATS = 9
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-__all__ = ["function_source", "problem_source"]
+__all__ = ["cse_entries", "function_source", "problem_source"]
 
 class _Printer(PythonCodePrinter):
     """Python/numba source with small integer and half-integer powers as products and square
@@ -39,21 +39,28 @@ class _Printer(PythonCodePrinter):
         return super()._print_Pow(e, rational)
 
 
-def function_source(name, state, params, exprs, at=None, deco=None, row=False) -> str:
-    """``def name(y, c, out)``: the expressions (a list, or a list of rows) of the symbols
-    ``state`` (→ y[i]) and ``params`` (→ c[j]) written into ``out``; a list goes to the rows
-    ``at`` (default 0, 1, …), the other rows of out are left as they are.  ``row``:
-    ``def name(y, c, out, i)`` writing a list into row i of a matrix out (no view is made)."""
+def cse_entries(state, params, exprs) -> tuple:
+    """The expressions (a list, or a list of rows) with ``state`` → y[i] and ``params`` → c[j],
+    common subexpressions taken out: (temporaries [(name, value)], reduced entries, row width
+    or None).  The numba printer below and the C reference's printer both start from it."""
     subs = {s: sp.Symbol(f"y[{i}]") for i, s in enumerate(state)}
     subs.update({p: sp.Symbol(f"c[{j}]") for j, p in enumerate(params)})
     rows = exprs if (exprs and isinstance(exprs[0], (list, tuple))) else None
     flat = [e for row in rows for e in row] if rows else list(exprs)
     flat = [sp.sympify(e).xreplace(subs) for e in flat]
     temps, reduced = sp.cse(flat, symbols=sp.numbered_symbols("x"), optimizations="basic")
+    return temps, reduced, (len(rows[0]) if rows else None)
+
+
+def function_source(name, state, params, exprs, at=None, deco=None, row=False) -> str:
+    """``def name(y, c, out)``: the expressions (a list, or a list of rows) of the symbols
+    ``state`` (→ y[i]) and ``params`` (→ c[j]) written into ``out``; a list goes to the rows
+    ``at`` (default 0, 1, …), the other rows of out are left as they are.  ``row``:
+    ``def name(y, c, out, i)`` writing a list into row i of a matrix out (no view is made)."""
+    temps, reduced, width = cse_entries(state, params, exprs)
     p = _Printer({"fully_qualified_modules": True})
     lines = [(deco or _DECO).rstrip("\n"), f"def {name}(y, c, out, i):" if row else f"def {name}(y, c, out):"]
     lines += [f"    {t} = {p.doprint(v)}" for t, v in temps]
-    width = len(rows[0]) if rows else None
     for k, v in enumerate(reduced):
         where = f"{k // width}, {k % width}" if width else f"{at[k] if at else k}"
         where = f"i, {where}" if row else where

@@ -50,7 +50,7 @@ import numpy as np
 from .ops_f64 import *  # noqa: F401,F403 -- the arithmetic; kernels.py binds one per precision
 from .ops_f64 import g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
     waddlo, wmadd, wmat, wmul, wsub, wvec, wzero
-from .limits import (DIVERGE_AFTER, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST,
+from .limits import (DIVERGE_AFTER, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST, F_PREDICT,
                      HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
                      F_MODE, FIXED, FULL, FULL_NEWTON_SWEEPS, NEWTON, PROJECTION_ACCEPT, PROJECTION_ROUNDOFF,
                      PROJECTION_STALL, PROJECTION_SWEEPS, RESCUE_SWEEPS, ROUNDOFF_FLOOR, S_FALLBACKS, S_LAST,
@@ -219,7 +219,7 @@ def predict(E, Fh, flags, W, s, d):
 
 @prim
 def can_predict(flags):
-    return flags[F_NHIST] >= HISTORY or (flags[F_NHIST] > 0 and flags[F_HAS_E] == 1)
+    return flags[F_PREDICT] == 1 and (flags[F_NHIST] >= HISTORY or (flags[F_NHIST] > 0 and flags[F_HAS_E] == 1))
 
 
 @prim
@@ -360,6 +360,22 @@ def newton_stages(mode, Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F
 
 
 @helper
+def advance(h, A, cls, k, F, Ubar, Z, s, d):
+    """Z[i, l] = h Σⱼ A[k, i, j] F[j, l] for the components l of class k (0: q, 1: p); returns the
+    largest change of Z and the largest stage value |Ū + Z| of that class."""
+    change = 0.0
+    size = 0.0
+    for i in range(s):
+        for l in range(d):
+            if cls[l] == k:
+                z = combine(h, A, cls, i, F, l, s)
+                change = max(change, abs(wlo(wsub(z, g2(Z, i, l)))))
+                p2(Z, i, l, z)
+                size = max(size, abs(wlo(wadd(g2(Ubar, i, l), z))))
+    return change, size
+
+
+@helper
 def split_stages(Ubar, h, A, cls, E, flags, c, eps, Fh, F, Z, Yst, W, stats, s, d):
     """Fixed point on the q stages of a separable problem (``SPLIT``, module docstring); 0 when
     converged (F holds the stage derivatives of the last sweep), else 1."""
@@ -368,47 +384,25 @@ def split_stages(Ubar, h, A, cls, E, flags, c, eps, Fh, F, Z, Yst, W, stats, s, 
             p2(Z, i, l, wzero())
     if can_predict(flags):
         predict(E, Fh, flags, W, s, d)   # forces predicted → p stages → velocities → q stages
-        for i in range(s):
-            for l in range(d):
-                if cls[l] == 1:
-                    p2(Z, i, l, combine(h, A, cls, i, W, l, s))
+        advance(h, A, cls, 1, W, Ubar, Z, s, d)
         for j in range(s):
             stage_input(Ubar, Z, j, Yst, d)
             fq_(Yst, c, F, j)
         stats[S_NVEL] += s
-        for i in range(s):
-            for l in range(d):
-                if cls[l] == 0:
-                    p2(Z, i, l, combine(h, A, cls, i, F, l, s))
+        advance(h, A, cls, 0, F, Ubar, Z, s, d)
     prev = -1.0
     for it in range(STAGE_SWEEPS):
         for j in range(s):                  # forces at the q stages
             stage_input(Ubar, Z, j, Yst, d)
             fp_(Yst, c, F, j)
         stats[S_NFEV] += s
-        dp = 0.0
-        pn = 0.0
-        for i in range(s):                  # the p stages
-            for l in range(d):
-                if cls[l] == 1:
-                    z = combine(h, A, cls, i, F, l, s)
-                    dp = max(dp, abs(wlo(wsub(z, g2(Z, i, l)))))
-                    p2(Z, i, l, z)
-                    pn = max(pn, abs(wlo(wadd(g2(Ubar, i, l), z))))
+        dp, pn = advance(h, A, cls, 1, F, Ubar, Z, s, d)     # the p stages
         for j in range(s):                  # velocities at the p stages
             stage_input(Ubar, Z, j, Yst, d)
             fq_(Yst, c, F, j)
         stats[S_NVEL] += s
         stats[S_SWEEPS] += 1
-        size = 0.0
-        qn = 0.0
-        for i in range(s):                  # the new q stages
-            for l in range(d):
-                if cls[l] == 0:
-                    z = combine(h, A, cls, i, F, l, s)
-                    size = max(size, abs(wlo(wsub(z, g2(Z, i, l)))))
-                    p2(Z, i, l, z)
-                    qn = max(qn, abs(wlo(wadd(g2(Ubar, i, l), z))))
+        size, qn = advance(h, A, cls, 0, F, Ubar, Z, s, d)   # the new q stages
         if not lofinite(size):
             return 1
         # F was evaluated at the iterate before this correction: stop when the corrections of the
@@ -566,31 +560,32 @@ def project(y, c, proj, target, eps, tol, G, Gz, GtG, gpiv, g, lam, z, tmp, stat
 
 
 @helper
+def row_times(M, i, Y, l, r):
+    """Σₖ M[i, k] Y[k, l] (zero coefficients skipped): U y^[n−1] and V y^[n−1]."""
+    acc = wzero()
+    for k in range(r):
+        m = g2(M, i, k)
+        if isnz(m):
+            acc = wmadd(acc, m, g2(Y, k, l))
+    return acc
+
+
+@helper
 def stage_inputs(U, Y, Ubar, s, r, d):
     """Ū = U y^[n−1]."""
     for i in range(s):
         for l in range(d):
-            acc = wzero()
-            for k in range(r):
-                u = g2(U, i, k)
-                if isnz(u):
-                    acc = wmadd(acc, u, g2(Y, k, l))
-            p2(Ubar, i, l, acc)
+            p2(Ubar, i, l, row_times(U, i, Y, l, r))
 
 
 @helper
-def finish_step(n, Y, h, B, V, cls, flags, c, eps, tol, proj, target, track, ttarget, tmax, comp, F, Yout, work,
-                stats, s, r, d):
+def finish_step(Y, h, B, V, cls, flags, c, eps, tol, proj, target, comp, F, Yout, work, stats, s, r, d):
     """y^[n] = V y^[n−1] + h B F (Kahan on the principal value), projection; 0, 2 (not finite)
     or 3 (projection failed)."""
     G, Gz, GtG, gpiv, g, lam, zp, tmp, yfirst = work
     for k in range(r):
         for l in range(d):
-            acc = wzero()
-            for j in range(r):
-                v = g2(V, k, j)
-                if isnz(v):
-                    acc = wmadd(acc, v, g2(Y, j, l))
+            acc = row_times(V, k, Y, l, r)
             x = combine(h, B, cls, k, F, l, s)
             if k == 0 and flags[F_COMPENSATE] == 1:     # Kahan: y₁ + (increment + carry)
                 x = wadd(x, g1(comp, l))
@@ -627,11 +622,19 @@ def observe(track, ttarget, tmax, Y, c, tmp, yfirst, d):
 
 
 @prim
-def keep_record(rec, recn, nrec, n, Y, r, d):
-    for k in range(r):
-        for l in range(d):
-            p3(rec, nrec, k, l, g2(Y, k, l))
-    recn[nrec] = n
+def after_step(n, track_due, record_due, Y, c, track, ttarget, tmax, rec, recn, nrec, work, stats, r, d):
+    """The invariants tracked and the record kept, where due after step n; the records so far."""
+    tmp, yfirst = work[7], work[8]
+    if track_due and track.shape[0] > 0:
+        observe(track, ttarget, tmax, Y, c, tmp, yfirst, d)
+    if record_due:
+        for k in range(r):
+            for l in range(d):
+                p3(rec, nrec, k, l, g2(Y, k, l))
+        recn[nrec] = n
+        nrec += 1
+        stats[S_NREC] = nrec
+    return nrec
 
 
 @helper
@@ -668,29 +671,26 @@ def run(Y, h, hinv, n0, n1, steps, every, A, U, B, V, cls, E, Ainv, flags, c, ep
                             stats, s, d) != 0:
             stats[S_NREC] = nrec
             return 4
-        status = finish_step(n, Y, h, B, V, cls, flags, c, eps, tol, proj, target, track, ttarget, tmax, comp, F,
-                             Yout, work, stats, s, r, d)
+        status = finish_step(Y, h, B, V, cls, flags, c, eps, tol, proj, target, comp, F, Yout, work, stats, s, r, d)
         if status != 0:
             stats[S_NREC] = nrec
             return status
         to_track -= 1
         to_record -= 1
-        if track.shape[0] > 0 and (to_track == 0 or n == steps):
+        track_due, record_due = to_track == 0 or n == steps, to_record == 0 or n == steps
+        if track_due:
             to_track = track_every
-            observe(track, ttarget, tmax, Y, c, work[7], work[8], d)
-        if to_record == 0 or n == steps:
+        if record_due:
             to_record = every
-            keep_record(rec, recn, nrec, n, Y, r, d)
-            nrec += 1
-            stats[S_NREC] = nrec
+        nrec = after_step(n, track_due, record_due, Y, c, track, ttarget, tmax, rec, recn, nrec, work, stats, r, d)
     return 0
 
 
 @kernel
-def rescue_step(Y, h, hinv, n, steps, every, A, U, B, V, cls, E, Ainv, flags, c, eps, tol, hA,
+def rescue_step(Y, h, hinv, n0, n, steps, every, A, U, B, V, cls, E, Ainv, flags, c, eps, tol, hA,
                 proj, target, track, ttarget, tmax, track_every, comp, Fh, rec, recn, stats, stages, work):
-    """Step n after the loop's stage iteration failed on it (:func:`fallback_stages`): 0, or
-    the status of :func:`run`; its record (if step n has one) into rec[0]."""
+    """Step n (= n0 + 1; :func:`run`'s arguments) after the loop's stage iteration failed on it
+    (:func:`fallback_stages`): 0, or the status of :func:`run`; its record (if due) into rec[0]."""
     s, r, d = dims(A, Y)
     Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
     stats[S_NREC] = 0
@@ -698,13 +698,9 @@ def rescue_step(Y, h, hinv, n, steps, every, A, U, B, V, cls, E, Ainv, flags, c,
     if fallback_stages(Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, tol, hA, Fh, F, Z, Yst, J, M, piv, R, W,
                        stats, s, d) != 0:
         return 1
-    status = finish_step(n, Y, h, B, V, cls, flags, c, eps, tol, proj, target, track, ttarget, tmax, comp, F, Yout,
-                         work, stats, s, r, d)
+    status = finish_step(Y, h, B, V, cls, flags, c, eps, tol, proj, target, comp, F, Yout, work, stats, s, r, d)
     if status != 0:
         return status
-    if track.shape[0] > 0 and (n % track_every == 0 or n == steps):
-        observe(track, ttarget, tmax, Y, c, work[7], work[8], d)
-    if n % every == 0 or n == steps:
-        keep_record(rec, recn, 0, n, Y, r, d)
-        stats[S_NREC] = 1
+    after_step(n, n % track_every == 0 or n == steps, n % every == 0 or n == steps, Y, c, track, ttarget, tmax, rec,
+               recn, 0, work, stats, r, d)
     return 0
