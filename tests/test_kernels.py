@@ -92,16 +92,36 @@ def test_compiled_loop_cached_on_disk():
     assert mod is compiled_loop(compile_problem("pendulum", parameters={"q0": 1}).problem)   # parameters are data
 
 
-def test_specialised_loop_equals_generic(monkeypatch):
-    """The loop specialised to the method's shape (s, r, d as constants) computes the same
-    numbers bit for bit as the loop for any shape."""
-    nm = to_numeric(load(METHODS / "gauss2.json"))
-    cp = compile_problem("pendulum")
-    finals = []
+@pytest.mark.parametrize("name, problem, h, kw", [
+    ("gauss2", "pendulum", 0.01, {}),                                   # SPLIT
+    ("rk4", "kepler", 0.01, {"project": ("H", "L")}),                   # explicit, projected
+    ("example4_glm", "pendulum", 0.01, {"solver": "newton"}),           # a GLM, simplified Newton
+    ("gauss2", "fpu", 0.05, {"solver": "fixedpoint"}),                  # fails, switches to the NEWTON loop
+])
+def test_specialised_loop_equals_generic(monkeypatch, name, problem, h, kw):
+    """The loop specialised to the run (s, r, d as constants, the stage iteration and the
+    projection fixed: the other branches are not compiled) computes the same numbers bit for
+    bit as the loop for any shape and run, with the same counts; a run that switches to Newton
+    goes on in the Newton-specialised loop."""
+    nm = to_numeric(load(METHODS / f"{name}.json"))
+    cp = compile_problem(problem)
+    runs = []
     for flag in ("0", "1"):
         monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", flag)
-        finals.append(integrate(nm, cp, cp.y0, 0.01, 1000, kernel="compiled").final)
-    assert np.array_equal(*finals)
+        runs.append(integrate(nm, cp, cp.y0, h, 200, kernel="compiled", **kw))
+    assert np.array_equal(runs[0].final, runs[1].final)
+    assert (runs[0].nfev, runs[0].newton_iterations, runs[0].fallbacks) == (
+        runs[1].nfev, runs[1].newton_iterations, runs[1].fallbacks)
+    if problem == "fpu":
+        assert runs[1].fallbacks >= limits.SWITCH_AFTER
+
+
+def test_loop_shape_names_the_run(monkeypatch):
+    from tableau_lab.numeric.kernels import Shape, loop_shape
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "1")
+    assert loop_shape(2, 1, 4, limits.SPLIT, False) == Shape(2, 1, 4, limits.SPLIT, 0)
+    with pytest.raises(ValueError, match="FULL|mode 3"):
+        loop_shape(2, 1, 4, limits.FULL)
 
 
 @pytest.mark.parametrize("name, problem, project", [("gauss2", "pendulum", ()), ("example4_glm", "pendulum", ()),

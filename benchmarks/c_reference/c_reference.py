@@ -60,7 +60,7 @@ from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
-from tableau_lab.numeric.kernels import LoopState, Pack, compiled_loop, loop_shape
+from tableau_lab.numeric.kernels import LoopState, Pack, compiled_loop, run_shape
 from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
@@ -423,7 +423,7 @@ def run_numba(method_path, problem, h, steps, reps=5, *, solver="auto", start="e
         raise ValueError("steps must be positive")
     pr = prepare(method_path, problem, h, solver, start, compensated, mode)
     pk, (s, r, d) = pr.pk, pr.shape
-    loop = compiled_loop(pr.cp.problem, "f64", loop_shape(s, r, d))
+    loop = compiled_loop(pr.cp.problem, "f64", run_shape(pk))
 
     def call(n1):
         st = LoopState(loop, pk, pr.Y0, steps, steps)       # kernels.drive's arrays and argument list

@@ -231,6 +231,12 @@ def _row(r) -> str:
 def table(res: dict) -> str:
     """The standard set as a Markdown table."""
     lines = [_HEAD, "|" + "---|" * 10] + [_row(r) for r in res["float64"]]
+    cold = [r["compile_seconds"] for r in res["float64"] if r.get("compile_seconds") is not None]
+    dd = [r["dd_compile_seconds"] for r in res["high_precision"] if r.get("dd_compile_seconds") is not None]
+    if cold:
+        lines += ["", f"Compile (first call; cold when the cache was empty): float64 {min(cold):.1f}–{max(cold):.1f} s "
+                      f"per problem and run shape" + (f", double-double {min(dd):.1f}–{max(dd):.1f} s" if dd else "")
+                  + "."]
     lines += ["", "| 32 digits | problem | dd µs/step | mp:32 µs/step | mpmath/dd | dd − mp:32 after 100 steps |",
               "|---|---|---|---|---|---|"]
     for r in res["high_precision"]:

@@ -69,11 +69,9 @@ def prepare_quick(method, problem, h, steps, *, precision="float64", project=(),
     if frozen:
         from ..analysis.trees import order as tree_order
         from ..numeric.frozen import freeze
-        from ..numeric.kernels import loop_shape
         p = max((tree_order(t) for t in (*nm.starting, *nm.finishing)), default=0)
         cp = freeze(cp, invariants=invs, gradients=tuple(project), jac=not nm.explicit or nm.r > 1,
-                    derivatives=p, kernels=(("dd" if precision == "dd" else "f64",
-                                             loop_shape(nm.s, nm.r, P.dimension)),))
+                    derivatives=p, kernels=("dd" if precision == "dd" else "f64",))
         nm = dataclasses.replace(nm, exact=None)
     return RunJob(nm, cp, h, steps, start, tuple(project), invs, monitor, precision, m.name, P.name,
                   len(P.q) if P.kind == "hamiltonian" else None)

@@ -42,7 +42,7 @@ class ProblemInfo:
     invariants: tuple          # names
     dimension: int
     key: str                   # a digest of the problem with its parameter values
-    kernel_files: dict = field(default_factory=dict)   # (kind, shape) -> kernels.write_kernel's tuple
+    kernel_files: dict = field(default_factory=dict)   # kind -> kernels.write_problem_module's (name, path)
     separable: bool = False    # H = T(p) + V(q): the stage iteration on the q stages alone
 
 
@@ -104,8 +104,8 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
     """The functions of ``cp`` (a CompiledProblem) that a run needs, as a picklable
     :class:`FrozenProblem`: f always; the Jacobian if ``jac``; the named invariants and
     gradients; f⁽ᵐ⁾ for 1 ≤ m < ``derivatives`` (the elementary differentials up to that order);
-    the compiled loops ``kernels`` ((kind, shape) pairs: "f64" or "dd", and the method shape
-    of :func:`kernels.loop_shape`) written to the cache and named."""
+    the problem modules of the compiled loops of ``kernels`` ("f64", "dd") written to the cache
+    and named (the loops themselves need no sympy: the job writes those it runs)."""
     P = cp.problem
     wanted = ["f"] + (["jac"] if jac else []) + [("invariant", k) for k in invariants]
     wanted += [("gradient", k) for k in gradients] + [("derivative", m) for m in range(1, derivatives)]
@@ -114,8 +114,8 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
     codes = {w: _text(cp._code(w)) for w in wanted}
     files = {}
     if kernels:
-        from .kernels import write_kernel
-        files = {(kind, shape): write_kernel(P, kind, shape) for kind, shape in kernels}
+        from .kernels import write_problem_module
+        files = {kind: write_problem_module(P, kind) for kind in kernels}
     info = ProblemInfo(P.name, P.kind, tuple(str(x) for x in getattr(P, "q", ()) or ()), tuple(P.invariants),
                        P.dimension, hashlib.sha256(repr((P.key, cp.backend, cp.dps)).encode()).hexdigest()[:20],
                        files, P.separable)

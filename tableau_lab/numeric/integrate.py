@@ -259,10 +259,10 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
         targets = {k: prob.invariant(k, y0) for k in names}
         run.invariant_errors = {k: [] for k in names}
-        loop = _loop(kernel, nm, prob, d)
         pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, y0, h, masks), compensated=compensated,
                           predict=predict, project=tuple(project), track=names, targets=targets,
-                          index=loop.invariant_index)
+                          index=kernels.invariant_index(prob))
+        loop = _loop(kernel, nm, prob, pk)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)
@@ -340,9 +340,9 @@ def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
         return out.Y
 
 
-def _loop(kernel, nm, prob, d):
-    """The compiled module (specialised to the method's shape) or the pure loop for this run."""
+def _loop(kernel, nm, prob, pk):
+    """The compiled module (specialised to the run: :func:`kernels.run_shape`) or the pure loop."""
     a = nm.arith
     if _use_kernel(kernel, a, prob):
-        return kernels.compiled_loop(prob.problem, "dd" if a.name == "dd" else "f64", kernels.loop_shape(nm.s, nm.r, d))
+        return kernels.compiled_loop(prob.problem, "dd" if a.name == "dd" else "f64", kernels.run_shape(pk))
     return kernels.pure_loop(prob, a.name)

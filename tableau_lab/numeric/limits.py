@@ -27,6 +27,8 @@ NEWTON = 0          # simplified Newton: one Jacobian (at the first stage input)
 FIXED = 1           # fixed point on all components (Newton with M = I)
 SPLIT = 2           # fixed point on the q stages of a separable problem (GNI_IRK2's iteration)
 FULL = 3            # full Newton: Jacobians at the stages, refreshed every sweep (fallback only)
+EXPLICIT = 4        # an explicit method's stages in order (a compiled loop's specialisation, not a flag value)
+ANY = -1            # a loop not specialised: the flags decide at run time
 
 # -- caps and tolerances ------------------------------------------------------------------------
 STAGE_SWEEPS = 60           # sweeps of one attempt of simplified Newton / fixed point

@@ -15,7 +15,7 @@ def kernel(fn):         # replaced by numba's njit in a compiled module
     return fn
 
 
-helper = prim = heavy = kernel
+helper = prim = heavy = alloc = kernel
 
 # ---- operations ----
 
@@ -103,21 +103,21 @@ def p3(a, i, j, k, v):
     a[i, j, k, 1] = v[1]
 
 
-@helper
+@alloc
 def wvec(n):
     return np.zeros((n, 2))
 
 
-@helper
+@alloc
 def wmat(n, m):
     return np.zeros((n, m, 2))
 
 
-@helper
+@alloc
 def lovec(n):
     return np.zeros(n)
 
 
-@helper
+@alloc
 def lomat(n, m):
     return np.zeros((n, m))

@@ -13,7 +13,7 @@ def kernel(fn):
     return fn
 
 
-helper = prim = heavy = kernel
+helper = prim = heavy = alloc = kernel
 
 # ---- operations ----
 

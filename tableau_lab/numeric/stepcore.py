@@ -14,11 +14,15 @@ theirs: ``wadd``, ``wmul``, ``g2``, ``wlo`` … come from an arithmetic module (
 arithmetic module and the problem's generated functions into one module that numba compiles
 (float64, double-double), or executes it as it is with Python wrappers of the problem (the pure
 loop: the reference, and mpmath at any precision).  ``dims`` is replaced by constants in a
-module specialised to one method shape (s, r, d), so that the small loops unroll.  The
-decorators say how numba compiles each function: ``kernel`` (an entry point, without reference
-counting: nothing here allocates), ``helper`` (inlined into its caller), ``prim`` (small, left
-to LLVM to inline), ``heavy`` (the Newton matrix's linear algebra: inlined for small s·d only);
-in the pure loop they do nothing.
+module specialised to one method shape (s, r, d), so that the small loops unroll, and a
+specialised module sets ``LOOP_MODE`` and ``LOOP_PROJECTS`` (the run's stage iteration, its
+projection): numba prunes the branches these decide before it compiles, so a fixed-point loop
+holds no Newton code and a loop without projection no projection (a third of the compile time
+and of the code).  The decorators (:mod:`jit`) say how numba compiles each function: ``kernel``
+(an entry point, without reference counting: nothing here allocates; its arrays do not alias),
+``helper`` (inlined into its caller by LLVM), ``prim`` (small, left to LLVM to inline), ``heavy``
+(the Newton matrix's linear algebra: inlined for small s·d only), ``alloc`` (the workspace); in
+the pure loop they do nothing.
 
 Stage equations (``flags[F_MODE]``, chosen by :func:`limits.choose_iteration`):
 
@@ -48,9 +52,9 @@ state is that before the failing step).
 import numpy as np
 
 from .ops_f64 import *  # noqa: F401,F403 -- the arithmetic; kernels.py binds one per precision
-from .ops_f64 import g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
+from .ops_f64 import alloc, g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
     waddlo, wmadd, wmat, wmul, wsub, wvec, wzero
-from .limits import (DIVERGE_AFTER, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST, F_PREDICT,
+from .limits import (ANY, DIVERGE_AFTER, EXPLICIT, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST, F_PREDICT,
                      HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
                      F_MODE, FIXED, FULL, FULL_NEWTON_SWEEPS, NEWTON, PROJECTION_ACCEPT, PROJECTION_ROUNDOFF,
                      PROJECTION_STALL, PROJECTION_SWEEPS, RESCUE_SWEEPS, ROUNDOFF_FLOOR, S_FALLBACKS, S_LAST,
@@ -89,6 +93,12 @@ def grad_(k, y, c, out, i):
 
 
 # ---- core ----
+
+# A compiled module specialised to one run's kind (:func:`kernels.module_source`) sets these
+# after this text; numba prunes the branches they decide before compiling (the Newton code of a
+# fixed-point loop, the projection of a run without it are never compiled).  ANY: the flags decide.
+LOOP_MODE = ANY         # EXPLICIT, NEWTON, FIXED or SPLIT
+LOOP_PROJECTS = ANY     # 1: projection on, 0: off
 
 
 @prim
@@ -453,10 +463,13 @@ def rescue_stages(Ubar, h, A, cls, c, tol, eps, Fh, F, Z, Yst, W, flags, stats, 
 def primary_stages(Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M, piv, R, W, stats, s, d):
     """The stage equations of one step by the run's iteration; 0, or 1 (the step is then redone
     by :func:`rescue_step`, outside the loop: a call site in the loop would cost every step)."""
-    if flags[F_MODE] == SPLIT:
+    if LOOP_MODE == SPLIT or (LOOP_MODE == ANY and flags[F_MODE] == SPLIT):
         return split_stages(Ubar, h, A, cls, E, flags, c, eps, Fh, F, Z, Yst, W, stats, s, d)
-    return newton_stages(flags[F_MODE], Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M, piv,
-                         R, W, stats, s, d)
+    if LOOP_MODE == ANY:
+        return newton_stages(flags[F_MODE], Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M,
+                             piv, R, W, stats, s, d)
+    return newton_stages(LOOP_MODE, Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M, piv, R, W,
+                         stats, s, d)
 
 
 @kernel
@@ -597,7 +610,7 @@ def finish_step(Y, h, B, V, cls, flags, c, eps, tol, proj, target, comp, F, Yout
     for k in range(r):
         for l in range(d):
             p2(Y, k, l, g2(Yout, k, l))
-    if proj.shape[0] > 0:
+    if LOOP_PROJECTS == 1 or (LOOP_PROJECTS == ANY and proj.shape[0] > 0):
         for l in range(d):
             p1(yfirst, l, g2(Y, 0, l))
         if project(yfirst, c, proj, target, eps, tol, G, Gz, GtG, gpiv, g, lam, zp, tmp, stats) != 0:
@@ -637,7 +650,7 @@ def after_step(n, track_due, record_due, Y, c, track, ttarget, tmax, rec, recn, 
     return nrec
 
 
-@helper
+@alloc
 def workspace(s, r, d, m):
     """The loop's arrays (stage values and derivatives, Newton matrix, projection), allocated by
     the caller once per run: the compiled loop runs without numba's reference counting."""
@@ -665,7 +678,7 @@ def run(Y, h, hinv, n0, n1, steps, every, A, U, B, V, cls, E, Ainv, flags, c, ep
     for n in range(n0 + 1, n1 + 1):
         stats[S_STEP] = n
         stage_inputs(U, Y, Ubar, s, r, d)
-        if flags[F_EXPLICIT] == 1:
+        if LOOP_MODE == EXPLICIT or (LOOP_MODE == ANY and flags[F_EXPLICIT] == 1):
             explicit_stages(Ubar, h, A, cls, c, Yst, F, stats, s, d)
         elif primary_stages(Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F, Z, Yst, J, M, piv, R, W,
                             stats, s, d) != 0:
