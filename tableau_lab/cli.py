@@ -49,9 +49,13 @@ def _verify(args) -> int:
 
 def _order(args) -> int:
     from .analysis.order import order
+    from .exact.tableau_json import TableauError
 
     def analyse(method, path):
-        return order(method, max_order=args.max_order), ()
+        try:
+            return order(method, max_order=args.max_order), ()
+        except ValueError as exc:          # e.g. a GLM that is not preconsistent: no order theory applies
+            raise TableauError(path, str(exc)) from None
     return _each_method(args, analyse)
 
 

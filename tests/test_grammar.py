@@ -56,6 +56,54 @@ def test_non_text_refused(value):
         parse_entry(value)
 
 
+@pytest.mark.parametrize("text, value, minpoly", [
+    # cos(π/18) = cos 10°: cos 30° = 4c³ − 3c = √3/2, so 64c⁶ − 96c⁴ + 36c² − 3 = 0
+    ("cos(pi/18)", sp.cos(sp.pi / 18), "64*x**6 - 96*x**4 + 36*x**2 - 3"),
+    # SDIRK34's γ: the order-4 condition of a 3-stage SDIRK, γ³ − 3γ²/2 + γ/2 − 1/24 = 0 ([HW96] IV.6)
+    ("1/2 + cos(pi/18)/sqrt(3)", sp.Rational(1, 2) + sp.cos(sp.pi / 18) / sp.sqrt(3), "24*x**3 - 36*x**2 + 12*x - 1"),
+    ("sin(pi/7)", sp.sin(sp.pi / 7), None),
+    ("cos(2*pi/3)", sp.Rational(-1, 2), None),
+    ("root(x**3 - 3*x + 1, 2)", 2 * sp.cos(4 * sp.pi / 9), "x**3 - 3*x + 1"),     # roots 2cos(2kπ/9)
+    ("root(x^3 - 3*x + 1, 0, 1)", 2 * sp.cos(4 * sp.pi / 9), None),
+    ("root(2*x - 1, 1)", sp.Rational(1, 2), None),
+    ("root(x**2 - 2, 1) + sqrt(2)", 0, None),
+])
+def test_algebraic_numbers(text, value, minpoly):
+    """cos, sin of rational multiples of π and real roots of polynomials are exact algebraic
+    numbers: equal to an independent expression (checked numerically to 50 digits, then by
+    the minimal polynomial where given), and the printed form reads back to the same value."""
+    from tableau_lab.exact.field import is_zero
+    e = parse_entry(text)
+    assert abs(sp.N(e - value, 50)) < sp.Float("1e-45")
+    if minpoly is not None:
+        x = sp.Symbol("x")
+        assert sp.Poly(sp.minimal_polynomial(e, x), x).monic() == sp.Poly(sp.sympify(minpoly), x).monic()
+        assert is_zero(sp.sympify(minpoly).subs(x, e))        # the field layer agrees, exactly
+    assert parse_entry(format_entry(e)) == e
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("cos(1)", "rational multiple of pi"),
+    ("cos(theta)", "rational multiple of pi"),
+    ("pi", "not algebraic"),
+    ("2*pi/3", "not algebraic"),
+    ("sin(pi/1000)", "too large"),
+    ("root(x**2 + 1, 1)", "0 real root"),
+    ("root(x**2 - 2, 3)", "not in 1 … 2"),
+    ("root(x**2 - 2, 0)", "not in 1 … 2"),
+    ("root(y**2 - 2, 1)", "not a polynomial in x"),
+    ("root(x**(1/2) - 2, 1)", "takes a root"),
+    ("root(x**2 - 2, -2, 2)", "holds 2 real roots"),
+    ("root(x**2 - 2, 1/2)", "index 1/2"),
+    ("root(x**41 - 2, 1)", "degree 1 to 40"),
+    ("exp(1)", "unknown function 'exp'"),
+])
+def test_algebraic_refused(text, fragment):
+    with pytest.raises(EntryError) as info:
+        parse_entry(text)
+    assert fragment in str(info.value)
+
+
 def test_parameters_are_real_symbols():
     assert parse_entry("theta").is_real
     assert parse_entry("theta") == sp.Symbol("theta", real=True)

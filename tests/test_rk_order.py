@@ -34,7 +34,7 @@ def test_orders_agree_with_glm_theory(name, p):
     assert rk_order(m).order == p == glm_order(m).order_identity_start
 
 
-@pytest.mark.parametrize("name", ["rk4", "gauss2", "gauss3", "radau_iia3", "lobatto_iiic3"])
+@pytest.mark.parametrize("name", ["rk4", "gauss2", "gauss3", "radau_iia3", "lobatto_iiic3", "sdirk34"])
 def test_tall_tree_error_coefficient_is_stability_function_defect(name):
     """On y' = λy only the tall tree contributes: its error coefficient (σ = 1) equals the
     z^(p+1) coefficient of R(z) − e^z, with R(z) = det(I − zA + z1bᵀ)/det(I − zA)
@@ -53,6 +53,17 @@ def test_tall_tree_error_coefficient_is_stability_function_defect(name):
     tall = "[" * r.order + "τ" + "]" * r.order
     assert is_zero(r.error_coefficients[tall] - defect)
     assert not is_zero(defect)
+
+
+def test_sdirk34_order_4_in_the_field_of_cos_pi_18():
+    """SDIRK34 (γ = 1/2 + cos(π/18)/√3, [HW96] IV.6): order exactly 4 — every condition of order
+    ≤ 4 vanishes in ℚ(cos π/18), and an order-5 one does not (the tall tree's, by the test
+    above, is the stability function's defect); B(4) as b, c satisfy the quadrature conditions."""
+    m = load(METHODS / "sdirk34.json")
+    r = rk_order(m)
+    assert (r.order, r.B, r.C) == (4, 4, 1) and r.residuals
+    assert any(not is_zero(v) for v in r.error_coefficients.values())
+    assert all(is_zero(sum(m.b[i] * m.c[i] ** (k - 1) for i in range(3)) - sp.Rational(1, k)) for k in range(1, 5))
 
 
 def test_gauss5_order_10_by_elementary_weights():

@@ -74,12 +74,13 @@ def test_leapfrog_interval_is_one_with_a_double_root_i_at_the_end():
 
 @pytest.mark.parametrize("name,expected", [("explicit_euler", False), ("implicit_euler", True),
                                            ("radau_iia3", True), ("lobatto_iiic3", True), ("lobatto_iiia3", True),
-                                           ("rule_3_8", False), ("butcher_effective5", False)])
+                                           ("rule_3_8", False), ("butcher_effective5", False),
+                                           ("sdirk34", True)])      # [HW96] IV.6: A-stable for this γ
 def test_a_stability_of_rk_methods(name, expected):
     assert lin(name).a_stable is expected
 
 
-@pytest.mark.parametrize("name", ["explicit_euler", "implicit_euler", "radau_iia3", "rk4", "gauss2"])
+@pytest.mark.parametrize("name", ["explicit_euler", "implicit_euler", "radau_iia3", "rk4", "gauss2", "sdirk34"])
 def test_rk_verdict_agrees_with_the_glm_verdict_of_the_same_method(name):
     """The E-polynomial test (RK) and the root-locus test (the method as a GLM) are separate code paths."""
     as_glm = stability(method(name).as_glm())

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..exact.field import is_zero, normal_form
+from ..exact.field import is_zero, normal_form, power
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
@@ -311,7 +311,7 @@ class _Problem:
             if m.kind != "rk":
                 raise DesignError("stage-order is implemented for RK methods (C(q))")
             A, c = self._mat(m.A), self._vec(m.c)
-            return [(f"C({k}) stage {i + 1}", sum((a * cj ** (k - 1) for a, cj in zip(A[i], c)), F.zero)
+            return [(f"C({k}) stage {i + 1}", sum((a * power(F, cj, k - 1) for a, cj in zip(A[i], c)), F.zero)
                      - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
         if r.name == "order":
             return self._order(r.value)

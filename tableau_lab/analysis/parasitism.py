@@ -93,6 +93,38 @@ def _on_unit_circle(z) -> bool:
     return normal_form(sp.expand(z * sp.conjugate(z))) == 1
 
 
+def _unit_circle_eigenvalues(V) -> list:
+    """(ζ, algebraic multiplicity) for the eigenvalues ζ ≠ 1 of V with |ζ| = 1, exactly, without
+    computing the others: the characteristic polynomial is factored over ℚ, and an irreducible
+    factor f can have a root on the unit circle only if it is self-reciprocal (ζ̄ = 1/ζ is then a
+    root too, so f and wⁿf(1/w) share a root, hence are equal up to sign).  Such factors (rare:
+    ±1, cyclotomic, Salem) are solved by radicals; the rest (BDF's ρ(w)/(w − 1), say, of degree
+    up to 16) cost one factorisation.  V with irrational entries: all eigenvalues, as before."""
+    w = sp.Symbol("w")
+    if not all(sp.sympify(v).is_Rational for v in V):
+        found = []
+        for zeta, mult in V.eigenvals().items():
+            zeta = sp.nsimplify(zeta) if zeta.is_Rational else sp.radsimp(zeta)
+            if normal_form(zeta - 1) != 0 and _on_unit_circle(zeta):
+                found.append((zeta, mult))
+        return found
+    found = []
+    for f, mult in sp.factor_list(V.charpoly(w).as_expr(), w)[1]:
+        f = sp.Poly(f, w)
+        coeffs = f.all_coeffs()
+        if coeffs != coeffs[::-1] and coeffs != [-c for c in coeffs[::-1]]:
+            continue                          # not self-reciprocal: no root on the unit circle
+        roots = sp.roots(f, w)
+        if sum(roots.values()) != f.degree():
+            raise ValueError(f"V has eigenvalues on the unit circle that are roots of {f.as_expr()} "
+                             "(no radicals): not supported")
+        for zeta in roots:
+            zeta = sp.radsimp(zeta)
+            if normal_form(zeta - 1) != 0 and _on_unit_circle(zeta):
+                found.append((zeta, mult))
+    return sorted(found, key=lambda z: sp.default_sort_key(z[0]))
+
+
 def growth_parameters(m: Method) -> ParasitismResult:
     """The parasitic growth parameters μ of each eigenvalue ζ ≠ 1 of V with |ζ| = 1."""
     g = m.as_glm()
@@ -100,13 +132,11 @@ def growth_parameters(m: Method) -> ParasitismResult:
     if V.free_symbols:
         raise ValueError(f"{m.name}: V has free parameters; growth parameters need a numeric V")
     items = []
-    for zeta, mult, vecs in V.eigenvects():
-        zeta = sp.nsimplify(zeta) if zeta.is_Rational else sp.radsimp(zeta)
-        if normal_form(zeta - 1) == 0 or not _on_unit_circle(zeta):
-            continue
-        if mult > 1 or len(vecs) > 1:
+    for zeta, mult in _unit_circle_eigenvalues(V):
+        right = (V - zeta * sp.eye(V.rows)).nullspace()
+        if mult > 1 or len(right) > 1:
             raise ValueError(f"{m.name}: eigenvalue {zeta} of V is not simple; growth parameters need simple ones")
-        x = vecs[0]
+        x = right[0]
         left = (V.T - zeta * sp.eye(V.rows)).nullspace()
         y = left[0].T
         yx = sp.expand((y * x)[0])

@@ -29,7 +29,7 @@ from functools import cached_property
 
 import sympy as sp
 
-from ..exact.field import FastField, element, field_of, to_dm
+from ..exact.field import FastField, element, field_of, power, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
 from .results import Result
@@ -80,12 +80,23 @@ class RKOrderResult(Result):
         """bracket → (Φ(t) − 1/γ(t))/σ(t): the principal error coefficients."""
         return {bracket(t): self._F.to_sympy(v) / symmetry(t) for t, v in self._bad}
 
+    @property
+    def consistency(self) -> str:
+        """For order 0 (Σbᵢ ≠ 1): the failing order-1 condition with its exact residual, else ""."""
+        if self.order or "τ" not in self.residuals:
+            return ""
+        r = self.residuals["τ"]
+        generic = " (for generic parameter values)" if sp.sympify(r).free_symbols else ""
+        return f"order-1 condition Σbᵢ = 1 fails{generic}: Σbᵢ − 1 = {format_entry(r)}"
+
     def __str__(self):
         cap = " (at least: cap reached)" if self.capped else ""
         head = f"{self.method}: classical order {self.order}{cap}"
         if self.effective_order is not None:
             head += f", effective order {self.effective_order}"
         out = [head + f"; stage order {self.stage_order}; B({self.B}), C({self.C}), D({self.D})"]
+        if self.consistency:
+            out.append("  " + self.consistency)
         if self._bad:
             shown = list(self.error_coefficients.items())
             more = f" … ({len(shown)} trees)" if len(shown) > 8 else ""
@@ -133,16 +144,17 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     c = [F.lift(element(K, x)) for x in m.c]
     frac = lambda k: F.rational(sp.Rational(1, k))  # noqa: E731
     dot = lambda xs, ys: sum((x * y for x, y in zip(xs, ys)), F.zero)  # noqa: E731
+    pw = lambda x, k: power(F, x, k)  # noqa: E731
 
     def holds_B(k):
-        return F.is_zero(dot(b, [ci ** (k - 1) for ci in c]) - frac(k))
+        return F.is_zero(dot(b, [pw(ci, k - 1) for ci in c]) - frac(k))
 
     def holds_C(k):
-        ck = [cj ** (k - 1) for cj in c]
+        ck = [pw(cj, k - 1) for cj in c]
         return all(F.is_zero(dot(A[i], ck) - c[i] ** k * frac(k)) for i in range(s))
 
     def holds_D(k):
-        w = [bi * ci ** (k - 1) for bi, ci in zip(b, c)]
+        w = [bi * pw(ci, k - 1) for bi, ci in zip(b, c)]
         return all(F.is_zero(dot(w, [A[i][j] for i in range(s)]) - b[j] * (F.one - c[j] ** k) * frac(k))
                    for j in range(s))
 

@@ -82,7 +82,8 @@ W, Z, X, Y = sp.symbols("w z x y")
 # ------------------------------------------------------------------ certified signs in a real field
 
 def _enclose(e, ctx):
-    """An interval enclosing the real radical expression ``e`` (mpmath interval arithmetic)."""
+    """An interval enclosing the real algebraic expression ``e`` (mpmath interval arithmetic):
+    radicals, cos(kπ/n), sin(kπ/n), real roots of polynomials."""
     if e.is_Rational:
         return ctx.mpf(int(e.p)) / ctx.mpf(int(e.q))
     if e.is_Add or e.is_Mul:
@@ -96,6 +97,15 @@ def _enclose(e, ctx):
         if e.exp == sp.S.Half:
             return ctx.sqrt(base)
         return ctx.exp(ctx.log(base) * ctx.mpf(int(e.exp.p)) / ctx.mpf(int(e.exp.q)))
+    if isinstance(e, (sp.cos, sp.sin)) and sp.expand(e.args[0] / sp.pi).is_Rational:
+        q = sp.expand(e.args[0] / sp.pi)
+        angle = ctx.pi * ctx.mpf(int(q.p)) / ctx.mpf(int(q.q))
+        return ctx.cos(angle) if isinstance(e, sp.cos) else ctx.sin(angle)
+    if isinstance(e, sp.RootOf) and e.is_real:
+        dx = sp.Rational(1, 2 ** (ctx.prec + 8))
+        mid = e.eval_rational(dx=dx, dy=dx)          # certified: |mid − e| < dx (Sturm bisection)
+        lo, hi = _enclose(mid - dx, ctx), _enclose(mid + dx, ctx)
+        return ctx.mpf([lo.a, hi.b])
     raise ValueError(f"no certified enclosure for {e}")
 
 

@@ -8,8 +8,11 @@
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
+import sympy as sp
+
+from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .results import Result
 from .glm_order import GLMOrderResult
@@ -47,10 +50,40 @@ class VerifyResult(Result):
     found: dict
     failed: tuple
     parasitism: ParasitismResult | None = None
+    unchecked: dict = field(default_factory=dict)   # claim -> why it cannot be checked (counted as failed)
 
     @property
     def ok(self) -> bool:
         return not self.failed
+
+    @property
+    def next_order(self) -> dict:
+        """Φ(t) − 1/γ(t) (or the GLM error term) → for each tree of order p + 1 where it is not
+        zero: with free parameters, the order p + 1 holds exactly where all of these vanish."""
+        if self.order is None:
+            return {}
+        return dict(self.order.residuals if self.kind == "rk" else self.order.errors)
+
+    @property
+    def next_order_never(self) -> bool:
+        """True when some condition of order p + 1 is a nonzero constant: no parameter value
+        gives order p + 1."""
+        return any(not sp.sympify(v).free_symbols for v in self.next_order.values())
+
+    def _parameter_order(self) -> str:
+        """The order statement for a tableau with free parameters."""
+        o, names = self.order, ", ".join(map(str, self.parameters))
+        capped = getattr(o, "capped", False)          # PRK results have no cap flag: errors are empty then
+        line = f"  for all values of {names}: order {'at least ' if capped else ''}{o.order}"
+        conds = self.next_order
+        if not conds:
+            return line
+        if self.next_order_never:
+            lab, v = next((k, v) for k, v in conds.items() if not sp.sympify(v).free_symbols)
+            return line + (f"; order {o.order + 1} for no values (the condition of tree {lab} "
+                           f"is {format_entry(v)} ≠ 0 whatever the parameters)")
+        return line + (f"; order {o.order + 1} exactly where "
+                       + ", ".join(f"{k}: {format_entry(v)} = 0" for k, v in conds.items()))
 
     def __str__(self):
         kinds = {"rk": "Runge-Kutta", "prk": "partitioned Runge-Kutta", "glm": "general linear method"}
@@ -70,16 +103,28 @@ class VerifyResult(Result):
             elif self.kind == "rk":
                 parts.append(f"order: classical {o.order}, effective {o.effective_order}, stage order {o.stage_order}; "
                              f"B({o.B}), C({o.C}), D({o.D})")
+                if o.consistency:
+                    parts.append("  " + o.consistency)
             else:
                 parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
                              f"stage order {o.stage_order}")
+            if self.parameters:
+                parts.append(self._parameter_order())
+        elif "order" in self.unchecked:
+            parts.append(f"order: not computed: {self.unchecked['order']}")
         if self.parasitism is not None:
             parts.append(str(self.parasitism))
         if self.claims:
-            marks = [f"{k} = {_show(self.claims[k])} ({'holds' if k not in self.failed else f'FAILS: found {_show(self.found[k])}'})"
-                     for k in self.claims]
+            marks = [f"{k} = {_show(self.claims[k])} ({self._verdict(k)})" for k in self.claims]
             parts.append("claims: " + "; ".join(marks))
         return "\n".join(parts)
+
+    def _verdict(self, k) -> str:
+        if k in self.unchecked:
+            return f"NOT CHECKED: {self.unchecked[k]}"
+        if k in self.failed:
+            return f"FAILS: found {_show(self.found[k])}"
+        return "holds for generic parameter values" if self.parameters else "holds"
 
     def to_json(self):
         return {
@@ -90,20 +135,26 @@ class VerifyResult(Result):
             "order": None if self.order is None else self._order_json(),
             "parasitism": None if self.parasitism is None else self.parasitism.to_json(),
             "claims": {"checked": list(self.claims), "failed": list(self.failed),
-                       "claimed": dict(self.claims), "found": dict(self.found)},
+                       "claimed": dict(self.claims), "found": dict(self.found), "unchecked": dict(self.unchecked)},
         }
 
     def _order_json(self):
         o = self.order
-        if self.kind == "prk":
-            return {"order": o.order}
         full = o.to_json()
-        out = {"order": o.order, "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
-        if self.kind == "rk":
-            out.update({k: full[k] for k in ("effective_order", "B", "C", "D", "error_coefficients")})
-            out.update({k: full[k] for k in ("starting_method", "finishing_method") if k in full})
+        if self.kind == "prk":
+            out = {"order": o.order}
         else:
+            out = {"order": o.order, "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
+        if self.kind == "rk":
+            out.update({k: full[k] for k in ("effective_order", "B", "C", "D", "residuals", "error_coefficients")})
+            out.update({k: full[k] for k in ("starting_method", "finishing_method") if k in full})
+        elif self.kind == "glm":
             out.update({k: full[k] for k in ("starting_method", "finishing_method", "u", "w", "error_terms")})
+        if self.parameters:
+            out["for_all_parameter_values"] = {
+                "order": o.order, "capped": bool(getattr(o, "capped", False)),
+                "next_order_conditions": {k: str(format_entry(v)) for k, v in self.next_order.items()},
+                "next_order_never": self.next_order_never}
         return out
 
     def to_latex(self):
@@ -120,17 +171,35 @@ def _show(v):
 
 
 def verify(m: Method) -> VerifyResult:
-    """All applicable analyses of ``m`` and the verdict on each of its claims."""
+    """All applicable analyses of ``m`` and the verdict on each of its claims.
+
+    With free parameters every analysis runs over the field of rational functions in them: a
+    property holds when it holds identically (for all parameter values where the entries are
+    defined), and the order is the order for all values, with the conditions for one more.  A
+    claim no analysis can decide is reported as not checked, with the reason, and counts as failed."""
     rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
     gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
-    if m.parameters:
-        order = None
-    else:
+    unchecked = {}
+    try:
         order = order_of(m)
-    par = growth_parameters(m) if m.kind == "glm" and not m.V.free_symbols else None
+    except ValueError as exc:           # e.g. a GLM that is not preconsistent
+        order = None
+        unchecked.update(dict.fromkeys(("order", "stage_order", "effective_order"), str(exc)))
+    par = None
+    if m.kind == "glm":
+        if m.V.free_symbols:
+            names = ", ".join(sorted(map(str, m.V.free_symbols)))
+            unchecked["parasitism_free"] = (f"V holds the free parameter(s) {names}, so its eigenvalues on the unit "
+                                            "circle, and their growth parameters, depend on them")
+        else:
+            try:
+                par = growth_parameters(m)
+            except ValueError as exc:   # an eigenvalue of V on the unit circle that is not simple
+                unchecked["parasitism_free"] = str(exc)
     partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, (), par)
     claims = m.claims_dict
-    found = {k: CHECKS[k](partial) for k in claims}
-    failed = tuple(k for k in claims if found[k] != claims[k])
+    found = {k: CHECKS[k](partial) for k in claims if k not in unchecked}
+    unchecked = {k: v for k, v in unchecked.items() if k in claims}
+    failed = tuple(k for k in claims if k in unchecked or found[k] != claims[k])
     return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, claims, found, failed,
-                        par)
+                        par, unchecked)

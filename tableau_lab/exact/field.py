@@ -27,7 +27,7 @@ from sympy.polys.matrices import DomainMatrix
 
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
-    "solve_linear", "nullspace", "exprs_of", "element", "FastField",
+    "solve_linear", "nullspace", "exprs_of", "element", "FastField", "power",
 ]
 
 
@@ -63,9 +63,28 @@ def _generators(exprs: Iterable[sp.Expr]):
                 gens.add(sp.Pow(p.base, sp.Rational(1, p.exp.q)))
         if e.has(sp.I):
             gens.add(sp.I)       # only analyses make it (eigenvalues of V); the grammar refuses it
-        for a in e.atoms(sp.Function, sp.NumberSymbol):
+        numbers = _algebraic_atoms(e)
+        gens |= numbers
+        rest = e.xreplace({a: sp.Dummy() for a in numbers}) if numbers else e
+        for a in rest.atoms(sp.Function, sp.NumberSymbol, sp.RootOf):
             raise FieldError(f"{a} is not an algebraic number")
     return gens, syms
+
+
+def _algebraic_atoms(e) -> set:
+    """The algebraic numbers of ``e`` that are not radicals: cos(kπ/n), sin(kπ/n) and real
+    roots of polynomials (sympy's CRootOf), as :mod:`grammar` makes them; a complex CRootOf
+    (an eigenvalue) is a generator too."""
+    out = set()
+    for a in e.atoms(sp.cos, sp.sin):
+        if a.args[0].free_symbols or not sp.expand(a.args[0] / sp.pi).is_Rational:
+            raise FieldError(f"{a} is not an algebraic number")
+        out.add(a)
+    for r in e.atoms(sp.RootOf):
+        if r.free_symbols:
+            raise FieldError(f"{r} is a root of a polynomial in a free parameter")
+        out.add(r)
+    return out
 
 
 @lru_cache(maxsize=256)
@@ -117,6 +136,11 @@ def element(K, e):
                 _IMAGES[key] = K.from_sympy(key[1])
             base = _IMAGES[key]
         return base ** p if p >= 0 else K.one / base ** (-p)
+    if isinstance(e, (sp.cos, sp.sin, sp.RootOf)):
+        key = (K, e)
+        if key not in _IMAGES:
+            _IMAGES[key] = K.from_sympy(e)
+        return _IMAGES[key]
     return K.from_sympy(e)
 
 
@@ -179,6 +203,12 @@ def solve_linear(M: DomainMatrix, rhs: Sequence) -> list | None:
     for i, p in enumerate(pivots):
         x[p] = rows[i][n] / rows[i][p]
     return x
+
+
+def power(F, x, k: int):
+    """x**k in F (a sympy domain or a :class:`FastField`), with x⁰ = 1 also for x = 0: sympy's
+    fields of rational functions refuse 0**0 (a node cᵢ = 0 in cᵢ^(k−1), k = 1)."""
+    return x ** k if k else F.one
 
 
 # ------------------------------------------------------------ C-speed element arithmetic

@@ -9,10 +9,25 @@ parser that builds sympy objects directly; nothing is ever passed to ``eval``,
     unary  := ('+' | '-') unary | power
     power  := atom (('**' | '^') unary)?          right-associative
     atom   := INTEGER | NAME | 'sqrt' '(' expr ')' | '(' expr ')'
+            | ('cos' | 'sin') '(' expr ')'            argument a rational multiple of pi
+            | 'root' '(' poly ',' INTEGER ')'          the k-th real root (k = 1, 2, … ascending)
+            | 'root' '(' poly ',' expr ',' expr ')'   the real root in the interval (a, b)
+    poly   := an expr in the name x with rational coefficients
 
 Exponents must be rational constants of modest size, integers are limited in
 length, and the result must be a finite real number (or a real expression in
-the named parameters).  Floats are refused: a tableau is exact.
+the named parameters).  Floats are refused: a tableau is exact.  Every number
+the grammar makes is algebraic: radicals, cos(kπ/n) and sin(kπ/n) (roots of
+Chebyshev-type polynomials: SDIRK34's γ = 1/2 + cos(π/18)/√3), and real roots of
+polynomials (``root``; sympy's ``CRootOf``, exact, isolated by Sturm sequences),
+so that :mod:`field` does exact arithmetic with all of them.
+
+>>> parse_entry("1/2 + cos(pi/18)/sqrt(3)") == sp.Rational(1, 2) + sp.sqrt(3) * sp.cos(sp.pi / 18) / 3
+True
+>>> format_entry(parse_entry("root(x**3 - 3*x + 1, 2)"))
+'root(x**3 - 3*x + 1, 2)'
+>>> parse_entry("root(x**3 - 3*x + 1, 0, 1)") == parse_entry("root(x^3-3*x+1, 2)")
+True
 
 >>> parse_entry("(3+sqrt(3))/6")
 sqrt(3)/6 + 1/2
@@ -47,9 +62,11 @@ LIMITS = {
     "depth": 60,              # nesting of parentheses / unary signs / powers
     "result_digits": 1000,    # digits in any rational produced on the way
     "radicand_digits": 100,   # digits of a rational under a root
+    "trig_denominator": 120,  # n in cos(k*pi/n), sin(k*pi/n) (degree up to φ(2n)/2)
+    "root_degree": 40,        # degree of the polynomial of root(...)
 }
 
-RESERVED = frozenset({"sqrt"})
+RESERVED = frozenset({"sqrt", "cos", "sin", "root", "pi"})
 
 
 class EntryError(ValueError):
@@ -69,7 +86,7 @@ _TOKEN = re.compile(
     r"\s*(?:"
     r"(?P<number>\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)"
     r"|(?P<name>[A-Za-z][A-Za-z0-9_]*)"
-    r"|(?P<op>\*\*|[-+*/^()])"
+    r"|(?P<op>\*\*|[-+*/^(),])"
     r")"
 )
 
@@ -119,6 +136,7 @@ class _Parser:
         self.toks = _tokens(text)
         self.i = 0
         self.depth = 0
+        self.angle = self.poly = False      # inside cos/sin (pi allowed), inside root's polynomial (x allowed)
 
     # -- helpers -----------------------------------------------------------
     def peek(self):
@@ -202,8 +220,18 @@ class _Parser:
                 self.depth -= 1
                 self.expect(")")
                 return _power(arg, sp.Rational(1, 2), self.text)
+            if v in ("cos", "sin"):
+                return self.trig(v)
+            if v == "root":
+                return self.root()
+            if v == "pi" and self.angle:
+                return sp.pi
+            if v == "x" and self.poly:
+                return _X
             if self.peek()[1] == "(":
-                raise EntryError(f"unknown function {v!r} in {self.text!r} (only sqrt is allowed)")
+                raise EntryError(f"unknown function {v!r} in {self.text!r} (sqrt, cos, sin and root are allowed)")
+            if v == "pi":
+                raise EntryError(f"pi is not algebraic: it may appear only in the argument of cos or sin ({self.text!r})")
             return parameter(v)
         if v == "(":
             self.nest()
@@ -213,6 +241,65 @@ class _Parser:
             return e
         found = "end of text" if kind is None else repr(v)
         raise EntryError(f"expected a number, a name or '(' at position {pos + 1} of {self.text!r}, found {found}")
+
+    def inner(self, **mode):
+        """An argument expression, with ``pi`` (angle) or ``x`` (poly) allowed in it."""
+        saved = (self.angle, self.poly)
+        self.angle, self.poly = mode.get("angle", False), mode.get("poly", False)
+        self.nest()
+        try:
+            return self.expr()
+        finally:
+            self.depth -= 1
+            self.angle, self.poly = saved
+
+    def trig(self, name):
+        """cos(k*pi/n), sin(k*pi/n): algebraic for every rational k/n."""
+        self.expect("(")
+        arg = self.inner(angle=True)
+        self.expect(")")
+        q = sp.expand(arg / sp.pi)
+        if arg.free_symbols or not q.is_Rational:
+            raise EntryError(f"{name}({arg}) in {self.text!r}: the argument must be a rational multiple of pi "
+                             "(an algebraic value)")
+        if q.q > LIMITS["trig_denominator"]:
+            raise EntryError(f"{name}({arg}) in {self.text!r}: denominator {q.q} too large "
+                             f"(limit {LIMITS['trig_denominator']})")
+        return _checked((sp.cos if name == "cos" else sp.sin)(q * sp.pi), self.text)
+
+    def root(self):
+        """root(POLY, k): the k-th real root of POLY in x, ascending (k = 1, 2, …), or
+        root(POLY, a, b): its only real root in the open interval (a, b)."""
+        self.expect("(")
+        poly = self.inner(poly=True)
+        if poly.free_symbols - {_X} or not poly.is_polynomial(_X):
+            raise EntryError(f"root(...) in {self.text!r}: {poly} is not a polynomial in x with rational coefficients")
+        P = sp.Poly(poly, _X, domain=sp.QQ)
+        if P.degree() < 1 or P.degree() > LIMITS["root_degree"]:
+            raise EntryError(f"root(...) in {self.text!r}: the polynomial must have degree 1 to {LIMITS['root_degree']}")
+        self.expect(",")
+        args = [self.inner()]
+        if self.peek()[1] == ",":
+            self.take()
+            args.append(self.inner())
+        self.expect(")")
+        if any(a.free_symbols or not a.is_Rational for a in args):
+            raise EntryError(f"root(...) in {self.text!r}: the index and the interval ends must be rational numbers")
+        reals = sp.Poly(P.as_expr(), _X).real_roots()       # exact (CRootOf), ascending, with multiplicity
+        distinct = list(dict.fromkeys(reals))
+        if len(args) == 1:
+            k = args[0]
+            if not k.is_Integer or not 1 <= k <= len(distinct):
+                raise EntryError(f"root(...) in {self.text!r}: index {k} is not in 1 … {len(distinct)} "
+                                 f"(the polynomial has {len(distinct)} real root(s))")
+            r = distinct[int(k) - 1]
+        else:
+            a, b = args
+            inside = [r for r in distinct if a < r < b]
+            if len(inside) != 1:
+                raise EntryError(f"root(...) in {self.text!r}: ({a}, {b}) holds {len(inside)} real roots, not one")
+            r = inside[0]
+        return _checked(r, self.text)
 
 
 def _power(base, exp, text):
@@ -266,8 +353,20 @@ def _parse_text(text: str) -> sp.Expr:
     return e
 
 
+_X = sp.Symbol("x")
+
+
+class _Printer(sp.printing.str.StrPrinter):
+    """sympy's str printer, with a real root written as ``root(POLY, k)`` (k from 1)."""
+
+    def _print_ComplexRootOf(self, r):
+        reals = list(dict.fromkeys(sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X).real_roots()))
+        k = reals.index(r) + 1
+        return f"root({self._print(r.poly.as_expr().subs(r.poly.gen, _X))}, {k})"
+
+
 def _print(e) -> str:
-    return sp.sstr(e, order=None)
+    return _Printer({"order": None}).doprint(e)
 
 
 def parse_entry(value) -> sp.Expr:

@@ -293,9 +293,12 @@ class GeneralLinearMethod(Method):
         ones = sp.ones(s, 1)
         rhs_v = list(self.B * ones - u)
         if c is not None:
-            # c is consistent iff some v has (I - V) v = B 1 - u and U v = c - A 1.
+            # c is consistent iff some v has (I - V) v = B 1 - u and U v = c - A 1.  A method
+            # that is not consistent at all (no v, e.g. an RK method with Σb ≠ 1) has order 0
+            # whatever c is: its c is accepted and the order analysis reports the failure.
             M = to_dm(sp.Matrix.vstack(sp.eye(r) - self.V, self.U), K)
-            if solve_linear(M, rhs_v + list(c - self.A * ones)) is None and not symbolic:
+            consistent = solve_linear(to_dm(sp.eye(r) - self.V, K), rhs_v) is not None
+            if consistent and solve_linear(M, rhs_v + list(c - self.A * ones)) is None and not symbolic:
                 raise MethodError("c is not consistent with the method: no v with (I - V) v = B·1 - u "
                                   "and c = A·1 + U v (stage order 1 fails for every starting method)")
             return c

@@ -238,8 +238,16 @@ def read(path: str | os.PathLike) -> dict:
     return parse(raw, source=str(path))
 
 
-def load(path: str | os.PathLike) -> Method:
-    """Read a tableau file; errors name the file and the entry."""
+def load(path: str | os.PathLike, **size) -> Method:
+    """Read a tableau file; errors name the file and the entry.  A name that is not a file
+    but a generated family builds it: ``load("bdf:5")``, ``load("gauss", s=3)``
+    (:mod:`library`)."""
+    from .library import FamilyError, family, is_family
+    if size or (not Path(path).exists() and is_family(path)):
+        try:
+            return family(str(path), **size)
+        except FamilyError as exc:
+            raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
     return from_dict(read(path), str(path))
 
 

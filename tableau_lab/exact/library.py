@@ -1,0 +1,65 @@
+r"""Methods by name: the generated families, any size, in one registry.
+
+A family is named with its size, ``"bdf:5"`` or ``"gauss:3"`` (command line and API), or
+``family("bdf", k=5)``.  Each builds the method exactly (:mod:`families`, :mod:`multistep`).
+
+>>> family("adams_moulton:2").name
+'Adams–Moulton, 2 steps (as a GLM)'
+>>> family("bdf", k=3).V[0, :]
+Matrix([[18/11, -9/11, 2/11]])
+>>> family("gauss:0")
+Traceback (most recent call last):
+...
+tableau_lab.exact.library.FamilyError: gauss:0: the number of stages must be an integer 1 … 8, not 0
+"""
+from __future__ import annotations
+
+import re
+
+from . import families, multistep
+from .methods import Method
+
+__all__ = ["FamilyError", "FAMILIES", "family", "is_family"]
+
+
+class FamilyError(ValueError):
+    """A family name or size that does not give a method (the message names the spec)."""
+
+
+# name -> (constructor, size keyword, largest size, what the size counts)
+FAMILIES = {
+    "gauss": (families.gauss, "s", 8, "stages"),
+    **{name: (getattr(multistep, name), "k", multistep.MAX_STEPS, "steps") for name in multistep.FAMILIES},
+}
+
+_SPEC = re.compile(r"(?P<name>[a-z_]+)(?::(?P<size>[^:]*))?")
+
+
+def is_family(spec) -> bool:
+    """``spec`` names a family ("bdf:5", "gauss:3", or the bare name)."""
+    m = _SPEC.fullmatch(str(spec))
+    return bool(m) and m.group("name") in FAMILIES
+
+
+def family(spec: str, **size) -> Method:
+    """The method ``spec`` ("name:n") or ``family("name", s=n)`` / ``family("name", k=n)``."""
+    m = _SPEC.fullmatch(str(spec))
+    if not m or m.group("name") not in FAMILIES:
+        raise FamilyError(f"{spec}: not a method family; known: {', '.join(sorted(FAMILIES))}")
+    name = m.group("name")
+    build, key, largest, unit = FAMILIES[name]
+    if m.group("size") is not None and size:
+        raise FamilyError(f"{spec}: give the size once, in the name or as {key}=")
+    if set(size) - {key}:
+        raise FamilyError(f"{spec}: the size of {name} is {key}=, not {', '.join(sorted(size))}=")
+    raw = m.group("size") if m.group("size") is not None else size.get(key)
+    if raw is None:
+        raise FamilyError(f"{spec}: the number of {unit} is missing (write {name}:N)")
+    n = int(raw) if isinstance(raw, str) and raw.isdigit() else raw
+    label = f"{name}:{raw}"
+    if not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= largest:
+        raise FamilyError(f"{label}: the number of {unit} must be an integer 1 … {largest}, not {raw}")
+    try:
+        return build(n)
+    except ValueError as exc:               # MethodError, or no exact construction at this size
+        raise FamilyError(f"{label}: {exc}") from None
