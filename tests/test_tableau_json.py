@@ -11,6 +11,7 @@ import sympy as sp
 
 import tableau_lab.analysis.verify  # noqa: F401  (imported before eval/exec are patched)
 from tableau_lab.cli import main
+from tableau_lab.exact.grammar import parse_entry
 from tableau_lab.exact.tableau_json import TableauError, dumps, load, loads
 
 BAD = Path(__file__).parent / "data" / "bad"
@@ -173,3 +174,19 @@ def test_derived_c_for_glm_and_given_c_checked():
     # c = 0 (first value exact) is another starting method: any uniform shift is consistent
     assert loads(text % ', "c": [0]').c[0] == 0
     assert loads(text % ', "c": [1]').c[0] == 1
+
+
+def test_named_constants():
+    """A constant named once and used in entries; refused names and values."""
+    from tableau_lab.exact.tableau_json import loads
+    g = "1/2 + cos(pi/18)/sqrt(3)"
+    text = ('{"name": "sdirk", "kind": "rk", "constants": {"gamma": "%s"}, '
+            '"A": [["gamma", 0], ["1 - 2*gamma", "gamma"]], "b": ["1/2", "1/2"]}' % g)
+    m = loads(text)
+    assert m.A[0, 0] == parse_entry(g) and not m.parameters
+    for consts, fragment in [('{"pi": "1"}', "not a constant name"), ('{"g": "theta"}', "must be a number"),
+                             ('["g"]', "must be an object"), ('{"g": 0.5}', "floating-point")]:
+        bad = '{"name": "x", "kind": "rk", "constants": %s, "A": [["g"]], "b": [1]}' % consts
+        with pytest.raises(TableauError) as info:
+            loads(bad)
+        assert fragment in str(info.value) and "constants" in str(info.value)

@@ -110,9 +110,8 @@ def _nonnegative_minors(M, K, leading=False, strict=False):
 
 def _rk(m) -> AlgebraicStabilityResult:
     from .symplectic import rk_symplectic
-    K = field_of([m.A, m.b])
-    negative = [i + 1 for i in range(m.s) if sign(K, element(K, m.b[i])) < 0]
-    M = rk_symplectic(m).M
+    negative = [i + 1 for i in range(m.s) if sign(field_of([m.b[i]]), element(field_of([m.b[i]]), m.b[i])) < 0]
+    M = rk_symplectic(m).M        # VᵀMV for a method on conjugate nodes: congruent, the same inertia
     common = dict(method=m.name, kind=m.kind, M=M, G=sp.ImmutableMatrix([[1]]), D=sp.ImmutableMatrix(sp.diag(*m.b)),
                   scope="the definition for RK methods: G = [1], D = diag(b), M = diag(b)A + Aᵀdiag(b) − bbᵀ")
     if negative:

@@ -29,6 +29,7 @@ from functools import cached_property
 
 import sympy as sp
 
+from ..exact.conjugate import ANY
 from ..exact.field import FastField, element, field_of, power, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
@@ -39,6 +40,9 @@ __all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_w
 
 #: trees of at most this order are listed in the LaTeX table (order 6 has 20 trees, 7 has 48)
 LATEX_MAX_ORDER = 6
+#: at order p + 1, every error coefficient is computed when there are at most this many trees; beyond,
+#: the analysis stops at the first nonzero one (8-stage Gauss: 634 847 trees of order 17)
+ERROR_TREES_BUDGET = 50_000
 
 
 @dataclass(frozen=True)
@@ -54,6 +58,7 @@ class RKOrderResult(Result):
     stage_order: int
     capped: bool
     effective_order: int | None = None
+    errors_partial: bool = False      # ERROR_TREES_BUDGET hit: only the first nonzero error coefficient
     effective: object = None          # GLMOrderResult when the effective order was computed
     _F: object = field(default=None, repr=False, compare=False)
     _phi: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ fast), ...), |t| ≤ p + 1
@@ -100,6 +105,9 @@ class RKOrderResult(Result):
         if self._bad:
             shown = list(self.error_coefficients.items())
             more = f" … ({len(shown)} trees)" if len(shown) > 8 else ""
+            if self.errors_partial:
+                more = (f" (the first nonzero one: the {len(trees_of_order(self.order + 1))} trees of order "
+                        f"{self.order + 1} exceed the budget ERROR_TREES_BUDGET = {ERROR_TREES_BUDGET})")
             out.append(f"  principal error coefficients (order {self.order + 1}): "
                        + "; ".join(f"{t}: {format_entry(v)}" for t, v in shown[:8]) + more)
         if self.effective is not None and self.effective_order > self.order:
@@ -111,7 +119,7 @@ class RKOrderResult(Result):
         s = lambda x: str(format_entry(x))  # noqa: E731
         out = {"order": self.order, "order_identity_start": self.order, "stage_order": self.stage_order,
                "effective_order": self.effective_order, "B": self.B, "C": self.C, "D": self.D,
-               "capped": self.capped,
+               "capped": self.capped, "error_coefficients_partial": self.errors_partial,
                "residuals": {k: s(v) for k, v in self.residuals.items()},
                "error_coefficients": {k: s(v) for k, v in self.error_coefficients.items()}}
         if self.effective is not None and self.effective_order > self.order:
@@ -136,6 +144,8 @@ class RKOrderResult(Result):
 
 def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     """The largest p, q, r (capped at 2s+1, s+1, s+1) with B(p), C(q), D(r)."""
+    if m.conjugate is not None:
+        return _conjugate_assumptions(m.conjugate)
     K = K or field_of([m.A, m.b, m.c])
     F = FastField(K)
     s = m.s
@@ -158,12 +168,46 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
         return all(F.is_zero(dot(w, [A[i][j] for i in range(s)]) - b[j] * (F.one - c[j] ** k) * frac(k))
                    for j in range(s))
 
-    def largest(test, cap):
-        k = 0
-        while k < cap and test(k + 1):
-            k += 1
-        return k
-    return largest(holds_B, 2 * s + 1), largest(holds_C, s + 1), largest(holds_D, s + 1)
+    return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)
+
+
+def _stability_order(m, n: int) -> int:
+    """The largest q ≤ n with R(z) = e^z + O(z^{q+1}): the power series of N/D (exact)."""
+    from .stability import stability_function
+    N, D, K = stability_function(m)
+    Nc = [K.to_sympy(N.coeff(N.ring.gens[0] ** k)) if k else K.to_sympy(N.coeff(1)) for k in range(n + 2)]
+    Dc = [K.to_sympy(D.coeff(D.ring.gens[0] ** k)) if k else K.to_sympy(D.coeff(1)) for k in range(n + 2)]
+    R = []
+    for k in range(n + 2):                       # R·D = N, D(0) = 1
+        R.append(sp.expand((Nc[k] - sum(Dc[j] * R[k - j] for j in range(1, k + 1))) / Dc[0]))
+        if sp.expand(R[k] - sp.Rational(1, sp.factorial(k))) != 0:
+            return k - 1
+    return n + 1
+
+
+def _largest(test, cap):
+    k = 0
+    while k < cap and test(k + 1):
+        k += 1
+    return k
+
+
+def _conjugate_assumptions(alg) -> tuple[int, int, int]:
+    """B, C, D in ℚ[X]/(P) (:mod:`~tableau_lab.exact.conjugate`): B(k): b̃(X^{k−1}) = 1/k;
+    C(k): ÃX^{k−1} = X^k/k; D(k): b̃(X^{k−1}·Ãφ) = b̃(φ(1 − X^k))/k for φ = 1, X, …, X^{s−1}
+    (Σᵢ bᵢcᵢ^{k−1}aᵢⱼ = bⱼ(1 − cⱼ^k)/k for all j, tested against a basis)."""
+    s = alg.s
+    one, x, A, b = alg.operators()
+    pw = [one]
+    for _ in range(2 * s + 1):
+        pw.append(pw[-1] * x)
+    q = lambda k: sp.Rational(1, k)  # noqa: E731
+    rat = lambda v: sp.Rational(int(v.p), int(v.q))  # noqa: E731
+    holds_B = lambda k: rat(b * pw[k - 1]) == q(k)  # noqa: E731
+    holds_C = lambda k: alg.is_zero(A * pw[k - 1] - alg.element([0] * k + [q(k)]))  # noqa: E731
+    holds_D = lambda k: all(rat(b * (pw[k - 1] * (A * pw[m]))) == (rat(b * pw[m]) - rat(b * pw[m + k])) * q(k)  # noqa: E731
+                            for m in range(s))
+    return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)
 
 
 def elementary_weights(A, b, zero, one):
@@ -192,26 +236,41 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
     unless ``effective=False``, the effective order (Butcher's algebraic theory with r = 1)."""
     if m.kind != "rk":
         raise TypeError(f"rk_order applies to Runge–Kutta methods, not {m.kind!r}")
-    K = field_of([m.A, m.b, m.c])
-    F = FastField(K)
-    A = [[F.lift(x) for x in row] for row in to_dm(m.A, K).to_list()]
-    b = [F.lift(element(K, x)) for x in m.b]
+    if m.conjugate is not None:                 # nodes = all roots of one polynomial: in ℚ
+        K = sp.QQ
+        F = FastField(K)
+        one, _, Aop, bfun = m.conjugate.operators()
+        phi_of = elementary_weights([[Aop]], [bfun], ANY, one)
+    else:
+        K = field_of([m.A, m.b, m.c])
+        F = FastField(K)
+        A = [[F.lift(x) for x in row] for row in to_dm(m.A, K).to_list()]
+        b = [F.lift(element(K, x)) for x in m.b]
+        phi_of = elementary_weights(A, b, F.zero, F.one)
     bound = m.order_bound
     cap = max_order if max_order is not None else bound
-    phi_of = elementary_weights(A, b, F.zero, F.one)
-    phis, p, bad = [], 0, []
+    phis, p, bad, partial = [], 0, [], False
     for n in range(1, cap + 2):
-        for t in trees_of_order(n):
+        trees = trees_of_order(n)
+        for t in trees:
             phi = phi_of(t)
             r = phi - F.rational(sp.Rational(1, density(t)))
             phis.append((t, phi))
             if not F.is_zero(r):
                 bad.append((t, r))
+                if len(trees) > ERROR_TREES_BUDGET:
+                    partial = True
+                    break
         if bad or n > cap:
             break
         p = n
     Bp, Cq, Dr = simplifying_assumptions(m, K)
     eff_order, eff = None, None
+    if effective and m.conjugate is not None and p < bound:
+        # the GLM solve of the effective order needs the field of all the nodes; but p ≤ effective
+        # order ≤ the order of R(z) − e^z (on y′ = λy a starting method commutes with the step)
+        effective = False
+        eff_order = p if _stability_order(m, bound) == p else None
     if effective:
         if p >= bound:
             eff_order = p
@@ -220,5 +279,5 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
             eff = glm_order(m, max_order=cap)
             eff_order = eff.order
     return RKOrderResult(method=m.name, order=p, B=Bp, C=Cq, D=Dr, stage_order=min(Cq, p),
-                         capped=not bad, effective_order=eff_order, effective=eff,
+                         capped=not bad, effective_order=eff_order, effective=eff, errors_partial=partial,
                          _F=F, _phi=tuple(phis), _bad=tuple(bad))

@@ -228,6 +228,9 @@ def characteristic_polynomial(m: Method):
         rows.append([zero] * s + [-x * b[0][j] for j in range(s)] + [w - 1, zero])
         rows.append([x * bh[0][j] for j in range(s)] + [zero] * s + [zero, w - 1])
         return DomainMatrix(rows, (len(rows), len(rows)), R).det(), K
+    if getattr(m, "conjugate", None) is not None:        # r = 1: P(w, z) = w·det(I − zA) − det(I − zA + z𝟙bᵀ)
+        N, D, K = stability_function(m)
+        return K["w", "z"].from_sympy(W * D.as_expr() - N.as_expr()), K
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V])
     R = K["w", "z"]
@@ -260,17 +263,22 @@ def stability_function(m: Method):
     """
     if m.kind != "rk":
         raise TypeError(f"the stability function R(z) is for RK methods, not {m.kind!r}")
-    K = field_of([m.A, m.b])
+    s = m.s
+    if m.conjugate is not None:            # similar matrices in ℚ (exact.conjugate): V⁻¹AV = Ã, V⁻¹1bᵀV = e₀b̃
+        K = QQ
+        At, Nt = m.conjugate.stability_matrices()
+        A, AmB = _dm_lists(K, At)[0], _dm_lists(K, Nt)[0]
+    else:
+        K = field_of([m.A, m.b])
+        (A,), (b,) = _dm_lists(K, m.A), _dm_lists(K, m.b.T)
+        AmB = [[A[i][j] - b[0][j] for j in range(s)] for i in range(s)]
     R = K["z"]
     z = R.gens[0]
-    s = m.s
-    (A,), (b,) = _dm_lists(K, m.A), _dm_lists(K, m.b.T)
 
-    def det(with_b):
-        rows = [[(R.one if i == j else R.zero) - z * A[i][j] + (z * b[0][j] if with_b else R.zero)
-                 for j in range(s)] for i in range(s)]
+    def det(M):
+        rows = [[(R.one if i == j else R.zero) - z * M[i][j] for j in range(s)] for i in range(s)]
         return DomainMatrix(rows, (s, s), R).det()
-    return det(True), det(False), K
+    return det(AmB), det(A), K
 
 
 # ------------------------------------------------------------------ the axis analysis

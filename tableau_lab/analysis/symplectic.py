@@ -47,6 +47,7 @@ class RKSymplecticResult(Result):
     holds: bool
     weights_equal: bool = True      # b = bhat (partitioned methods)
     holds_separable: bool = True    # M = 0 alone: enough for H = T(p) + U(q)
+    congruent: bool = False         # M shown as VᵀMV (V the nodes' Vandermonde matrix; exact.conjugate)
 
     def __str__(self):
         if self.kind == "rk":
@@ -56,6 +57,8 @@ class RKSymplecticResult(Result):
                     f"  [Mᵢⱼ = bᵢâᵢⱼ + b̂ⱼaⱼᵢ − bᵢb̂ⱼ; b = b̂: {'yes' if self.weights_equal else 'no'}]")
             if not self.holds and self.holds_separable:
                 head += "\n  symplectic for separable H = T(p) + U(q) only (M = 0 but b ≠ b̂)"
+        if self.congruent:
+            return head + "\n  VᵀMV (V = [cⱼ^m], congruent to M: same rank and inertia) =\n" + matrix_text(self.M, "    ")
         return head + "\n  M =\n" + matrix_text(self.M, "    ")
 
     def to_json(self):
@@ -88,6 +91,9 @@ def rk_symplectic(m: Method) -> RKSymplecticResult:
     else:
         raise TypeError(f"rk_symplectic applies to RK and partitioned RK methods, not {m.kind!r}")
     s = A.rows
+    if getattr(m, "conjugate", None) is not None:      # in ℚ: VᵀMV (exact.conjugate)
+        form = sp.ImmutableMatrix(m.conjugate.symplecticity_form())
+        return RKSymplecticResult(m.name, m.kind, form, form.is_zero_matrix, True, form.is_zero_matrix, congruent=True)
     K = field_of([A, b, Ah, bh])
     raw = sp.Matrix(s, s, lambda i, j: b[i] * Ah[i, j] + bh[j] * A[j, i] - b[i] * bh[j])
     Mdm = to_dm(raw, K)
@@ -252,6 +258,8 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     method's number field (or, with free parameters, its rational function field, in
     which case the answer is the generic one).
     """
+    if getattr(m, "conjugate", None) is not None:
+        return _g_symplectic_conjugate(m)
     g = m.as_glm()
     s, r = g.s, g.r
     K = field_of([g.A, g.U, g.B, g.V])
@@ -286,3 +294,20 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     Gs = from_dm(G)
     return GSymplecticResult(holds=holds, G=Gs, D=from_dm(D), residuals=res, reason=reason,
                              definite=_definite(Gs) if holds else None, **common)
+
+
+def _g_symplectic_conjugate(m) -> GSymplecticResult:
+    """An RK method on the roots of one polynomial (exact.conjugate): with r = 1, VᵀGV = G holds
+    for every G = [g], DU = BᵀGV forces D = g·diag(b), and DA + AᵀD = BᵀGB is g·M = 0 — so the
+    solutions are that line when M = 0 (tested in ℚ as VᵀMV = 0), and only G = 0 otherwise."""
+    s = m.s
+    M = rk_symplectic(m)
+    common = dict(method=m.name, s=s, r=1, unknowns=s + 1, equations=1 + s + s * s, parameters=())
+    if not M.holds:
+        return GSymplecticResult(holds=False, G=None, D=None, dimension=0, rank=s + 1, basis=(), reason=(
+            "The only solution is G = 0, D = 0: D = g·diag(b) is forced and g·M = 0 needs g = 0, as M ≠ 0 "
+            "(VᵀMV ≠ 0, V the nodes' Vandermonde matrix)."), **common)
+    G, D = sp.ImmutableMatrix([[1]]), sp.ImmutableMatrix(sp.diag(*m.b))
+    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, ((1, 1), (s, 1), (s, s)))}
+    return GSymplecticResult(holds=True, G=G, D=D, residuals=zero, reason="", definite=True, dimension=1, rank=s,
+                             basis=((G, D),), **common)

@@ -27,7 +27,7 @@ from sympy.polys.matrices import DomainMatrix
 
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
-    "solve_linear", "nullspace", "exprs_of", "element", "FastField", "power",
+    "solve_linear", "nullspace", "exprs_of", "element", "FastField", "power", "FIELD_DEGREE_LIMIT",
 ]
 
 
@@ -87,8 +87,31 @@ def _algebraic_atoms(e) -> set:
     return out
 
 
+#: the largest degree bound (the product of the degrees of the generators that are roots of
+#: polynomials or values of cos, sin; radicals, which sympy's primitive elements handle well, are
+#: not counted) of a number field built here; beyond it the primitive element and its arithmetic
+#: cost minutes (all six nodes of 6-stage Gauss: 6⁶), and such methods are analysed in ℚ by
+#: :mod:`conjugate` instead
+FIELD_DEGREE_LIMIT = 64
+
+
+def _degree(g) -> int:
+    if isinstance(g, sp.RootOf):
+        return g.poly.degree()
+    if isinstance(g, (sp.cos, sp.sin)):
+        return sp.degree(sp.minimal_polynomial(g, sp.Dummy("x")))
+    return 1
+
+
 @lru_cache(maxsize=256)
 def _field(gens: tuple, syms: tuple):
+    bound = 1
+    for g in gens:
+        bound *= _degree(g)
+    if bound > FIELD_DEGREE_LIMIT:
+        raise FieldError(f"the entries generate a number field of degree up to {bound} (budget "
+                         f"FIELD_DEGREE_LIMIT = {FIELD_DEGREE_LIMIT}): {len(gens)} algebraic numbers "
+                         f"such as {gens[0]}")
     K = QQ.algebraic_field(*gens) if gens else QQ
     if syms:
         K = K.frac_field(*syms)

@@ -56,7 +56,7 @@ import sympy as sp
 __all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS"]
 
 LIMITS = {
-    "text_length": 2000,      # characters in one entry
+    "text_length": 10000,     # characters in one entry (an 8-stage Gauss entry: a polynomial in two nodes)
     "integer_digits": 100,    # digits in one integer literal
     "exponent_size": 64,      # |numerator| and denominator of an exponent
     "depth": 60,              # nesting of parentheses / unary signs / powers

@@ -28,7 +28,9 @@ class FamilyError(ValueError):
 
 # name -> (constructor, size keyword, largest size, what the size counts)
 FAMILIES = {
-    "gauss": (families.gauss, "s", 8, "stages"),
+    "gauss": (families.gauss, "s", families.MAX_STAGES, "stages"),
+    "radau_iia": (families.radau_iia, "s", families.MAX_STAGES, "stages"),
+    "lobatto_iiia": (families.lobatto_iiia, "s", families.MAX_STAGES, "stages"),
     **{name: (getattr(multistep, name), "k", multistep.MAX_STEPS, "steps") for name in multistep.FAMILIES},
 }
 

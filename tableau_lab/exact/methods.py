@@ -146,13 +146,43 @@ class RungeKutta(Method):
     A: sp.ImmutableMatrix
     b: sp.ImmutableMatrix
     c: sp.ImmutableMatrix = None
+    # the method as rational data on the roots of one polynomial (exact.conjugate), when its
+    # entries are values of fixed polynomials at the nodes (Gauss, Radau, Lobatto families):
+    # the analyses then run in ℚ instead of the field of all the nodes
+    conjugate: object = field(default=None, compare=False, repr=False, kw_only=True)
 
     kind = "rk"
 
     def __post_init__(self):
-        for k, v in zip("Abc", _tableau(self.A, self.b, self.c)):
+        if self.conjugate is None and self.c is not None and sum(isinstance(x, sp.RootOf) for x in self.c) > 1:
+            from .conjugate import detect           # a tableau written from exact.conjugate (root(P, k) nodes)
+            found = detect(_matrix(self.A, "A"), _column(self.b, "b"), _column(self.c, "c"))
+            if found is not None:
+                object.__setattr__(self, "conjugate", found)
+        if self.conjugate is not None:
+            self._check_conjugate()
+            return
+        try:
+            parts = _tableau(self.A, self.b, self.c)
+        except FieldError as exc:
+            raise MethodError(str(exc)) from None
+        for k, v in zip("Abc", parts):
             object.__setattr__(self, k, v)
         self._check_field()
+
+    def _check_conjugate(self):
+        """Shapes, and c = A·1 in ℚ: Ã e₀ = X (the nodes' polynomial) ⟺ A·1 = c."""
+        A, b, c = _matrix(self.A, "A"), _column(self.b, "b"), _column(self.c, "c")
+        s = self.conjugate.s
+        _shape(A, (s, s), "A", f" (s = {s} nodes)")
+        _shape(b, (s, 1), "b")
+        _shape(c, (s, 1), "c")
+        P = self.conjugate.P
+        x = sp.Poly(sp.rem(P.gen, P.as_expr(), P.gen), P.gen)
+        if [row[0] for row in self.conjugate.A_tilde] != [x.coeff_monomial(P.gen ** n) for n in range(s)]:
+            raise MethodError("c is not consistent with A: Ã e₀ ≠ X (A·1 ≠ c)")
+        for k, v in zip("Abc", (A, b, c)):
+            object.__setattr__(self, k, v)
 
     @classmethod
     def from_lists(cls, A, b, c=None, **meta):

@@ -13,6 +13,7 @@ tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.
 from __future__ import annotations
 
 import json
+import re
 import os
 from pathlib import Path
 from typing import Any
@@ -20,7 +21,7 @@ from typing import Any
 import sympy as sp
 
 from ..files import atomic_write_text
-from .grammar import LIMITS, EntryError, format_entry, parse_entry
+from .grammar import LIMITS, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
 
 __all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES"]
@@ -44,7 +45,8 @@ CLAIMS = {
     "parasitism_free": (bool, ("glm",)),
 }
 
-META = {"format", "name", "kind", "source", "notes", "claims"}
+META = {"format", "name", "kind", "source", "notes", "claims", "constants"}
+MAX_CONSTANTS = 64          # named numbers in one file
 
 
 class TableauError(ValueError):
@@ -95,15 +97,37 @@ def _pairs(pairs):
     return out
 
 
-def _entry(value, source, where):
+def _entry(value, source, where, consts=None):
     if isinstance(value, _Refused):
         raise TableauError(source, value.message(), where)
     if value is None:
         raise TableauError(source, "null is not a number", where)
     try:
-        return parse_entry(value)
+        e = parse_entry(value)
     except EntryError as exc:
         raise TableauError(source, str(exc), where) from None
+    return e.xreplace(consts) if consts and e.free_symbols else e
+
+
+def _constants(value, source) -> dict:
+    """The "constants" object: name → an exact number (an entry without parameters), usable by
+    name in every entry of the file (the nodes of an 8-stage Gauss method, SDIRK34's γ)."""
+    if not isinstance(value, dict):
+        raise TableauError(source, 'constants must be an object such as {"gamma": "1/2 + cos(pi/18)/sqrt(3)"}',
+                           "constants")
+    if len(value) > MAX_CONSTANTS:
+        raise TableauError(source, f"{len(value)} constants: more than the limit of {MAX_CONSTANTS}", "constants")
+    out = {}
+    for name, text in value.items():
+        where = f"constants.{name}"
+        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,30}", name) or name in RESERVED:
+            raise TableauError(source, f"{name!r} is not a constant name (a letter, then letters, digits, _; "
+                                       f"not {', '.join(sorted(RESERVED))})", where)
+        v = _entry(text, source, where)
+        if v.free_symbols:
+            raise TableauError(source, f"a constant must be a number, but {name} = {v} has names in it", where)
+        out[parameter(name)] = v
+    return out
 
 
 def _hint(text):
@@ -113,7 +137,7 @@ def _hint(text):
         return "1/2"
 
 
-def _matrix(value, source, key):
+def _matrix(value, source, key, consts=None):
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of rows (a list of lists)", key)
     rows = []
@@ -125,18 +149,18 @@ def _matrix(value, source, key):
                                f"{key} row {i}")
         if not row:
             raise TableauError(source, f"row {i} of {key} is empty", f"{key} row {i}")
-        rows.append([_entry(x, source, f"{key} row {i}, column {j}") for j, x in enumerate(row, 1)])
+        rows.append([_entry(x, source, f"{key} row {i}, column {j}", consts) for j, x in enumerate(row, 1)])
     return sp.ImmutableMatrix(rows)
 
 
-def _vector(value, source, key):
+def _vector(value, source, key, consts=None):
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of entries", key)
     out = []
     for i, x in enumerate(value, 1):
         if isinstance(x, list):
             raise TableauError(source, f"{key} must be a flat list, but entry {i} is a list", f"{key}[{i}]")
-        out.append(_entry(x, source, f"{key}[{i}]"))
+        out.append(_entry(x, source, f"{key}[{i}]", consts))
     return sp.ImmutableMatrix(out)
 
 
@@ -184,10 +208,11 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
     if "format" in data and data["format"] != FORMAT:
         raise TableauError(source, f"format {data['format']!r} is not understood (this is {FORMAT!r})", "format")
     readers = {"matrix": _matrix, "vector": _vector}
+    consts = _constants(data["constants"], source) if "constants" in data else None
     parts = {}
     for key, shape in list(required.items()) + list(optional.items()):
         if key in data:
-            parts[key] = readers[shape](data[key], source, key)
+            parts[key] = readers[shape](data[key], source, key, consts)
     claims = _claims(data.get("claims", {}), kind, source)
     try:
         return cls(**parts, name=name, source=data.get("source", ""), notes=tuple(notes),
@@ -262,9 +287,15 @@ def to_dict(m: Method) -> dict:
     out: dict[str, Any] = {"format": FORMAT, "name": m.name, "kind": m.kind}
     if m.source:
         out["source"] = m.source
+    names = {}
+    if getattr(m, "conjugate", None) is not None and any(isinstance(x, sp.RootOf) for x in m.c):
+        # nodes that are roots of polynomials: named once (c1, c2, …), the entries polynomials in them
+        names = {x: parameter(f"c{i}") for i, x in enumerate(m.c, 1) if isinstance(x, sp.RootOf)}
+        out["constants"] = {str(v): format_entry(k) for k, v in names.items()}
     for key, M in m.matrices().items():
         if M is None:
             continue
+        M = M.xreplace(names) if names else M
         if key in ("b", "c", "bhat", "chat"):
             out[key] = [format_entry(x) for x in M]
         else:

@@ -32,6 +32,8 @@ __all__ = ["NumericMethod", "to_numeric", "roundtrip_error"]
 def _exact_parts(m: Method):
     if m.kind == "prk":
         return (m.A, m.Ahat, sp.ones(m.s, 1), m.b.T, m.bhat.T, sp.Matrix([[1]]), m.c)
+    if m.kind == "rk":
+        return (m.A, m.A, sp.ones(m.s, 1), m.b.T, m.b.T, sp.Matrix([[1]]), m.c)
     g = m.as_glm()
     return (g.A, g.A, g.U, g.B, g.B, g.V, g.c)
 
@@ -51,7 +53,7 @@ def _floats(rows, dps):
     return sp.Matrix([[sp.Float(x, dps) for x in row] for row in rows])
 
 
-def _newton_data(Aq, Ap, c, a):
+def _newton_data(Aq, Ap, c, a, conjugate=None):
     """The stage predictor E (E[i, j] = ℓ_j(1 + c_i), ℓ_j the Lagrange basis on the nodes c:
     the previous step's stage derivatives extrapolated to the new stages, as in Hairer's GNI
     codes) and A_q⁻¹, A_p⁻¹ (stage derivatives from the stage increments, so a converged
@@ -63,7 +65,9 @@ def _newton_data(Aq, Ap, c, a):
     wp = arith(f"mp:{max(a.dps, 16) + 20}")
     s = len(c)
     E = None
-    if all(normal_form(c[i] - c[j]) != 0 for i in range(s) for j in range(i)):
+    # nodes on the roots of one squarefree polynomial (exact.conjugate) are distinct, and det A = det Ã
+    distinct = conjugate is not None or all(normal_form(c[i] - c[j]) != 0 for i in range(s) for j in range(i))
+    if distinct:
         with wp.context():
             cn = [wp.number(x) for x in c]
             E = [[mpmath.fprod((1 + cn[i] - cn[k]) / (cn[j] - cn[k]) for k in range(s) if k != j)
@@ -72,7 +76,7 @@ def _newton_data(Aq, Ap, c, a):
     invs = []
     for A in (Aq, Ap):
         A = sp.Matrix(A)
-        if normal_form(A.det()) == 0:
+        if (sp.Matrix(conjugate.A_tilde).det() if conjugate is not None else normal_form(A.det())) == 0:
             invs.append(None)
             continue
         with wp.context():
@@ -113,7 +117,7 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
         order = prk_order(m).order
     E = Aqi = Api = None
     if not all(sp.Matrix(X)[i, j] == 0 for X in (Aq, Ap) for i in range(len(c)) for j in range(i, len(c))):
-        E, Aqi, Api = _newton_data(Aq, Ap, list(c), a)
+        E, Aqi, Api = _newton_data(Aq, Ap, list(c), a, getattr(m, "conjugate", None))
     with a.context():
         return NumericMethod(E=E, Aq_inv=Aqi, Ap_inv=Api, name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
                              Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),

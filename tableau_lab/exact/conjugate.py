@@ -1,0 +1,362 @@
+r"""Runge–Kutta methods whose nodes are all the roots of one polynomial, in exact rational
+arithmetic (the Gauss, Radau and Lobatto families for any s).
+
+The nodes c₁ < … < c_s of the s-stage Gauss method are the roots of the shifted Legendre
+polynomial P; for s ≥ 6 they have no real radicals, and the field of all of them has degree up
+to s!·… (48 for s = 6).  But the method does not need that field.  Its entries are values of
+fixed rational polynomials at the nodes, aᵢⱼ = L(cᵢ, cⱼ), bⱼ = β(cⱼ), so A is *equivariant* and
+the Vandermonde matrix Vⱼₘ = cⱼ^m (m = 0 … s−1) carries it to rational matrices:
+
+    Ã = V⁻¹AV  (column m: the coefficients of Σⱼ L(X, cⱼ)cⱼ^m, a polynomial mod P),
+    b̃ = bᵀV    (b̃ₘ = Σⱼ bⱼcⱼ^m),       V⁻¹1 = e₀,   V⁻¹c = e₁.
+
+A stage vector (φ(c₁), …, φ(c_s)) is a polynomial φ mod P; the componentwise product of stage
+vectors is the product mod P; A acts as Ã; bᵀ as the functional b̃.  So every elementary weight,
+simplifying assumption, stability function (det(I − zA) = det(I − zÃ)) and the symplecticity
+form (congruent by V: Vᵀ M V) is computed in ℚ, for any s.  For a collocation method with
+nodes P (Gauss, Radau IIA, Lobatto IIIA, [HW96] IV.5) C(s) and B(s) give Ã and b̃ at once:
+Ã X^m = X^{m+1}/(m+1) mod P, b̃ₘ = 1/(m+1).
+
+>>> g = collocation(shifted_legendre(6))
+>>> g.s, g.A_tilde[0], g.b_tilde[:3]
+(6, (0, 0, 0, 0, 0, -1/5544), (1, 1/2, 1/3))
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import sympy as sp
+
+__all__ = ["Conjugate", "collocation", "shifted_legendre", "radau_right", "lobatto_nodes", "ANY"]
+
+X, Y = sp.symbols("X Y")
+
+
+class _AnyZero:
+    """The additive identity of every arithmetic (the start of sums of algebra elements and of
+    rationals alike)."""
+
+    def __add__(self, other):
+        return other
+
+    __radd__ = __add__
+
+
+ANY = _AnyZero()
+
+
+def shifted_legendre(s: int) -> sp.Poly:
+    """P_s(2x − 1), monic: its roots are the Gauss nodes."""
+    return sp.Poly(sp.legendre(s, 2 * X - 1), X).monic()
+
+
+def radau_right(s: int) -> sp.Poly:
+    """P_s(2x − 1) − P_{s−1}(2x − 1), monic: the Radau IIA nodes (c_s = 1)."""
+    return sp.Poly(sp.legendre(s, 2 * X - 1) - sp.legendre(s - 1, 2 * X - 1), X).monic()
+
+
+def lobatto_nodes(s: int) -> sp.Poly:
+    """x(x − 1) P′_{s−1}(2x − 1), monic: the Lobatto nodes (c₁ = 0, c_s = 1), s ≥ 2."""
+    return sp.Poly(X * (X - 1) * sp.diff(sp.legendre(s - 1, 2 * X - 1), X), X).monic()
+
+
+@dataclass(frozen=True)
+class Conjugate:
+    """An RK method on the roots of ``P`` (monic, squarefree, real roots) as rational data:
+    ``A_tilde`` (rows of Ã) and ``b_tilde`` (module docstring)."""
+
+    P: sp.Poly
+    A_tilde: tuple
+    b_tilde: tuple
+    collocation: bool = False     # Ã is integration from 0 mod P and b̃ integration over [0, 1]
+
+    @cached_property
+    def s(self) -> int:
+        return self.P.degree()
+
+    # -- arithmetic in ℚ[X]/(P) (python-flint) ---------------------------------------------
+    @cached_property
+    def _flint(self):
+        import flint
+        mod = flint.fmpq_poly([flint.fmpq(int(c.p), int(c.q)) for c in reversed(self.P.all_coeffs())])
+        At = [[flint.fmpq(int(x.p), int(x.q)) for x in row] for row in self.A_tilde]
+        bt = [flint.fmpq(int(x.p), int(x.q)) for x in self.b_tilde]
+        return flint, mod, At, bt
+
+    def element(self, coeffs) -> "_Elt":
+        """A polynomial mod P from its coefficients (constant first; rationals)."""
+        flint, mod, _, _ = self._flint
+        return _Elt(flint.fmpq_poly([flint.fmpq(int(sp.Rational(c).p), int(sp.Rational(c).q)) for c in coeffs]) % mod,
+                    self)
+
+    def operators(self):
+        """(one, X, Ã as an operator, b̃ as a functional): ``Ã * φ`` is the polynomial of A applied
+        to the stage vector φ, ``b̃ * φ`` the rational bᵀφ."""
+        return self.element([1]), self.element([0, 1]), _AOp(self), _BFun(self)
+
+    def is_zero(self, e) -> bool:
+        return e.p.is_zero() if isinstance(e, _Elt) else not e
+
+    # -- the tableau as exact expressions ----------------------------------------------------
+    @cached_property
+    def nodes(self) -> list:
+        """The roots of P, ascending: radicals where sympy finds real ones, else CRootOf."""
+        roots = sp.roots(self.P, X)
+        if sum(roots.values()) == self.s and not any(r.has(sp.I) for r in roots):
+            return sorted((sp.radsimp(r) for r in roots), key=lambda r: float(r))
+        return [sp.CRootOf(self.P.as_expr(), k) for k in range(self.s)]
+
+    def _lagrange(self) -> list:
+        """ℓ_m(X): the coefficient of t^m in P(t)/((t − X)P′(X)), as a polynomial in X mod P: the
+        rows of V⁻¹ (V⁻¹)ₘⱼ = ℓ_m(cⱼ)."""
+        t = sp.Symbol("t")
+        P, s = self.P, self.s
+        Pt = sp.Poly(P.as_expr().subs(X, t), t)
+        quotient = sp.Poly(sp.div(Pt.as_expr(), t - X, t)[0], t)          # polynomial in t with coefficients in ℚ[X]
+        inv = sp.Poly(sp.invert(P.diff(X).as_expr(), P.as_expr(), X), X)  # 1/P′(X) mod P
+        out = []
+        for m in range(s):
+            coef = sp.Poly(quotient.as_expr(), t).coeff_monomial(t ** m)
+            out.append(sp.Poly(sp.rem(sp.expand(coef * inv.as_expr()), P.as_expr(), X), X))
+        return out
+
+    @cached_property
+    def polynomials(self) -> tuple:
+        """(L(Y, X), β(X)) with aᵢⱼ = L(cᵢ, cⱼ), bⱼ = β(cⱼ): L = Σₙₘ Yⁿ Ãₙₘ ℓₘ(X), β = Σₘ b̃ₘ ℓₘ(X)."""
+        ell = self._lagrange()
+        L = sp.expand(sum(Y ** n * self.A_tilde[n][m] * ell[m].as_expr()
+                          for n in range(self.s) for m in range(self.s)))
+        beta = sp.expand(sum(self.b_tilde[m] * ell[m].as_expr() for m in range(self.s)))
+        return L, beta
+
+    def tableau(self) -> tuple:
+        """(A, b, c) as exact sympy matrices with the nodes substituted."""
+        L, beta = self.polynomials
+        c = self.nodes
+        diag = sp.rem(sp.expand(L.subs(Y, X)), self.P.as_expr(), X)      # L(cᵢ, cᵢ), reduced mod P
+        A = sp.ImmutableMatrix(self.s, self.s, lambda i, j: sp.expand(
+            diag.subs(X, c[i]) if i == j else L.subs({Y: c[i], X: c[j]}, simultaneous=True)))
+        b = sp.ImmutableMatrix([sp.expand(beta.subs(X, cj)) for cj in c])
+        return A, b, sp.ImmutableMatrix(c)
+
+    # -- analyses in ℚ ----------------------------------------------------------------------
+    def stability_matrices(self) -> tuple:
+        """(Ã, Ã − e₀b̃) as sympy matrices: det(I − zA) and det(I − z(A − 1bᵀ)) are theirs."""
+        At = sp.Matrix(self.A_tilde)
+        e0 = sp.zeros(self.s, 1)
+        e0[0] = 1
+        return At, At - e0 * sp.Matrix([list(self.b_tilde)])
+
+    def symplecticity_form(self) -> sp.Matrix:
+        """Vᵀ M V with M = diag(b)A + Aᵀdiag(b) − bbᵀ: entry (a, b) = b̃(Xᵃ·ÃX^b) + b̃(X^b·ÃXᵃ)
+        − b̃(Xᵃ)b̃(X^b).  Congruent to M (V real, invertible): zero iff M is, same inertia."""
+        one, x, A, b = self.operators()
+        powers = [one]
+        for _ in range(1, self.s):
+            powers.append(powers[-1] * x)
+        images = [A * p for p in powers]
+        out = sp.zeros(self.s, self.s)
+        for a in range(self.s):
+            for c in range(self.s):
+                v = b * (powers[a] * images[c]) + b * (powers[c] * images[a]) - (b * powers[a]) * (b * powers[c])
+                out[a, c] = sp.Rational(int(v.p), int(v.q))
+        return out
+
+
+class _Elt:
+    """A polynomial mod P (python-flint fmpq_poly)."""
+
+    __slots__ = ("p", "alg")
+
+    def __init__(self, p, alg):
+        self.p, self.alg = p, alg
+
+    def __mul__(self, o):
+        return _Elt((self.p * o.p) % self.alg._flint[1], self.alg)
+
+    def __add__(self, o):
+        return o if isinstance(o, _AnyZero) else _Elt(self.p + o.p, self.alg)
+
+    __radd__ = __add__
+
+    def __sub__(self, o):
+        return _Elt(self.p - o.p, self.alg)
+
+    def __eq__(self, o):
+        return isinstance(o, _Elt) and self.p == o.p
+
+    def __hash__(self):
+        return hash(str(self.p))
+
+    def coeffs(self) -> list:
+        """The coefficients, constant first, padded to s."""
+        c = list(self.p.coeffs())
+        return c + [self.alg._flint[0].fmpq(0)] * (self.alg.s - len(c))
+
+
+class _AOp:
+    """Ã acting on a polynomial mod P (its coefficient vector)."""
+
+    def __init__(self, alg):
+        self.alg = alg
+
+    def __mul__(self, e):
+        flint, mod, At, _ = self.alg._flint
+        if self.alg.collocation:                  # Ãφ = ∫₀^X φ mod P (C(s))
+            return _Elt(e.p.integral() % mod, self.alg)
+        v = e.coeffs()
+        s = self.alg.s
+        return _Elt(flint.fmpq_poly([sum((At[n][m] * v[m] for m in range(s)), flint.fmpq(0)) for n in range(s)]),
+                    self.alg)
+
+
+class _BFun:
+    """b̃: the rational bᵀφ of a polynomial φ mod P."""
+
+    def __init__(self, alg):
+        self.alg = alg
+
+    def __mul__(self, e):
+        flint, _, _, bt = self.alg._flint
+        if self.alg.collocation:                  # b̃(φ) = ∫₀¹ φ (B(s))
+            return e.p.integral()(flint.fmpq(1))
+        v = e.coeffs()
+        return sum((bt[m] * v[m] for m in range(self.alg.s)), flint.fmpq(0))
+
+
+def collocation(P: sp.Poly) -> Conjugate:
+    """The collocation method on the roots of P (monic, squarefree): C(s) and B(s) define it,
+    Ã X^m = X^{m+1}/(m+1) mod P, b̃ₘ = 1/(m+1) ([HW96] Thm IV.5.2)."""
+    P = sp.Poly(P, X).monic()
+    s = P.degree()
+    if sp.gcd(P, P.diff(X)).degree() > 0:
+        raise ValueError(f"{P.as_expr()} has a repeated root: not s distinct nodes")
+    cols = []
+    for m in range(s):
+        r = sp.Poly(sp.rem(X ** (m + 1), P.as_expr(), X), X) * sp.Rational(1, m + 1)
+        cols.append([r.coeff_monomial(X ** n) for n in range(s)])
+    At = tuple(tuple(sp.Rational(cols[m][n]) for m in range(s)) for n in range(s))
+    return Conjugate(P=P, A_tilde=At, b_tilde=tuple(sp.Rational(1, m + 1) for m in range(s)), collocation=True)
+
+
+# ------------------------------------------------------------------ recognising such a method
+
+def _power_sums(Q: sp.Poly, n: int) -> list:
+    """pₖ = Σ rᵏ over the roots r of Q (with multiplicity), k = 0 … n, by Newton's identities."""
+    a = [c / Q.LC() for c in Q.all_coeffs()]          # monic: X^d + a₁X^{d−1} + … + a_d
+    d = Q.degree()
+    p = [sp.Integer(d)]
+    for k in range(1, n + 1):
+        v = -k * a[k] if k <= d else sp.Integer(0)
+        v -= sum(a[i] * p[k - i] for i in range(1, min(k, d + 1)) if i <= d)
+        p.append(v)
+    return p
+
+
+def _trace(poly_x, Q, psums) -> sp.Expr:
+    """Σ over the roots r of Q of poly_x(r) (poly_x: a Poly in X whose coefficients may hold Y)."""
+    return sp.expand(sum(c * psums[k] for (k,), c in poly_x.terms()))
+
+
+def _crt(residues) -> sp.Poly:
+    """The polynomial mod Π Qₐ congruent to rₐ mod Qₐ for each (rₐ, Qₐ) (pairwise coprime)."""
+    r, m = sp.Poly(0, Y), sp.Poly(1, Y)
+    for ra, Qa in residues:
+        ra, Qa = sp.Poly(ra, Y), sp.Poly(Qa.as_expr().subs(X, Y), Y)
+        s_, t_, g = sp.gcdex(m, Qa)                     # s·m + t·Qa = 1
+        r = (r + m * ((ra - r) * s_).rem(Qa)).rem(m * Qa)
+        m = m * Qa
+    return r
+
+
+def detect(A, b, c) -> Conjugate | None:
+    """The :class:`Conjugate` form of the tableau (A, b, c) when its nodes are all the roots of a
+    squarefree polynomial (rational nodes and complete sets of conjugate real roots, CRootOf)
+    and its entries are the same polynomials of the nodes for every conjugate (aᵢⱼ = L(cᵢ, cⱼ),
+    bⱼ = β(cⱼ), as a tableau written from :func:`collocation` is); else None.  Exact: the
+    polynomials are read off the entries and compared, nothing is evaluated."""
+    s = len(c)
+    factors, atom = [], []
+    for x in c:
+        if x.is_Rational:
+            Q, a = sp.Poly(X - x, X), None
+        elif isinstance(x, sp.RootOf) and x.is_real:
+            Q, a = sp.Poly(x.poly.as_expr().subs(x.poly.gen, X), X).monic(), x
+        else:
+            return None
+        factors.append(Q)
+        atom.append(a)
+    distinct = list(dict.fromkeys(factors))
+    for Q in distinct:
+        if sum(1 for F in factors if F == Q) != Q.degree() or len({a for F, a in zip(factors, atom) if F == Q}) != Q.degree():
+            return None                                  # not every conjugate, or a repeated node
+    P = sp.Poly(sp.prod([Q.as_expr() for Q in distinct]), X)
+    if P.degree() != s:
+        return None
+    psums = {Q: _power_sums(Q, 2 * s + 2) for Q in distinct}
+
+    def as_poly(e, subs, gens):
+        e = sp.expand(sp.sympify(e).xreplace(subs))
+        try:
+            p = sp.Poly(e, *gens)
+        except sp.PolynomialError:
+            return None
+        return p if p.domain.is_QQ or p.domain.is_ZZ else None
+
+    # b̃ₘ = Σⱼ bⱼcⱼ^m = Σ over factors Tr(β_Q(X)X^m)
+    beta = {}
+    for j in range(s):
+        sub = {atom[j]: X} if atom[j] is not None else {}
+        p = as_poly(b[j], sub, (X,))
+        if p is None:
+            return None
+        p = p.rem(factors[j])
+        if beta.setdefault(factors[j], p) != p:
+            return None                                  # not the same polynomial at every conjugate
+    b_tilde = tuple(sum(_trace((beta[Q] * sp.Poly(X ** m, X)).rem(Q), Q, psums[Q]) for Q in distinct)
+                    for m in range(s))
+    # off-diagonal L_ab(Y, X) and diagonal L_a(Y), compared over every pair
+    off, diag = {}, {}
+    for i in range(s):
+        for j in range(s):
+            Qa, Qb = factors[i], factors[j]
+            if i == j:
+                p = as_poly(A[i, i], {atom[i]: Y} if atom[i] is not None else {}, (Y,))
+                if p is None:
+                    return None
+                p = p.rem(sp.Poly(Qa.as_expr().subs(X, Y), Y))
+                if diag.setdefault(Qa, p) != p:
+                    return None
+                continue
+            sub = {}
+            if atom[i] is not None:
+                sub[atom[i]] = Y
+            if atom[j] is not None:
+                sub[atom[j]] = X
+            p = as_poly(A[i, j], sub, (Y, X))
+            if p is None:
+                return None
+            p = sp.Poly(sp.rem(sp.rem(p.as_expr(), Qa.as_expr().subs(X, Y), Y), Qb.as_expr(), X), Y, X)
+            if off.setdefault((Qa, Qb), p) != p:
+                return None
+    # Ã column m: row i ↦ Σⱼ aᵢⱼcⱼ^m as a polynomial in cᵢ, per factor of cᵢ, then CRT
+    columns = []
+    for m in range(s):
+        residues = []
+        for Qa in distinct:
+            Qa_y = Qa.as_expr().subs(X, Y)
+            total = diag[Qa].as_expr() * Y ** m
+            for Qb in distinct:
+                if (Qa, Qb) not in off:
+                    continue                             # a factor of degree 1 paired with itself
+                L = off[Qa, Qb]
+                term = sp.Poly(sp.rem(sp.expand(L.as_expr() * X ** m), Qb.as_expr(), X), X)
+                total += _trace(term, Qb, psums[Qb])
+                if Qb == Qa:                             # the trace ran over cᵢ itself: not an off-diagonal term
+                    total -= L.as_expr().subs(X, Y) * Y ** m
+            residues.append((sp.rem(sp.expand(total), Qa_y, Y), Qa))
+        col = _crt(residues)
+        columns.append([col.coeff_monomial(Y ** n) for n in range(s)])
+    A_tilde = tuple(tuple(sp.Rational(columns[m][n]) for m in range(s)) for n in range(s))
+    return Conjugate(P=P.monic(), A_tilde=A_tilde, b_tilde=tuple(sp.Rational(x) for x in b_tilde))

@@ -1,0 +1,109 @@
+"""The collocation families for any number of stages, analysed in ℚ on the roots of the node
+polynomial: orders pinned (all conditions up to p, one failing at p + 1), B/C/D of [HW96]
+Table IV.5.13, the nodes and weights against numpy's Gauss–Legendre quadrature, the congruence
+Vᵀ M V against M itself where the nodes are radicals, and the stability verdicts of the theory."""
+import numpy as np
+import pytest
+import sympy as sp
+
+from tableau_lab.analysis.algebraic_stability import algebraic_stability
+from tableau_lab.analysis.rk_order import rk_order
+from tableau_lab.analysis.stability import stability
+from tableau_lab.analysis.symplectic import rk_symplectic
+from tableau_lab.exact.families import gauss, lobatto_iiia, radau_iia
+from tableau_lab.exact.field import field_of, is_zero
+from tableau_lab.exact.tableau_json import load
+
+# (order, B, C, D) for s stages: Gauss 2s, B(2s) C(s) D(s); Radau IIA 2s−1, B(2s−1) C(s) D(s−1);
+# Lobatto IIIA 2s−2, B(2s−2) C(s) D(s−2)  ([HW96] Table IV.5.13)
+FACTS = {gauss: lambda s: (2 * s, 2 * s, s, s), radau_iia: lambda s: (2 * s - 1, 2 * s - 1, s, s - 1),
+         lobatto_iiia: lambda s: (2 * s - 2, 2 * s - 2, s, s - 2)}
+CASES = [(gauss, s) for s in range(1, 9)] + [(radau_iia, s) for s in range(1, 9)] \
+    + [(lobatto_iiia, s) for s in range(2, 8)]
+
+
+@pytest.mark.parametrize("family, s", CASES, ids=lambda x: getattr(x, "__name__", str(x)))
+def test_orders_pinned(family, s):
+    r = rk_order(family(s))
+    assert (r.order, r.B, r.C, r.D) == FACTS[family](s)
+    assert r.residuals and not r.capped                      # an order-(p+1) condition fails
+    assert r.effective_order == r.order                      # R(z) − e^z = O(z^{p+1}) exactly
+
+
+@pytest.mark.parametrize("s", [2, 5, 6, 8])
+def test_gauss_nodes_and_weights_are_gauss_legendre_quadrature(s):
+    """Against numpy's Golub–Welsch nodes and weights on [−1, 1], mapped to [0, 1]; the rows of
+    A sum to c."""
+    m = gauss(s)
+    x, w = np.polynomial.legendre.leggauss(s)
+    c = np.array([float(sp.N(v, 30)) for v in m.c])
+    b = np.array([float(sp.N(v, 30)) for v in m.b])
+    A = np.array([[float(sp.N(v, 30)) for v in m.A.row(i)] for i in range(s)])
+    assert np.allclose(c, (x + 1) / 2, atol=1e-14) and np.allclose(b, w / 2, atol=1e-14)
+    assert np.allclose(A.sum(axis=1), c, atol=1e-14)
+
+
+def test_small_members_equal_the_library_files():
+    for family, path in [(gauss, "methods/gauss2.json"), (gauss, "methods/gauss3.json"),
+                         (radau_iia, "methods/radau_iia3.json"), (lobatto_iiia, "methods/lobatto_iiia3.json")]:
+        f = load(path)
+        g = family(f.s)
+        K = field_of([f.A, f.b, g.A, g.b])
+        assert all(is_zero(x - y, K) for x, y in zip(list(f.A) + list(f.b), list(g.A) + list(g.b)))
+
+
+@pytest.mark.parametrize("family, s", [(radau_iia, 3), (lobatto_iiia, 3), (gauss, 3)])
+def test_congruent_symplecticity_form_has_the_inertia_of_M(family, s):
+    """Where the nodes are radicals M itself can be computed in their field: Vᵀ M V from ℚ equals
+    it transformed, and both have the same rank."""
+    m = family(s)
+    K = field_of([m.A, m.b, m.c])
+    b, A = m.b, m.A
+    M = sp.Matrix(s, s, lambda i, j: b[i] * A[i, j] + b[j] * A[j, i] - b[i] * b[j])
+    V = sp.Matrix(s, s, lambda j, k: m.c[j] ** k)
+    form = rk_symplectic(m).M
+    assert all(is_zero(x - y, K) for x, y in zip(V.T * M * V, form))
+
+
+@pytest.mark.parametrize("family, s, symplectic, a_stable, alg_stable", [
+    (gauss, 6, True, True, True), (gauss, 8, True, None, True),       # [HW96] IV.3, IV.12; [HLW06] VI.4
+    (radau_iia, 6, False, True, True), (lobatto_iiia, 5, False, True, False)])
+def test_stability_verdicts(family, s, symplectic, a_stable, alg_stable):
+    m = family(s)
+    assert rk_symplectic(m).holds is symplectic
+    if a_stable is not None:
+        assert stability(m).a_stable is a_stable
+    assert algebraic_stability(m).holds is alg_stable
+
+
+def test_families_by_name_and_size_limits():
+    assert load("radau_iia:2").c[-1] == 1 and load("lobatto_iiia", s=2).c[0] == 0
+    from tableau_lab.exact.tableau_json import TableauError
+    with pytest.raises(TableauError, match="at least 2 stages"):
+        load("lobatto_iiia:1")
+    with pytest.raises(TableauError, match="1 … 8"):
+        load("gauss:9")
+
+
+def test_written_with_named_nodes_and_read_back():
+    """6-stage Gauss written as a file (nodes c1 … c6 = root(P, k), entries polynomials in them) is
+    recognised when read back: the same Ã and b̃, exactly, and the same order."""
+    from tableau_lab.exact.tableau_json import dumps, loads
+    m = gauss(6)
+    text = dumps(m)
+    assert '"constants"' in text and "root(924*x**6" in text
+    back = loads(text)
+    assert back == m and back.conjugate is not None
+    assert (back.conjugate.A_tilde, back.conjugate.b_tilde) == (m.conjugate.A_tilde, m.conjugate.b_tilde)
+    assert rk_order(back).order == 12
+
+
+def test_a_method_on_conjugate_nodes_that_is_not_equivariant_is_not_taken_for_one():
+    """Swapping two weights of 6-stage Gauss breaks b = β(c): no conjugate form, and the field of
+    all six nodes is refused by its stated budget rather than tried."""
+    from tableau_lab.exact.methods import MethodError, RungeKutta
+    m = gauss(6)
+    b = list(m.b)
+    b[0], b[1] = b[1], b[0]
+    with pytest.raises(MethodError, match="FIELD_DEGREE_LIMIT"):
+        RungeKutta(A=m.A, b=sp.ImmutableMatrix(b), c=m.c)
