@@ -465,12 +465,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
-    st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval), algebraic "
-                                          "stability and parasitism, exactly",
+    st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval, and for GLMs "
+                                          "zero-stability and A(alpha)), algebraic stability and parasitism, exactly",
                         description="The characteristic polynomial P(w, z) = det[[I - zA, -U], [-zB, wI - V]] "
                                     "exactly; R(z) and E(y) for RK methods; A-stability; the interval |y| < Y* "
                                     "of the imaginary axis z = iy where every root has |w| = 1 ((G-)symplectic "
-                                    "methods) or |w| <= 1 (others), Y* exact; algebraic stability; parasitic "
+                                    "methods) or |w| <= 1 (others), Y* exact; for GLMs (and so linear multistep "
+                                    "methods, e.g. bdf:5) zero-stability (V power-bounded; roots outside the "
+                                    "circle certified) and, when P has degree 1 in z, the A(alpha) angle "
+                                    "(certified to 30 digits); algebraic stability; parasitic "
                                     "growth parameters of GLMs. Partitioned methods: the harmonic oscillator, "
                                     "x = h*omega. Exit 0: done; 2: a file could not be read.")
     st.add_argument("files", nargs="+", metavar="FILE")

@@ -10,16 +10,26 @@ from tableau_lab.analysis.algebraic_stability import algebraic_stability
 from tableau_lab.analysis.rk_order import rk_order
 from tableau_lab.analysis.stability import stability
 from tableau_lab.analysis.symplectic import rk_symplectic
-from tableau_lab.exact.families import gauss, lobatto_iiia, radau_iia
+from tableau_lab.exact.families import (gauss, lobatto_iiia, lobatto_iiib, lobatto_iiic, lobatto_iiic_star, radau_ia,
+                                        radau_iia)
 from tableau_lab.exact.field import field_of, is_zero
 from tableau_lab.exact.tableau_json import load
 
 # (order, B, C, D) for s stages: Gauss 2s, B(2s) C(s) D(s); Radau IIA 2s−1, B(2s−1) C(s) D(s−1);
 # Lobatto IIIA 2s−2, B(2s−2) C(s) D(s−2)  ([HW96] Table IV.5.13)
+# Radau IA 2s−1, B(2s−1) C(s−1) D(s); Lobatto IIIB 2s−2, B(2s−2) C(s−2) D(s); IIIC 2s−2, C(s−1) D(s−1);
+# IIIC* ([HLW06] II.2) 2s−2, C(s−1) D(s−1).  B, C, D here are with c = A·1, so C(1) always holds; where
+# that is not the nodes (Radau IA with s = 1: c = 1, not 0; IIIB with s = 2: c = (1/2, 1/2), not (0, 1))
+# D(s) of the nodes is not D(s) of c: D(0) and D(1) there
 FACTS = {gauss: lambda s: (2 * s, 2 * s, s, s), radau_iia: lambda s: (2 * s - 1, 2 * s - 1, s, s - 1),
-         lobatto_iiia: lambda s: (2 * s - 2, 2 * s - 2, s, s - 2)}
+         lobatto_iiia: lambda s: (2 * s - 2, 2 * s - 2, s, s - 2),
+         radau_ia: lambda s: (2 * s - 1, 2 * s - 1, max(s - 1, 1), s if s > 1 else 0),
+         lobatto_iiib: lambda s: (2 * s - 2, 2 * s - 2, max(s - 2, 1), s if s > 2 else 1),
+         lobatto_iiic: lambda s: (2 * s - 2, 2 * s - 2, s - 1, s - 1),
+         lobatto_iiic_star: lambda s: (2 * s - 2, 2 * s - 2, s - 1, s - 1)}
 CASES = [(gauss, s) for s in range(1, 9)] + [(radau_iia, s) for s in range(1, 9)] \
-    + [(lobatto_iiia, s) for s in range(2, 8)]
+    + [(lobatto_iiia, s) for s in range(2, 8)] + [(radau_ia, s) for s in range(1, 7)] \
+    + [(f, s) for f in (lobatto_iiib, lobatto_iiic, lobatto_iiic_star) for s in range(2, 7)]
 
 
 @pytest.mark.parametrize("family, s", CASES, ids=lambda x: getattr(x, "__name__", str(x)))
@@ -45,7 +55,8 @@ def test_gauss_nodes_and_weights_are_gauss_legendre_quadrature(s):
 
 def test_small_members_equal_the_library_files():
     for family, path in [(gauss, "methods/gauss2.json"), (gauss, "methods/gauss3.json"),
-                         (radau_iia, "methods/radau_iia3.json"), (lobatto_iiia, "methods/lobatto_iiia3.json")]:
+                         (radau_iia, "methods/radau_iia3.json"), (lobatto_iiia, "methods/lobatto_iiia3.json"),
+                         (lobatto_iiib, "methods/lobatto_iiib3.json"), (lobatto_iiic, "methods/lobatto_iiic3.json")]:
         f = load(path)
         g = family(f.s)
         K = field_of([f.A, f.b, g.A, g.b])
@@ -74,6 +85,16 @@ def test_stability_verdicts(family, s, symplectic, a_stable, alg_stable):
     if a_stable is not None:
         assert stability(m).a_stable is a_stable
     assert algebraic_stability(m).holds is alg_stable
+
+
+def test_small_members_by_hand():
+    """[HW96] Table IV.5.x with s = 2 and [HLW06] II.2 (IIIC*): the tableaux themselves."""
+    R = sp.Rational
+    assert lobatto_iiic(2).A == sp.Matrix([[R(1, 2), R(-1, 2)], [R(1, 2), R(1, 2)]])
+    assert lobatto_iiib(2).A == sp.Matrix([[R(1, 2), 0], [R(1, 2), 0]])
+    assert radau_ia(2).A == sp.Matrix([[R(1, 4), R(-1, 4)], [R(1, 4), R(5, 12)]])
+    assert lobatto_iiic_star(3).A == sp.Matrix([[0, 0, 0], [R(1, 4), R(1, 4), 0], [0, 1, 0]])
+    assert radau_ia(1).A == sp.Matrix([[1]])                 # implicit Euler
 
 
 def test_families_by_name_and_size_limits():
@@ -107,3 +128,18 @@ def test_a_method_on_conjugate_nodes_that_is_not_equivariant_is_not_taken_for_on
     b[0], b[1] = b[1], b[0]
     with pytest.raises(MethodError, match="FIELD_DEGREE_LIMIT"):
         RungeKutta(A=m.A, b=sp.ImmutableMatrix(b), c=m.c)
+
+
+@pytest.mark.parametrize("spec, order, l_stable", [("sdirk_crouzeix:2", 3, False), ("sdirk_crouzeix:3", 4, False),
+                                                   ("sdirk_alexander:2", 2, True), ("sdirk_alexander:3", 3, True)])
+def test_sdirk_families(spec, order, l_stable):
+    """[HW96] §IV.6: Crouzeix–Nørsett order s + 1, A-stable; Alexander order s, L-stable (R(∞) = 0:
+    deg N < deg D)."""
+    from tableau_lab.analysis.stability import stability_function
+    m = load(spec)
+    assert rk_order(m).order == order and stability(m).a_stable is True
+    N, D, _ = stability_function(m)
+    assert (N.degree() < D.degree()) is l_stable
+    if spec == "sdirk_crouzeix:3":
+        f = load("sdirk34")
+        assert all(is_zero(x - y) for x, y in zip(list(f.A) + list(f.b), list(m.A) + list(m.b)))

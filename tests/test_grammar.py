@@ -131,3 +131,68 @@ def test_round_trip_property(text):
         return
     again = parse_entry(format_entry(e))
     assert again == e
+
+
+# ------------------------------------------------------------- one parser, two dialects
+
+@pytest.fixture
+def problem_dialect():
+    from tableau_lab.numeric import expressions
+    return expressions
+
+
+def test_one_tokenizer_and_parser_for_tableaux_and_problems(monkeypatch, problem_dialect):
+    """numeric.expressions defines no tokenizer or parser of its own: its problem dialect is a
+    grammar.Dialect, read by the tokenizer and parser that read tableau entries."""
+    import inspect
+    import re
+
+    from tableau_lab.exact import grammar
+    expressions = problem_dialect
+    own = {n for n, o in vars(expressions).items()
+           if (inspect.isclass(o) or inspect.isfunction(o)) and o.__module__ == expressions.__name__}
+    assert own == {"ExpressionError", "parse_expression", "exact_number"}
+    assert not [n for n, o in vars(expressions).items() if isinstance(o, re.Pattern) and o is not grammar.NAME]
+    assert isinstance(expressions.PROBLEM, grammar.Dialect) and expressions.NAME is grammar.NAME
+    assert issubclass(expressions.ExpressionError, EntryError)
+    seen = []
+    tokens = grammar._tokens
+    monkeypatch.setattr(grammar, "_tokens", lambda text, dialect: seen.append(dialect) or tokens(text, dialect))
+    grammar._parse_text.cache_clear()
+    assert parse_entry("1/3 + theta") == sp.Rational(1, 3) + parameter("theta")
+    q = sp.Symbol("q", real=True)
+    assert expressions.parse_expression("q/3 + 0.5", {"q": q}) == q / 3 + sp.Rational(1, 2)
+    assert {d.name for d in seen} == {"tableau entries", "problem expressions"}
+    assert grammar.TABLEAU in seen and expressions.PROBLEM in seen
+
+
+@pytest.mark.parametrize("text, value", [
+    ("-2**2", -4), ("2**3**2", 512), ("-x^2", -parameter("x") ** 2), ("-x*y", -parameter("x") * parameter("y")),
+    ("2^-1", sp.Rational(1, 2)), ("1/2/3", sp.Rational(1, 6)), ("2-3-4", -5), ("-(1+x)^2/3", -(1 + parameter("x")) ** 2 / 3),
+    ("sqrt(8)/2", sp.sqrt(2)), ("(x*y)^3", (parameter("x") * parameter("y")) ** 3),
+])
+def test_both_dialects_read_the_same_grammar(text, value, problem_dialect):
+    names = {"x": parameter("x"), "y": parameter("y")}
+    assert parse_entry(text) == value
+    assert problem_dialect.parse_expression(text, names) == value
+
+
+def test_the_dialects_differ_in_decimals_functions_and_names(problem_dialect):
+    q = sp.Symbol("q", real=True)
+    parse_expression, ExpressionError = problem_dialect.parse_expression, problem_dialect.ExpressionError
+    assert parse_expression("cos(q)", {"q": q}) == sp.cos(q)
+    assert parse_expression("cos(1)") == sp.cos(1)
+    assert parse_expression("2.95912208286e-4") == sp.Rational(295912208286, 10 ** 15)
+    assert parse_expression("0.005") == sp.Rational(1, 200)
+    assert parse_expression("(q^2 + 1)^(3/2)", {"q": q}) == (q ** 2 + 1) ** sp.Rational(3, 2)
+    for text, fragment in [("0.5", 'write it as a fraction, e.g. "1/2"'), ("cos(1)", "rational multiple of pi"),
+                           ("2.95912208286e-4", "decimal"), ("exp(theta)", "unknown function 'exp'"),
+                           ("sqrt(theta)", "takes a root")]:
+        with pytest.raises(EntryError) as info:
+            parse_entry(text)
+        assert fragment in str(info.value)
+    for text, fragment in [("theta", "unknown name 'theta'"), ("pi", "unknown name 'pi'"),
+                           ("root(x - 1, 1)", "unknown function 'root'"), ("q^q", "not a rational constant")]:
+        with pytest.raises(ExpressionError) as info:
+            parse_expression(text, {"q": q})
+        assert fragment in str(info.value)

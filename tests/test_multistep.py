@@ -102,6 +102,7 @@ def test_verify_of_large_multistep_glms(spec):
 
 def test_families_by_name():
     assert load("bdf:5") == load("bdf", k=5) == family("bdf", k=5)
+    assert load("gauss2") == load("methods/gauss2.json")             # a shipped file by name
     assert load("gauss:2").A == load("methods/gauss2.json").A
     for bad, fragment in [("bdf:0", "1 … 30"), ("gauss:9", "1 … 8"), ("nystrom:1", "at least 2"),
                           ("bdf", "missing"), ("bdf:x", "not x")]:

@@ -120,3 +120,13 @@ def test_order_cli_json_glm(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["order"] == 4 and out["order_identity_start"] == 4 and out["stage_order"] == 2
     assert out["starting_method"]["[τ]"] == ["0", "sqrt(3)/12"]
+
+
+def test_principal_error_norm():
+    """A^(5) of the classical RK4, ‖τ^(5)‖₂ = √1745/2880 ≈ 0.0145046 (NodePy's principal_error_norm
+    gives 0.014504582343198208; Kennedy, Carpenter & Lewis, Appl. Numer. Math. 35 (2000), A^(5) =
+    1.45·10⁻²); the square is the sum of the squared error coefficients."""
+    r = rk_order(load(METHODS / "rk4.json"))
+    assert r.principal_error_norm == sp.sqrt(1745) / 2880
+    assert abs(float(r.principal_error_norm) - 0.014504582343198208) < 1e-15
+    assert r.principal_error_norm ** 2 == sum(v ** 2 for v in r.error_coefficients.values())

@@ -41,6 +41,7 @@ from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .growth import NumericMode, growth_rate
 from .results import Result
+from .roots import unit_circle_eigenvalues as _unit_circle_eigenvalues
 
 __all__ = ["growth_parameters", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
            "growth_rate", "predicted_growth"]
@@ -87,42 +88,6 @@ def _show(x):
     if x.has(sp.I):
         return str(x)
     return str(format_entry(x))
-
-
-def _on_unit_circle(z) -> bool:
-    return normal_form(sp.expand(z * sp.conjugate(z))) == 1
-
-
-def _unit_circle_eigenvalues(V) -> list:
-    """(ζ, algebraic multiplicity) for the eigenvalues ζ ≠ 1 of V with |ζ| = 1, exactly, without
-    computing the others: the characteristic polynomial is factored over ℚ, and an irreducible
-    factor f can have a root on the unit circle only if it is self-reciprocal (ζ̄ = 1/ζ is then a
-    root too, so f and wⁿf(1/w) share a root, hence are equal up to sign).  Such factors (rare:
-    ±1, cyclotomic, Salem) are solved by radicals; the rest (BDF's ρ(w)/(w − 1), say, of degree
-    up to 16) cost one factorisation.  V with irrational entries: all eigenvalues, as before."""
-    w = sp.Symbol("w")
-    if not all(sp.sympify(v).is_Rational for v in V):
-        found = []
-        for zeta, mult in V.eigenvals().items():
-            zeta = sp.nsimplify(zeta) if zeta.is_Rational else sp.radsimp(zeta)
-            if normal_form(zeta - 1) != 0 and _on_unit_circle(zeta):
-                found.append((zeta, mult))
-        return found
-    found = []
-    for f, mult in sp.factor_list(V.charpoly(w).as_expr(), w)[1]:
-        f = sp.Poly(f, w)
-        coeffs = f.all_coeffs()
-        if coeffs != coeffs[::-1] and coeffs != [-c for c in coeffs[::-1]]:
-            continue                          # not self-reciprocal: no root on the unit circle
-        roots = sp.roots(f, w)
-        if sum(roots.values()) != f.degree():
-            raise ValueError(f"V has eigenvalues on the unit circle that are roots of {f.as_expr()} "
-                             "(no radicals): not supported")
-        for zeta in roots:
-            zeta = sp.radsimp(zeta)
-            if normal_form(zeta - 1) != 0 and _on_unit_circle(zeta):
-                found.append((zeta, mult))
-    return sorted(found, key=lambda z: sp.default_sort_key(z[0]))
 
 
 def growth_parameters(m: Method) -> ParasitismResult:

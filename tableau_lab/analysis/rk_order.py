@@ -30,7 +30,7 @@ from functools import cached_property
 import sympy as sp
 
 from ..exact.conjugate import ANY
-from ..exact.field import FastField, element, field_of, power, to_dm
+from ..exact.field import FastField, element, field_of, normal_form, power, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
 from .results import Result
@@ -85,6 +85,16 @@ class RKOrderResult(Result):
         """bracket → (Φ(t) − 1/γ(t))/σ(t): the principal error coefficients."""
         return {bracket(t): self._F.to_sympy(v) / symmetry(t) for t, v in self._bad}
 
+    @cached_property
+    def principal_error_norm(self):
+        """A^(p+1) = ‖τ^(p+1)‖₂, the 2-norm of the principal error coefficients (Φ(t) − 1/γ(t))/σ(t)
+        over the trees of order p + 1 ([HNW93] II.3; NodePy's principal_error_norm), exact; None
+        when not every coefficient was computed (ERROR_TREES_BUDGET) or the order is capped."""
+        if self.errors_partial or not self._bad:
+            return None
+        total = sum(self._F.to_sympy(v) ** 2 / symmetry(t) ** 2 for t, v in self._bad)
+        return sp.sqrt(total if total.is_Rational else normal_form(total))
+
     @property
     def consistency(self) -> str:
         """For order 0 (Σbᵢ ≠ 1): the failing order-1 condition with its exact residual, else ""."""
@@ -110,6 +120,9 @@ class RKOrderResult(Result):
                         f"{self.order + 1} exceed the budget ERROR_TREES_BUDGET = {ERROR_TREES_BUDGET})")
             out.append(f"  principal error coefficients (order {self.order + 1}): "
                        + "; ".join(f"{t}: {format_entry(v)}" for t, v in shown[:8]) + more)
+            if self.principal_error_norm is not None:
+                out.append(f"  principal error norm ‖τ^({self.order + 1})‖₂ = {format_entry(self.principal_error_norm)}"
+                           f" ≈ {sp.N(self.principal_error_norm, 6)}")
         if self.effective is not None and self.effective_order > self.order:
             out.append("  starting method for the effective order (y0 ↦ B(ξ, y0)), θ(t) = ξ(t):")
             out.extend(f"    {t:10s} {format_entry(v)}" for t, v in self.effective.theta.items())
@@ -120,6 +133,7 @@ class RKOrderResult(Result):
         out = {"order": self.order, "order_identity_start": self.order, "stage_order": self.stage_order,
                "effective_order": self.effective_order, "B": self.B, "C": self.C, "D": self.D,
                "capped": self.capped, "error_coefficients_partial": self.errors_partial,
+               "principal_error_norm": None if self.principal_error_norm is None else s(self.principal_error_norm),
                "residuals": {k: s(v) for k, v in self.residuals.items()},
                "error_coefficients": {k: s(v) for k, v in self.error_coefficients.items()}}
         if self.effective is not None and self.effective_order > self.order:
@@ -192,19 +206,25 @@ def _largest(test, cap):
     return k
 
 
+def _scaled(e, q):
+    """q·e for an element e of ℚ[X]/(P)."""
+    return e * e.alg.element([q])
+
+
 def _conjugate_assumptions(alg) -> tuple[int, int, int]:
     """B, C, D in ℚ[X]/(P) (:mod:`~tableau_lab.exact.conjugate`): B(k): b̃(X^{k−1}) = 1/k;
     C(k): ÃX^{k−1} = X^k/k; D(k): b̃(X^{k−1}·Ãφ) = b̃(φ(1 − X^k))/k for φ = 1, X, …, X^{s−1}
     (Σᵢ bᵢcᵢ^{k−1}aᵢⱼ = bⱼ(1 − cⱼ^k)/k for all j, tested against a basis)."""
     s = alg.s
-    one, x, A, b = alg.operators()
+    one, _, A, b = alg.operators()
+    x = A * one                                  # c = A·1 (the nodes X for a method with C(1))
     pw = [one]
     for _ in range(2 * s + 1):
         pw.append(pw[-1] * x)
     q = lambda k: sp.Rational(1, k)  # noqa: E731
     rat = lambda v: sp.Rational(int(v.p), int(v.q))  # noqa: E731
     holds_B = lambda k: rat(b * pw[k - 1]) == q(k)  # noqa: E731
-    holds_C = lambda k: alg.is_zero(A * pw[k - 1] - alg.element([0] * k + [q(k)]))  # noqa: E731
+    holds_C = lambda k: alg.is_zero(A * pw[k - 1] - _scaled(pw[k], q(k)))  # noqa: E731
     holds_D = lambda k: all(rat(b * (pw[k - 1] * (A * pw[m]))) == (rat(b * pw[m]) - rat(b * pw[m + k])) * q(k)  # noqa: E731
                             for m in range(s))
     return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)

@@ -165,6 +165,31 @@ def _real_roots(p, K) -> int:
     return sum(m * _cauchy_index(f, f.diff(f.ring.gens[0]), K) for f, m in factors)
 
 
+def _upper_count(fr, fi, K) -> int:
+    """N₊, the number of roots with Im t > 0 of fr + i·fi (univariate over K, fr and fi coprime, so
+    no real root): arg f grows by π(N₊ − N₋) along the real line, which is −π·Ind(fi/fr) when
+    deg fi ≤ deg fr."""
+    n = max(_deg(fr), _deg(fi))
+    if n <= 0:
+        return 0
+    if _deg(fi) > _deg(fr):         # i·f has the same roots; now the ends of fi/fr are at 0, not ∞
+        fr, fi = -fi, fr
+    return (n - _cauchy_index(fr, fi, K)) // 2
+
+
+def _half_plane_counts(fr, fi, K) -> tuple[int, int, int]:
+    """(N₊, N₀, N₋): the roots of fr + i·fi (univariate over K, not both zero) with Im t > 0, real,
+    Im t < 0, with multiplicity.  The common factor h = gcd(fr, fi) holds the real roots and the
+    conjugate pairs t, t̄ (one above, one below)."""
+    h = fr.gcd(fi)
+    real = _real_roots(h, K)
+    pairs = (max(_deg(h), 0) - real) // 2
+    if _deg(h) > 0:
+        fr, fi = (f.exquo(h) if f else f for f in (fr, fi))
+    up = _upper_count(fr, fi, K)
+    return up + pairs, real, max(_deg(fr), _deg(fi), 0) - up + pairs
+
+
 def _all_in_upper_half(fr, fi, K) -> bool:
     """Whether every root of fr + i·fi (univariate over K) has Im t > 0."""
     n = max(_deg(fr), _deg(fi))
@@ -172,9 +197,7 @@ def _all_in_upper_half(fr, fi, K) -> bool:
         return True
     if _deg(fr.gcd(fi)) > 0:        # a real root, or a conjugate pair t, t̄ (one of them below)
         return False
-    if _deg(fi) > _deg(fr):         # i·f has the same roots; now the ends of fi/fr are at 0, not ∞
-        fr, fi = -fi, fr
-    return -_cauchy_index(fr, fi, K) == n       # arg f grows by π(N₊ − N₋) along the real line
+    return _upper_count(fr, fi, K) == n
 
 
 def all_roots_right(p, K) -> bool:
@@ -305,6 +328,23 @@ class _Axis:
     at_minus_one: tuple
 
 
+def _cayley(coeff: dict, n: int, t) -> tuple:
+    """(F_R, F_I) with F_R + i·F_I = Σ_k q_k (1 + it)^k (1 − it)^(n−k) = (1 − it)^n Σ_k q_k w^k at
+    w = (1 + it)/(1 − it), for ``coeff`` k ↦ q_k = (re, im), polynomials of the ring of ``t``: the
+    unit circle in w is the real t-line (w = −1 is t = ∞), the open unit disc Im t > 0."""
+    R = t.ring
+    FR, FI = R.zero, R.zero
+    for k, q in coeff.items():
+        phi = (R.one, R.zero)
+        for _ in range(k):
+            phi = _cmul(phi, (R.one, t))
+        for _ in range(n - k):
+            phi = _cmul(phi, (R.one, -t))
+        term = _cmul(q, phi)
+        FR, FI = FR + term[0], FI + term[1]
+    return FR, FI
+
+
 def _primitive(P):
     """P divided by the gcd of its coefficients in w (a factor of det(I − zA) alone)."""
     w = P.ring.gens[0]
@@ -323,15 +363,7 @@ def _axis(P, K, imaginary: bool) -> _Axis:
         part = _i_power(c, l, y ** l, zero) if imaginary else (y ** l * c, zero)
         old = coeff.get(k, (zero, zero))
         coeff[k] = (old[0] + part[0], old[1] + part[1])
-    FR, FI = zero, zero
-    for k, q in coeff.items():
-        phi = (Rty.one, zero)
-        for _ in range(k):
-            phi = _cmul(phi, (Rty.one, t))
-        for _ in range(r - k):
-            phi = _cmul(phi, (Rty.one, -t))
-        term = _cmul(q, phi)
-        FR, FI = FR + term[0], FI + term[1]
+    FR, FI = _cayley(coeff, r, t)
     m1 = (zero, zero)
     for k, q in coeff.items():
         m1 = (m1[0] + (-1) ** k * q[0], m1[1] + (-1) ** k * q[1])
@@ -731,21 +763,33 @@ def stability(m: Method, gsym=None) -> StabilityResult:
 
 @dataclass(frozen=True)
 class StabilityReport(Result):
-    """Linear stability, algebraic stability and parasitism of one method together."""
+    """Linear stability, zero-stability and A(α) (GLMs), algebraic stability and parasitism (GLMs)
+    of one method together."""
 
     method: str
     linear: StabilityResult
     algebraic: Result
     parasitism: Result | None = field(default=None)
+    zero: Result | None = field(default=None)          # zero_stability.ZeroStabilityResult (GLMs)
+    sector: Result | None = field(default=None)        # a_alpha.AAlphaResult (GLMs)
+    real: Result | None = field(default=None)          # real_interval.RealIntervalResult (RK)
+    ssp: Result | None = field(default=None)           # ssp.SSPResult (RK)
+
+    def _parts(self):
+        return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.parasitism)
+                if p is not None]
 
     def __str__(self):
-        parts = [str(self.linear), str(self.algebraic)]
-        if self.parasitism is not None:
-            parts.append(str(self.parasitism))
-        return "\n".join(parts)
+        return "\n".join(str(p) for p in self._parts())
 
     def to_json(self):
         out = dict(self.linear.to_json())
+        out["zero_stable"] = self.zero.holds if self.zero is not None else None
+        out["zero_stability"] = self.zero.to_json() if self.zero is not None else None
+        out["a_alpha"] = self.sector.to_json() if self.sector is not None else None
+        for part in (self.real, self.ssp):
+            if part is not None:
+                out.update(part.to_json())
         alg = self.algebraic.to_json()
         out["algebraically_stable"] = alg["algebraically_stable"]
         out["algebraic_stability"] = alg
@@ -753,17 +797,33 @@ class StabilityReport(Result):
         return out
 
     def to_latex(self):
-        return "\n".join([self.linear.to_latex(), self.algebraic.to_latex()]
-                         + ([self.parasitism.to_latex()] if self.parasitism is not None else []))
+        return "\n".join(p.to_latex() for p in self._parts())
 
 
 def stability_report(m: Method) -> StabilityReport:
-    """Linear stability, algebraic stability and (GLMs) parasitic growth parameters."""
+    """Linear stability, algebraic stability and, for RK methods, the real-axis interval and the SSP
+    coefficient; for GLMs zero-stability, the A(α) angle and the parasitic growth parameters."""
+    from .a_alpha import a_alpha
     from .algebraic_stability import algebraic_stability
     from .parasitism import growth_parameters
     from .symplectic import g_symplectic
+    from .zero_stability import zero_stability
     gsym = g_symplectic(m) if m.kind != "prk" else None
     lin = stability(m, gsym)
     alg = algebraic_stability(m, a_stable=lin.a_stable, gsym=gsym)
-    par = growth_parameters(m) if m.kind == "glm" else None
-    return StabilityReport(method=m.name, linear=lin, algebraic=alg, parasitism=par)
+    if m.kind == "rk":
+        from .real_interval import real_stability_interval
+        from .ssp import ssp_coefficient
+        return StabilityReport(method=m.name, linear=lin, algebraic=alg, real=real_stability_interval(m),
+                               ssp=ssp_coefficient(m))
+    if m.kind != "glm":
+        return StabilityReport(method=m.name, linear=lin, algebraic=alg)
+    zero = zero_stability(m)
+    try:
+        par = growth_parameters(m)
+    except ValueError:
+        if zero.holds:
+            raise
+        par = None           # a defective eigenvalue on the circle: no growth parameters, and no stability
+    return StabilityReport(method=m.name, linear=lin, algebraic=alg, parasitism=par, zero=zero,
+                           sector=a_alpha(m, zero=zero, polynomial=lin.polynomial))

@@ -28,7 +28,8 @@ from functools import cached_property
 
 import sympy as sp
 
-__all__ = ["Conjugate", "collocation", "shifted_legendre", "radau_right", "lobatto_nodes", "ANY"]
+__all__ = ["Conjugate", "collocation", "shifted_legendre", "radau_right", "radau_left", "lobatto_nodes", "ANY",
+           "detect", "solve_conditions", "lagrange_at"]
 
 X, Y = sp.symbols("X Y")
 
@@ -130,15 +131,26 @@ class Conjugate:
         beta = sp.expand(sum(self.b_tilde[m] * ell[m].as_expr() for m in range(self.s)))
         return L, beta
 
+    @cached_property
+    def c_polynomial(self) -> sp.Expr:
+        """The polynomial of c = A·1 (Ã e₀): X for a method with C(1), i.e. cᵢ the nodes."""
+        return sp.expand(sum(self.A_tilde[n][0] * X ** n for n in range(self.s)))
+
+    def abscissae(self) -> list:
+        """c = A·1 at the nodes (the nodes themselves when Ã e₀ = X)."""
+        if self.c_polynomial == X:
+            return list(self.nodes)
+        return [sp.expand(self.c_polynomial.subs(X, x)) for x in self.nodes]
+
     def tableau(self) -> tuple:
-        """(A, b, c) as exact sympy matrices with the nodes substituted."""
+        """(A, b, c) as exact sympy matrices with the nodes substituted (c = A·1)."""
         L, beta = self.polynomials
         c = self.nodes
         diag = sp.rem(sp.expand(L.subs(Y, X)), self.P.as_expr(), X)      # L(cᵢ, cᵢ), reduced mod P
         A = sp.ImmutableMatrix(self.s, self.s, lambda i, j: sp.expand(
             diag.subs(X, c[i]) if i == j else L.subs({Y: c[i], X: c[j]}, simultaneous=True)))
         b = sp.ImmutableMatrix([sp.expand(beta.subs(X, cj)) for cj in c])
-        return A, b, sp.ImmutableMatrix(c)
+        return A, b, sp.ImmutableMatrix(self.abscissae())
 
     # -- analyses in ℚ ----------------------------------------------------------------------
     def stability_matrices(self) -> tuple:
@@ -360,3 +372,57 @@ def detect(A, b, c) -> Conjugate | None:
         columns.append([col.coeff_monomial(Y ** n) for n in range(s)])
     A_tilde = tuple(tuple(sp.Rational(columns[m][n]) for m in range(s)) for n in range(s))
     return Conjugate(P=P.monic(), A_tilde=A_tilde, b_tilde=tuple(sp.Rational(x) for x in b_tilde))
+
+
+# ------------------------------------------------------------------ methods defined by conditions
+
+def _coeffs(p, P) -> list:
+    """The coefficients (constant first, length s) of the polynomial p mod P."""
+    r = sp.Poly(sp.rem(sp.expand(p), P.as_expr(), X), X)
+    return [r.coeff_monomial(X ** n) for n in range(P.degree())]
+
+
+def lagrange_at(P: sp.Poly, node) -> sp.Expr:
+    """ℓ(X) = P(X)/((X − node)P′(node)) for a rational root ``node`` of P: the stage vector that is
+    1 at that node and 0 at the others."""
+    q = sp.quo(P.as_expr(), X - node, X)
+    return sp.expand(q / q.subs(X, node))
+
+
+def solve_conditions(P, images=(), D: int = 0, name: str = "") -> Conjugate:
+    """The method on the roots of P with b̃ₘ = 1/(m+1) (B(s) at least) and Ã fixed by linear
+    conditions in ℚ: ``images`` ((φ, ψ): Ãφ = ψ, polynomials in X) and D(1) … D(``D``)
+    (b̃(X^{k−1}·Ãφ) = b̃(φ(1 − X^k))/k for φ = 1, X, …, X^{s−1}); the solution must be unique."""
+    P = sp.Poly(P, X).monic()
+    s = P.degree()
+    bt = [sp.Rational(1, m + 1) for m in range(s)]
+    unknowns = sp.symbols(f"a0:{s * s}")
+    At = sp.Matrix(s, s, unknowns)                  # At[n, m]: coefficient of X^n in ÃX^m
+
+    def apply(phi):                                  # Ãφ as a polynomial in X (linear in the unknowns)
+        c = _coeffs(phi, P)
+        return sum(At[n, m] * c[m] * X ** n for n in range(s) for m in range(s))
+
+    def bfun(p):
+        c = _coeffs(p, P)
+        return sum(bt[m] * c[m] for m in range(s))
+
+    eqs = []
+    for phi, psi in images:
+        eqs += [a - b for a, b in zip(_coeffs(apply(phi), P), _coeffs(psi, P))]
+    for k in range(1, D + 1):
+        for m in range(s):
+            eqs.append(bfun(X ** (k - 1) * apply(X ** m)) - bfun(X ** m * (1 - X ** k)) / k)
+    sol = sp.linsolve([sp.expand(e) for e in eqs], unknowns)
+    if not sol:
+        raise ValueError(f"{name}: the conditions have no solution")
+    values = next(iter(sol))
+    if any(v.free_symbols for v in values):
+        raise ValueError(f"{name}: the conditions do not fix the method")
+    A_tilde = tuple(tuple(sp.Rational(values[n * s + m]) for m in range(s)) for n in range(s))
+    return Conjugate(P=P, A_tilde=A_tilde, b_tilde=tuple(bt))
+
+
+def radau_left(s: int) -> sp.Poly:
+    """P_s(2x − 1) + P_{s−1}(2x − 1), monic: the Radau IA nodes (c₁ = 0)."""
+    return sp.Poly(sp.legendre(s, 2 * X - 1) + sp.legendre(s - 1, 2 * X - 1), X).monic()

@@ -1,26 +1,37 @@
-"""The safe expression grammar: tableau text -> exact sympy expression.
+"""The safe expression grammar: text -> exact sympy expression, one parser for two dialects.
 
-A tableau file is data, so its entries are parsed by a small recursive-descent
-parser that builds sympy objects directly; nothing is ever passed to ``eval``,
-``sympify`` or ``parse_expr``.  The grammar::
+Tableau entries and the problem expressions of scene files are data, so they are read by
+one small tokenizer and one recursive-descent parser that build sympy objects directly;
+nothing is ever passed to ``eval``, ``sympify`` or ``parse_expr``.  The grammar::
 
     expr   := term (('+' | '-') term)*
     term   := unary (('*' | '/') unary)*
     unary  := ('+' | '-') unary | power
-    power  := atom (('**' | '^') unary)?          right-associative
-    atom   := INTEGER | NAME | 'sqrt' '(' expr ')' | '(' expr ')'
-            | ('cos' | 'sin') '(' expr ')'            argument a rational multiple of pi
-            | 'root' '(' poly ',' INTEGER ')'          the k-th real root (k = 1, 2, … ascending)
-            | 'root' '(' poly ',' expr ',' expr ')'   the real root in the interval (a, b)
-    poly   := an expr in the name x with rational coefficients
+    power  := atom (('**' | '^') unary)?          right-associative, binds tighter than unary minus
+    atom   := NUMBER | NAME | FUNCTION '(' expr (',' expr)* ')' | '(' expr ')'
 
-Exponents must be rational constants of modest size, integers are limited in
-length, and the result must be a finite real number (or a real expression in
-the named parameters).  Floats are refused: a tableau is exact.  Every number
-the grammar makes is algebraic: radicals, cos(kπ/n) and sin(kπ/n) (roots of
-Chebyshev-type polynomials: SDIRK34's γ = 1/2 + cos(π/18)/√3), and real roots of
-polynomials (``root``; sympy's ``CRootOf``, exact, isolated by Sturm sequences),
-so that :mod:`field` does exact arithmetic with all of them.
+so -2**2 is -4, 2**3**2 is 512 and -x^2 is -(x^2).  A :class:`Dialect` says what else an
+expression of its kind may hold: its functions (how many arguments, which names each argument
+binds, how the value is built), whether decimals are exact rationals or refused, what a name
+means, whether a non-integer power of an expression in names is allowed, and the limits.
+
+The tableau dialect (:data:`TABLEAU`, :func:`parse_entry`) reads exact real algebraic numbers::
+
+    FUNCTION := 'sqrt'                            sqrt(a) is a**(1/2)
+              | 'cos' | 'sin'                     argument a rational multiple of pi
+              | 'root'                            root(POLY, k): the k-th real root (k = 1, 2, … ascending)
+                                                  root(POLY, a, b): the real root in the interval (a, b)
+    POLY     := an expr in the name x with rational coefficients
+
+Exponents must be rational constants of modest size, integers are limited in length, and the
+result must be a finite real number (or a real expression in the named parameters, which are
+real symbols).  Decimals are refused: a tableau is exact.  Every number the dialect makes is
+algebraic: radicals, cos(kπ/n) and sin(kπ/n) (roots of Chebyshev-type polynomials: SDIRK34's
+γ = 1/2 + cos(π/18)/√3), and real roots of polynomials (``root``; sympy's ``CRootOf``, exact,
+isolated by Sturm sequences), so that :mod:`field` does exact arithmetic with all of them.
+The problem dialect (``tableau_lab.numeric.expressions``) reads decimals exactly
+(0.005 is 1/200), allows sqrt, exp, log, sin, cos, … of any argument and real powers of
+expressions, and only the names declared for the problem.
 
 >>> parse_entry("1/2 + cos(pi/18)/sqrt(3)") == sp.Rational(1, 2) + sp.sqrt(3) * sp.cos(sp.pi / 18) / 3
 True
@@ -40,7 +51,7 @@ theta**2 - 1
 >>> parse_entry("0.5")
 Traceback (most recent call last):
 ...
-tableau_lab.exact.grammar.EntryError: '0.5' is a decimal number, and tableau entries are exact: write it as a fraction, e.g. "1/2"
+tableau_lab.exact.grammar.EntryError: '0.5' is a decimal number, and tableau entries are exact: write it as a fraction, e.g. "1/2" (at position 1 of '0.5')
 >>> parse_entry("__import__('os')")
 Traceback (most recent call last):
 ...
@@ -49,28 +60,35 @@ tableau_lab.exact.grammar.EntryError: names must start with a letter, not '_' (a
 from __future__ import annotations
 
 import re
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from fractions import Fraction
 from functools import lru_cache
+from types import MappingProxyType
+from typing import NamedTuple
 
 import sympy as sp
 
-__all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS"]
+__all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
+           "RESERVED", "NAME", "Dialect", "Function", "TABLEAU", "parse", "sympy_functions", "declared_names"]
 
-LIMITS = {
+LIMITS = {                    # the tableau dialect's (a dialect's limits have these keys; the last two: tableau only)
     "text_length": 10000,     # characters in one entry (an 8-stage Gauss entry: a polynomial in two nodes)
-    "integer_digits": 100,    # digits in one integer literal
-    "exponent_size": 64,      # |numerator| and denominator of an exponent
-    "depth": 60,              # nesting of parentheses / unary signs / powers
+    "integer_digits": 100,    # significant digits in one number literal
+    "exponent_size": 64,      # |numerator| and denominator of an exponent (|e| in 1e-5 notation: 4 times that)
+    "depth": 60,              # nesting of parentheses / unary signs / powers / function arguments
     "result_digits": 1000,    # digits in any rational produced on the way
     "radicand_digits": 100,   # digits of a rational under a root
     "trig_denominator": 120,  # n in cos(k*pi/n), sin(k*pi/n) (degree up to φ(2n)/2)
     "root_degree": 40,        # degree of the polynomial of root(...)
 }
 
-RESERVED = frozenset({"sqrt", "cos", "sin", "root", "pi"})
+_NAME = r"[A-Za-z][A-Za-z0-9_]*"
+NAME = re.compile(_NAME + r"\Z")      # a name: a letter, then letters, digits and _
 
 
 class EntryError(ValueError):
-    """An entry of a tableau that is not a valid exact expression."""
+    """Text that is not a valid expression of its dialect (a tableau entry, a problem expression)."""
 
 
 def parameter(name: str) -> sp.Symbol:
@@ -82,42 +100,105 @@ def parameter(name: str) -> sp.Symbol:
     return sp.Symbol(name, real=True)
 
 
-_TOKEN = re.compile(
-    r"\s*(?:"
-    r"(?P<number>\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)"
-    r"|(?P<name>[A-Za-z][A-Za-z0-9_]*)"
-    r"|(?P<op>\*\*|[-+*/^(),])"
-    r")"
-)
+# ---------------------------------------------------------------------------- dialects
+
+@dataclass(frozen=True)
+class Function:
+    """A function of a dialect: ``build(parser, name, args, pos)`` makes its value from the
+    parsed arguments (the parser checks it is finite, real and of modest size); ``arity``
+    the numbers of arguments it takes; ``scopes`` per argument (the last one repeats) the
+    names bound in it, e.g. ``{"pi": sp.pi}``, or None to keep the caller's."""
+    build: Callable
+    arity: tuple = (1,)
+    scopes: tuple = (None,)
 
 
-def _tokens(text: str):
-    pos = 0
-    n = len(text)
-    out = []
-    while pos < n:
+@dataclass(frozen=True, eq=False)
+class Dialect:
+    """What the one parser reads.
+
+    ``name``: what the texts are, in messages ("tableau entries");
+    ``functions``: name -> :class:`Function`, the only functions (their names are reserved);
+    ``names``: ``(parser, name, pos)`` -> the value of a name that no argument scope binds,
+    or raises (``pi`` is a name like any other: bound only where a function's scope binds it);
+    ``decimals``: True reads 0.005 as exactly 1/200, False refuses it with a hint;
+    ``roots_of_names``: True allows (q^2 + p^2)^(1/2), False only integer powers of names;
+    ``limits``: the keys of :data:`LIMITS` (the last two only where cos, sin, root are used)."""
+    name: str
+    functions: Mapping[str, Function]
+    names: Callable
+    decimals: bool
+    roots_of_names: bool
+    limits: Mapping[str, int]
+
+
+def _sqrt(p, name, args, pos):
+    return p.power(args[0], sp.S.Half, pos)
+
+
+def sympy_functions(table: Mapping[str, Callable]) -> Mapping[str, Function]:
+    """Dialect functions of one argument, any argument, from sympy functions: ``sp.sqrt`` is
+    the power 1/2 (with its rules and limits), the others are applied as they are."""
+    return MappingProxyType({n: Function(_sqrt) if f is sp.sqrt else Function(lambda p, name, args, pos, f=f: f(args[0]))
+                             for n, f in table.items()})
+
+
+def declared_names(p, name, pos):
+    """Names resolved from the mapping given to :func:`parse` (all other names are refused)."""
+    if name not in p.names:
+        raise p.error(f"unknown name {name!r}", pos, f"; known names: {', '.join(p.names) or 'none'}")
+    return p.names[name]
+
+
+# ---------------------------------------------------------------------------- the tokenizer
+
+_TOKEN = re.compile(r"(?P<number>(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)"
+                    rf"|(?P<name>{_NAME})|(?P<op>\*\*|[-+*/^(),])")
+
+
+class _Token(NamedTuple):
+    kind: str | None            # "number", "name", "op"; None: the end of the text
+    text: str | None
+    pos: int
+    value: sp.Rational | None = None      # a number's exact value
+
+
+def _where(text: str, pos: int) -> str:
+    shown = text if len(text) <= 80 else text[:77] + "..."
+    return f"(at position {pos + 1} of {shown!r})"
+
+
+def _tokens(text: str, dialect: Dialect) -> list:
+    """The tokens of ``text`` and an end token; number literals read (or refused) by ``dialect``."""
+    out, pos = [], 0
+    while pos < len(text):
         if text[pos].isspace():
             pos += 1
             continue
         m = _TOKEN.match(text, pos)
-        if not m or m.end() == pos:
-            ch = text[pos]
-            if ch == "_":
-                raise EntryError(f"names must start with a letter, not '_' (at position {pos + 1} of {text!r})")
-            raise EntryError(f"unexpected character {ch!r} at position {pos + 1} of {text!r}")
-        kind = m.lastgroup
-        value = m.group(kind)
-        start = m.start(kind)
-        if kind == "number" and not value.isdigit():
-            raise EntryError(
-                f"{value!r} is a decimal number, and tableau entries are exact: "
-                f'write it as a fraction, e.g. "{_fraction_hint(value)}"'
-            )
-        if kind == "number" and len(value) > LIMITS["integer_digits"]:
-            raise EntryError(f"integer with {len(value)} digits is too long (limit {LIMITS['integer_digits']})")
-        out.append((kind, value, start))
+        if not m:
+            what = "names must start with a letter, not '_'" if text[pos] == "_" else \
+                f"unexpected character {text[pos]!r}"
+            raise EntryError(f"{what} {_where(text, pos)}")
+        kind, value = m.lastgroup, m.group(m.lastgroup)
+        out.append(_Token(kind, value, pos, _number(value, dialect, text, pos) if kind == "number" else None))
         pos = m.end()
+    out.append(_Token(None, None, len(text)))
     return out
+
+
+def _number(literal: str, dialect: Dialect, text: str, pos: int) -> sp.Rational:
+    """The exact value of a number literal (decimals as the rationals they denote), within limits."""
+    if not dialect.decimals and not literal.isdigit():
+        raise EntryError(f"{literal!r} is a decimal number, and {dialect.name} are exact: "
+                         f'write it as a fraction, e.g. "{_fraction_hint(literal)}" {_where(text, pos)}')
+    mantissa, _, exponent = literal.lower().partition("e")
+    digits, lim = len(mantissa.replace(".", "").lstrip("0")), dialect.limits["integer_digits"]
+    if digits > lim:
+        raise EntryError(f"number with {digits} digits is too long (limit {lim}) {_where(text, pos)}")
+    if exponent and (len(exponent) > 8 or abs(int(exponent)) > 4 * dialect.limits["exponent_size"]):
+        raise EntryError(f"exponent of {literal[:40]!r} is too large {_where(text, pos)}")
+    return sp.Integer(int(literal)) if literal.isdigit() else sp.Rational(Fraction(literal))
 
 
 def _fraction_hint(text: str) -> str:
@@ -130,230 +211,258 @@ def _fraction_hint(text: str) -> str:
     return str(r)
 
 
+def _short(e) -> str:
+    s = str(e)
+    return s if len(s) <= 60 else s[:57] + "..."
+
+
+# ---------------------------------------------------------------------------- the parser
+
 class _Parser:
-    def __init__(self, text: str):
-        self.text = text
-        self.toks = _tokens(text)
-        self.i = 0
-        self.depth = 0
-        self.angle = self.poly = False      # inside cos/sin (pi allowed), inside root's polynomial (x allowed)
+    def __init__(self, text: str, dialect: Dialect, names: Mapping | None = None):
+        self.text, self.dialect, self.names = text, dialect, dict(names or {})
+        self.limits = dialect.limits
+        self.toks = _tokens(text, dialect)
+        self.i = self.depth = 0
+        self.scope = {}             # names bound here by the argument of a function (pi in cos, x in root)
 
     # -- helpers -----------------------------------------------------------
-    def peek(self):
-        return self.toks[self.i] if self.i < len(self.toks) else (None, None, len(self.text))
+    def error(self, msg: str, pos: int, tail: str = "") -> EntryError:
+        return EntryError(f"{msg} {_where(self.text, pos)}{tail}")
 
-    def take(self):
-        tok = self.peek()
-        self.i += 1
+    def peek(self) -> _Token:
+        return self.toks[self.i]
+
+    def take(self) -> _Token:
+        tok = self.toks[self.i]
+        self.i = min(self.i + 1, len(self.toks) - 1)
         return tok
 
-    def expect(self, value):
-        kind, v, pos = self.take()
-        if v != value:
-            found = "end of text" if kind is None else repr(v)
-            raise EntryError(f"expected {value!r} at position {pos + 1} of {self.text!r}, found {found}")
+    def expect(self, value: str):
+        tok = self.take()
+        if tok.text != value:
+            raise self.error(f"expected {value!r}, found {_found(tok)}", tok.pos)
 
-    def nest(self):
+    def nested(self, parse, scope=None):
+        """``parse()`` one level deeper (the depth is limited), with ``scope`` bound (None: as it is)."""
         self.depth += 1
-        if self.depth > LIMITS["depth"]:
-            raise EntryError(f"expression nested too deeply (limit {LIMITS['depth']}): {self.text[:60]!r}")
+        if self.depth > self.limits["depth"]:
+            raise self.error(f"expression nested too deeply (limit {self.limits['depth']})", self.peek().pos)
+        saved = self.scope
+        if scope is not None:
+            self.scope = scope
+        try:
+            return parse()
+        finally:
+            self.depth -= 1
+            self.scope = saved
 
     # -- grammar -----------------------------------------------------------
     def parse(self):
-        if not self.toks:
-            raise EntryError("empty entry")
+        if len(self.toks) == 1:
+            raise EntryError("empty expression")
         e = self.expr()
-        kind, v, pos = self.peek()
-        if kind is not None:
-            raise EntryError(f"unexpected {v!r} at position {pos + 1} of {self.text!r}")
+        tok = self.peek()
+        if tok.kind is not None:
+            raise self.error(f"unexpected {tok.text!r}", tok.pos)
         return e
 
     def expr(self):
         e = self.term()
-        while self.peek()[1] in ("+", "-"):
-            op = self.take()[1]
+        while self.peek().text in ("+", "-"):
+            op = self.take()
             t = self.term()
-            e = _checked(e + t if op == "+" else e - t, self.text)
+            e = self.checked(e + t if op.text == "+" else e - t, op.pos)
         return e
 
     def term(self):
         e = self.unary()
-        while self.peek()[1] in ("*", "/"):
-            op = self.take()[1]
+        while self.peek().text in ("*", "/"):
+            op = self.take()
             f = self.unary()
-            if op == "/":
+            if op.text == "/":
                 if f == 0:
-                    raise EntryError(f"division by zero in {self.text!r}")
-                e = _checked(e / f, self.text)
+                    raise self.error("division by zero", op.pos)
+                e = self.checked(e / f, op.pos)
             else:
-                e = _checked(e * f, self.text)
+                e = self.checked(e * f, op.pos)
         return e
 
     def unary(self):
-        if self.peek()[1] in ("+", "-"):
-            op = self.take()[1]
-            self.nest()
-            u = self.unary()
-            self.depth -= 1
-            return -u if op == "-" else u
-        return self.power()
+        if self.peek().text in ("+", "-"):
+            op = self.take()
+            u = self.nested(self.unary)
+            return -u if op.text == "-" else u
+        return self.power_expr()
 
-    def power(self):
+    def power_expr(self):
         base = self.atom()
-        if self.peek()[1] in ("**", "^"):
-            self.take()
-            self.nest()
-            exp = self.unary()
-            self.depth -= 1
-            return _power(base, exp, self.text)
+        if self.peek().text in ("**", "^"):
+            op = self.take()
+            return self.power(base, self.nested(self.unary), op.pos)
         return base
 
     def atom(self):
-        kind, v, pos = self.take()
-        if kind == "number":
-            return sp.Integer(int(v))
-        if kind == "name":
-            if v == "sqrt":
-                self.expect("(")
-                self.nest()
-                arg = self.expr()
-                self.depth -= 1
-                self.expect(")")
-                return _power(arg, sp.Rational(1, 2), self.text)
-            if v in ("cos", "sin"):
-                return self.trig(v)
-            if v == "root":
-                return self.root()
-            if v == "pi" and self.angle:
-                return sp.pi
-            if v == "x" and self.poly:
-                return _X
-            if self.peek()[1] == "(":
-                raise EntryError(f"unknown function {v!r} in {self.text!r} (sqrt, cos, sin and root are allowed)")
-            if v == "pi":
-                raise EntryError(f"pi is not algebraic: it may appear only in the argument of cos or sin ({self.text!r})")
-            return parameter(v)
-        if v == "(":
-            self.nest()
-            e = self.expr()
-            self.depth -= 1
+        tok = self.take()
+        if tok.kind == "number":
+            return tok.value
+        if tok.kind == "name":
+            name = tok.text
+            if name in self.dialect.functions:
+                return self.call(name, tok.pos)
+            if name in self.scope:
+                return self.scope[name]
+            if self.peek().text == "(":
+                raise self.error(f"unknown function {name!r}", tok.pos,
+                                 f"; allowed: {', '.join(self.dialect.functions)}")
+            return self.dialect.names(self, name, tok.pos)
+        if tok.text == "(":
+            e = self.nested(self.expr)
             self.expect(")")
             return e
-        found = "end of text" if kind is None else repr(v)
-        raise EntryError(f"expected a number, a name or '(' at position {pos + 1} of {self.text!r}, found {found}")
+        raise self.error(f"expected a number, a name or '(', found {_found(tok)}", tok.pos)
 
-    def inner(self, **mode):
-        """An argument expression, with ``pi`` (angle) or ``x`` (poly) allowed in it."""
-        saved = (self.angle, self.poly)
-        self.angle, self.poly = mode.get("angle", False), mode.get("poly", False)
-        self.nest()
-        try:
-            return self.expr()
-        finally:
-            self.depth -= 1
-            self.angle, self.poly = saved
-
-    def trig(self, name):
-        """cos(k*pi/n), sin(k*pi/n): algebraic for every rational k/n."""
+    def call(self, name: str, pos: int):
+        fn = self.dialect.functions[name]
         self.expect("(")
-        arg = self.inner(angle=True)
-        self.expect(")")
-        q = sp.expand(arg / sp.pi)
-        if arg.free_symbols or not q.is_Rational:
-            raise EntryError(f"{name}({arg}) in {self.text!r}: the argument must be a rational multiple of pi "
-                             "(an algebraic value)")
-        if q.q > LIMITS["trig_denominator"]:
-            raise EntryError(f"{name}({arg}) in {self.text!r}: denominator {q.q} too large "
-                             f"(limit {LIMITS['trig_denominator']})")
-        return _checked((sp.cos if name == "cos" else sp.sin)(q * sp.pi), self.text)
-
-    def root(self):
-        """root(POLY, k): the k-th real root of POLY in x, ascending (k = 1, 2, …), or
-        root(POLY, a, b): its only real root in the open interval (a, b)."""
-        self.expect("(")
-        poly = self.inner(poly=True)
-        if poly.free_symbols - {_X} or not poly.is_polynomial(_X):
-            raise EntryError(f"root(...) in {self.text!r}: {poly} is not a polynomial in x with rational coefficients")
-        P = sp.Poly(poly, _X, domain=sp.QQ)
-        if P.degree() < 1 or P.degree() > LIMITS["root_degree"]:
-            raise EntryError(f"root(...) in {self.text!r}: the polynomial must have degree 1 to {LIMITS['root_degree']}")
-        self.expect(",")
-        args = [self.inner()]
-        if self.peek()[1] == ",":
+        args = [self.nested(self.expr, fn.scopes[0])]
+        while self.peek().text == ",":
             self.take()
-            args.append(self.inner())
+            args.append(self.nested(self.expr, fn.scopes[min(len(args), len(fn.scopes) - 1)]))
         self.expect(")")
-        if any(a.free_symbols or not a.is_Rational for a in args):
-            raise EntryError(f"root(...) in {self.text!r}: the index and the interval ends must be rational numbers")
-        reals = sp.Poly(P.as_expr(), _X).real_roots()       # exact (CRootOf), ascending, with multiplicity
-        distinct = list(dict.fromkeys(reals))
-        if len(args) == 1:
-            k = args[0]
-            if not k.is_Integer or not 1 <= k <= len(distinct):
-                raise EntryError(f"root(...) in {self.text!r}: index {k} is not in 1 … {len(distinct)} "
-                                 f"(the polynomial has {len(distinct)} real root(s))")
-            r = distinct[int(k) - 1]
-        else:
-            a, b = args
-            inside = [r for r in distinct if a < r < b]
-            if len(inside) != 1:
-                raise EntryError(f"root(...) in {self.text!r}: ({a}, {b}) holds {len(inside)} real roots, not one")
-            r = inside[0]
-        return _checked(r, self.text)
+        if len(args) not in fn.arity:
+            raise self.error(f"{name} takes {' or '.join(map(str, fn.arity))} argument(s), not {len(args)}", pos)
+        return self.checked(fn.build(self, name, args, pos), pos)
+
+    # -- values ------------------------------------------------------------
+    def power(self, base, exp, pos):
+        """base**exp for a rational constant exp of modest size, exactly."""
+        if exp.free_symbols or not exp.is_Rational:
+            raise self.error(f"exponent {_short(exp)} is not a rational constant", pos)
+        if base.free_symbols and not exp.is_Integer and not self.dialect.roots_of_names:
+            raise self.error(f"({_short(base)})**({exp}) takes a root of an expression in parameters; "
+                             "only integer powers of parameters are exact field arithmetic here", pos)
+        lim = self.limits["exponent_size"]
+        if abs(exp.p) > lim or exp.q > lim:
+            raise self.error(f"exponent {exp} is too large (limit: numerator and denominator at most {lim})", pos)
+        if base == 0 and exp < 0:
+            raise self.error("division by zero (0 to a negative power)", pos)
+        if base.is_Rational and exp.q > 1:
+            if base < 0:
+                raise self.error(f"({base})**({exp}) is not a real number", pos)
+            # r**(p/q) is taken as (r**p)**(1/q): sympy's simplification of a
+            # rational power p/q with p != 1 can take minutes on large radicands.
+            radicand, digits = base**exp.p, self.limits["radicand_digits"]
+            if max(abs(radicand.p), radicand.q).bit_length() > 3.33 * digits:
+                raise self.error(f"({_short(base)})**({exp}): the number under the root is too large "
+                                 f"(limit {digits} digits)", pos)
+            return self.checked(sp.Pow(radicand, sp.Rational(1, exp.q)), pos)
+        return self.checked(sp.Pow(base, exp), pos)
+
+    def checked(self, e, pos):
+        """e, unless it is infinite, not real, or holds numbers that are too large."""
+        if e.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            raise self.error("the value is not a finite number", pos)
+        digits = self.limits["result_digits"]
+        if any(max(abs(r.p), r.q).bit_length() > 3.33 * digits for r in e.atoms(sp.Rational)):
+            raise self.error(f"the value holds numbers too large to handle (over {digits} digits)", pos)
+        if e.is_real is False:
+            raise self.error("the value is not a real number", pos)
+        return e
 
 
-def _power(base, exp, text):
-    if exp.free_symbols or not exp.is_Rational:
-        raise EntryError(f"exponent {exp} in {text!r} is not a rational constant")
-    if base.free_symbols and not exp.is_Integer:
-        raise EntryError(f"{text!r} takes a root of an expression in parameters ({base}); "
-                         "only integer powers of parameters are exact field arithmetic here")
-    lim = LIMITS["exponent_size"]
-    if abs(exp.p) > lim or exp.q > lim:
-        raise EntryError(f"exponent {exp} in {text!r} is too large (limit: numerator and denominator at most {lim})")
-    if base == 0 and exp < 0:
-        raise EntryError(f"division by zero (0 to a negative power) in {text!r}")
-    if base.is_Rational and exp.q > 1:
-        if base < 0:
-            raise EntryError(f"({base})**({exp}) in {text!r} is not a real number")
-        # r**(p/q) is taken as (r**p)**(1/q): sympy's simplification of a
-        # rational power p/q with p != 1 can take minutes on large radicands.
-        radicand = base**exp.p
-        if max(abs(radicand.p), radicand.q).bit_length() > 3.33 * LIMITS["radicand_digits"]:
-            raise EntryError(f"({base})**({exp}) in {text!r}: the number under the root is too large "
-                             f"(limit {LIMITS['radicand_digits']} digits)")
-        return _checked(sp.Pow(radicand, sp.Rational(1, exp.q)), text)
-    return _checked(sp.Pow(base, exp), text)
+def _found(tok: _Token) -> str:
+    return "end of text" if tok.kind is None else repr(tok.text)
 
 
-def _checked(e, text):
-    if e.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
-        raise EntryError(f"{text!r} is not a finite number")
-    for r in e.atoms(sp.Rational):
-        if max(abs(r.p), r.q).bit_length() > 3.33 * LIMITS["result_digits"]:
-            raise EntryError(f"{text!r} produces numbers too large to handle (over {LIMITS['result_digits']} digits)")
-    if e.is_real is False:
-        raise EntryError(f"{text!r} is not a real number")
-    return e
+def parse(text: str, dialect: Dialect, names: Mapping | None = None) -> sp.Expr:
+    """Parse ``text`` in ``dialect``; ``names`` (name -> value) for :func:`declared_names`.
+
+    >>> parse("-2**2 + 2^3^2", TABLEAU), parse("-q^2", TABLEAU)
+    (508, -q**2)
+    """
+    lim = dialect.limits["text_length"]
+    if len(text) > lim:
+        raise EntryError(f"expression of {len(text)} characters is too long (limit {lim})")
+    return _Parser(text, dialect, names).parse()
+
+
+# ---------------------------------------------------------------------------- the tableau dialect
+
+_X = sp.Symbol("x")
+
+
+def _trig(p, name, args, pos):
+    """cos(k*pi/n), sin(k*pi/n): algebraic for every rational k/n."""
+    arg = args[0]
+    q = sp.expand(arg / sp.pi)
+    if arg.free_symbols or not q.is_Rational:
+        raise p.error(f"{name}({_short(arg)}): the argument must be a rational multiple of pi "
+                      "(an algebraic value)", pos)
+    if q.q > p.limits["trig_denominator"]:
+        raise p.error(f"{name}({arg}): denominator {q.q} too large (limit {p.limits['trig_denominator']})", pos)
+    return (sp.cos if name == "cos" else sp.sin)(q * sp.pi)
+
+
+def _root(p, name, args, pos):
+    """root(POLY, k): the k-th real root of POLY in x, ascending (k = 1, 2, …), or
+    root(POLY, a, b): its only real root in the open interval (a, b)."""
+    poly, *ends = args
+    if poly.free_symbols - {_X} or not poly.is_polynomial(_X):
+        raise p.error(f"root(...): {_short(poly)} is not a polynomial in x with rational coefficients", pos)
+    P = sp.Poly(poly, _X, domain=sp.QQ)
+    if P.degree() < 1 or P.degree() > p.limits["root_degree"]:
+        raise p.error(f"root(...): the polynomial must have degree 1 to {p.limits['root_degree']}", pos)
+    if any(a.free_symbols or not a.is_Rational for a in ends):
+        raise p.error("root(...): the index and the interval ends must be rational numbers", pos)
+    reals = sp.Poly(P.as_expr(), _X).real_roots()       # exact (CRootOf), ascending, with multiplicity
+    distinct = list(dict.fromkeys(reals))
+    if len(ends) == 1:
+        k = ends[0]
+        if not k.is_Integer or not 1 <= k <= len(distinct):
+            raise p.error(f"root(...): index {k} is not in 1 … {len(distinct)} "
+                          f"(the polynomial has {len(distinct)} real root(s))", pos)
+        return distinct[int(k) - 1]
+    a, b = ends
+    inside = [r for r in distinct if a < r < b]
+    if len(inside) != 1:
+        raise p.error(f"root(...): ({a}, {b}) holds {len(inside)} real roots, not one", pos)
+    return inside[0]
+
+
+def _parameter_name(p, name, pos):
+    """Every name is a real parameter; pi only in the argument of cos, sin (their scope binds it)."""
+    if name == "pi":
+        raise p.error("pi is not algebraic: it may appear only in the argument of cos or sin", pos)
+    return parameter(name)
+
+
+_ANGLE = MappingProxyType({"pi": sp.pi})
+TABLEAU = Dialect(
+    name="tableau entries",
+    functions=MappingProxyType({
+        "sqrt": Function(_sqrt),
+        "cos": Function(_trig, scopes=(_ANGLE,)),
+        "sin": Function(_trig, scopes=(_ANGLE,)),
+        "root": Function(_root, arity=(2, 3), scopes=(MappingProxyType({"x": _X}), MappingProxyType({}))),
+    }),
+    names=_parameter_name, decimals=False, roots_of_names=False, limits=LIMITS)
+
+RESERVED = frozenset(TABLEAU.functions) | {"pi"}     # not parameter names
 
 
 @lru_cache(maxsize=4096)
 def _parse_text(text: str) -> sp.Expr:
-    if len(text) > LIMITS["text_length"]:
-        raise EntryError(f"entry of {len(text)} characters is too long (limit {LIMITS['text_length']})")
-    e = _Parser(text).parse()
+    e = parse(text, TABLEAU)
     # Canonical form: the fixed point of parse∘print, so that writing an entry and reading
     # it back gives the identical expression (sympy distributes a number over a sum it
     # reads, e.g. 1/(7*(1 + sqrt(2))) is read back as 1/(7 + 7*sqrt(2))).
     for _ in range(3):
-        again = _Parser(_print(e)).parse()
+        again = _Parser(_print(e), TABLEAU).parse()
         if again == e:
             break
         e = again
     return e
-
-
-_X = sp.Symbol("x")
 
 
 class _Printer(sp.printing.str.StrPrinter):

@@ -1,7 +1,12 @@
-r"""Methods by name: the generated families, any size, in one registry.
+r"""Methods by name: the shipped library and the generated families, in one registry.
 
-A family is named with its size, ``"bdf:5"`` or ``"gauss:3"`` (command line and API), or
-``family("bdf", k=5)``.  Each builds the method exactly (:mod:`families`, :mod:`multistep`).
+A library method is named by its file's stem (``"gauss2"``, ``"example4_glm"``: the JSON files of
+``methods/``, installed with the package as ``tableau_lab/methods``).  A family is named with its
+size, ``"bdf:5"`` or ``"gauss:3"`` (command line and API), or ``family("bdf", k=5)``.  Each
+builds the method exactly (:mod:`families`, :mod:`multistep`).
+
+>>> library_path("gauss2").name, "example4_glm" in library_names()
+('gauss2.json', True)
 
 >>> family("adams_moulton:2").name
 'Adams–Moulton, 2 steps (as a GLM)'
@@ -15,11 +20,15 @@ tableau_lab.exact.library.FamilyError: gauss:0: the number of stages must be an 
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 from . import families, multistep
 from .methods import Method
 
-__all__ = ["FamilyError", "FAMILIES", "family", "is_family"]
+__all__ = ["FamilyError", "FAMILIES", "family", "is_family", "library_path", "library_names", "LIBRARY"]
+
+#: the shipped tableau files (a link to the repository's methods/ in a source checkout)
+LIBRARY = Path(__file__).resolve().parent.parent / "methods"
 
 
 class FamilyError(ValueError):
@@ -31,6 +40,12 @@ FAMILIES = {
     "gauss": (families.gauss, "s", families.MAX_STAGES, "stages"),
     "radau_iia": (families.radau_iia, "s", families.MAX_STAGES, "stages"),
     "lobatto_iiia": (families.lobatto_iiia, "s", families.MAX_STAGES, "stages"),
+    "radau_ia": (families.radau_ia, "s", families.MAX_STAGES, "stages"),
+    "lobatto_iiib": (families.lobatto_iiib, "s", families.MAX_STAGES, "stages"),
+    "lobatto_iiic": (families.lobatto_iiic, "s", families.MAX_STAGES, "stages"),
+    "lobatto_iiic_star": (families.lobatto_iiic_star, "s", families.MAX_STAGES, "stages"),
+    "sdirk_crouzeix": (families.sdirk_crouzeix, "s", 3, "stages"),
+    "sdirk_alexander": (families.sdirk_alexander, "s", 3, "stages"),
     **{name: (getattr(multistep, name), "k", multistep.MAX_STEPS, "steps") for name in multistep.FAMILIES},
 }
 
@@ -65,3 +80,16 @@ def family(spec: str, **size) -> Method:
         return build(n)
     except ValueError as exc:               # MethodError, or no exact construction at this size
         raise FamilyError(f"{label}: {exc}") from None
+
+
+def library_names() -> list:
+    """The names of the shipped tableau files."""
+    return sorted(p.stem for p in LIBRARY.glob("*.json")) if LIBRARY.is_dir() else []
+
+
+def library_path(name: str):
+    """The shipped file named ``name`` (its stem, without .json), or None."""
+    if not re.fullmatch(r"[A-Za-z0-9_]+", str(name)):
+        return None
+    path = LIBRARY / f"{name}.json"
+    return path if path.is_file() else None

@@ -26,6 +26,7 @@ from typing import Any, Mapping
 
 import sympy as sp
 
+from .conjugate import detect
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
 
 __all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency",
@@ -155,9 +156,9 @@ class RungeKutta(Method):
 
     def __post_init__(self):
         if self.conjugate is None and self.c is not None and sum(isinstance(x, sp.RootOf) for x in self.c) > 1:
-            from .conjugate import detect           # a tableau written from exact.conjugate (root(P, k) nodes)
+            # a tableau written from exact.conjugate (root(P, k) nodes)
             found = detect(_matrix(self.A, "A"), _column(self.b, "b"), _column(self.c, "c"))
-            if found is not None:
+            if found is not None and found.c_polynomial == found.P.gen:       # c = the nodes = A·1
                 object.__setattr__(self, "conjugate", found)
         if self.conjugate is not None:
             self._check_conjugate()
@@ -177,10 +178,8 @@ class RungeKutta(Method):
         _shape(A, (s, s), "A", f" (s = {s} nodes)")
         _shape(b, (s, 1), "b")
         _shape(c, (s, 1), "c")
-        P = self.conjugate.P
-        x = sp.Poly(sp.rem(P.gen, P.as_expr(), P.gen), P.gen)
-        if [row[0] for row in self.conjugate.A_tilde] != [x.coeff_monomial(P.gen ** n) for n in range(s)]:
-            raise MethodError("c is not consistent with A: Ã e₀ ≠ X (A·1 ≠ c)")
+        if list(c) != self.conjugate.abscissae():
+            raise MethodError("c is not consistent with A: c ≠ A·1 (Ã e₀ at the nodes)")
         for k, v in zip("Abc", (A, b, c)):
             object.__setattr__(self, k, v)
 

@@ -13,7 +13,6 @@ tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.
 from __future__ import annotations
 
 import json
-import re
 import os
 from pathlib import Path
 from typing import Any
@@ -21,7 +20,8 @@ from typing import Any
 import sympy as sp
 
 from ..files import atomic_write_text
-from .grammar import LIMITS, RESERVED, EntryError, format_entry, parameter, parse_entry
+from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
+from .library import FamilyError, family, is_family, library_path
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
 
 __all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES"]
@@ -120,7 +120,7 @@ def _constants(value, source) -> dict:
     out = {}
     for name, text in value.items():
         where = f"constants.{name}"
-        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,30}", name) or name in RESERVED:
+        if not NAME.match(name) or len(name) > 31 or name in RESERVED:
             raise TableauError(source, f"{name!r} is not a constant name (a letter, then letters, digits, _; "
                                        f"not {', '.join(sorted(RESERVED))})", where)
         v = _entry(text, source, where)
@@ -264,15 +264,16 @@ def read(path: str | os.PathLike) -> dict:
 
 
 def load(path: str | os.PathLike, **size) -> Method:
-    """Read a tableau file; errors name the file and the entry.  A name that is not a file
-    but a generated family builds it: ``load("bdf:5")``, ``load("gauss", s=3)``
-    (:mod:`library`)."""
-    from .library import FamilyError, family, is_family
+    """Read a tableau file; errors name the file and the entry.  A name that is not a file is
+    a shipped method (``load("gauss2")``) or a generated family (``load("bdf:5")``,
+    ``load("gauss", s=3)``): :mod:`library`."""
     if size or (not Path(path).exists() and is_family(path)):
         try:
             return family(str(path), **size)
         except FamilyError as exc:
             raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
+    if not Path(path).exists() and library_path(path) is not None:
+        return from_dict(read(library_path(path)), str(path))      # a shipped method by name
     return from_dict(read(path), str(path))
 
 

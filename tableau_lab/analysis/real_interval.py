@@ -1,0 +1,93 @@
+r"""The real-axis stability interval [−β, 0] of a Runge–Kutta method, exactly.
+
+β = sup{b ≥ 0 : |R(x)| ≤ 1 for all x ∈ [−b, 0]} with R = N/D the stability function
+([HW96] IV.2; NodePy's ``real_stability_interval``).  On the real line |R| ≤ 1 is
+D² − N² ≥ 0 with D ≠ 0; the negative real roots of D² − N² and of D (exact: rational or
+``CRootOf``) cut (−∞, 0) into intervals of constant sign, tested at a rational point from 0
+leftwards: β is the first cut beyond which the test fails, ∞ when none does.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> r = real_stability_interval(load("rk4"))
+>>> str(r.beta), round(float(r.beta), 9)
+('-2*CRootOf(x**3 + 2*x**2 + 3*x + 3, 0)', 2.785293563)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .results import Result
+
+__all__ = ["real_stability_interval", "RealIntervalResult"]
+
+_X = sp.Symbol("x")
+
+
+@dataclass(frozen=True)
+class RealIntervalResult(Result):
+    method: str
+    beta: object            # exact (sympy number or oo); None when not computed
+    reason: str = ""
+
+    def __str__(self):
+        if self.beta is None:
+            return f"real-axis interval: not computed ({self.reason})"
+        if self.beta == sp.oo:
+            return "real-axis interval: |R(x)| ≤ 1 on the whole negative axis"
+        approx = "" if self.beta.is_Rational else f" ≈ {sp.N(self.beta, 10)}"
+        return f"real-axis interval: [−β, 0] with β = {format_entry(self.beta)}{approx}"
+
+    def to_json(self):
+        return {"real_interval": None if self.beta is None else ("oo" if self.beta == sp.oo else str(format_entry(self.beta))),
+                "real_interval_float": None if self.beta is None else float(self.beta), "real_interval_reason": self.reason}
+
+    def to_latex(self):
+        if self.beta is None:
+            return f"Real-axis interval not computed ({self.reason})."
+        return r"Real-axis stability interval $[-\beta, 0]$, $\beta = " + sp.latex(self.beta) + "$."
+
+
+def real_stability_interval(m: Method) -> RealIntervalResult:
+    """β of an RK method whose stability function has rational coefficients (module docstring)."""
+    if m.kind != "rk":
+        return RealIntervalResult(m.name, None, f"computed here for Runge–Kutta methods, not {m.kind}")
+    from .stability import stability_function
+    N, D, K = stability_function(m)
+    if not K.is_QQ:
+        coeffs = [K.to_sympy(c) for c in list(N.values()) + list(D.values())]
+        if not all(c.is_Rational for c in coeffs):
+            return RealIntervalResult(m.name, None, "R(z) has irrational coefficients")
+    n = sp.Poly(sp.sympify(N.as_expr()).subs(sp.Symbol("z"), _X), _X, domain=sp.QQ) if N.as_expr() != 0 else sp.Poly(0, _X)
+    d = sp.Poly(sp.sympify(D.as_expr()).subs(sp.Symbol("z"), _X), _X, domain=sp.QQ)
+    g = d ** 2 - n ** 2
+
+    def fails(x):
+        return d.eval(x) == 0 or g.eval(x) < 0
+
+    cuts = set()
+    for p in (g, d):
+        if p.degree() > 0:
+            cuts |= {r for r in p.real_roots() if r < 0}
+    cuts = sorted(cuts, key=lambda r: -sp.N(r, 50))            # from 0 leftwards
+    right = sp.Integer(0)
+    for x in cuts + [None]:
+        probe = right - 1 if x is None else _between(x, right)
+        if fails(probe):
+            return RealIntervalResult(m.name, -right)
+        if x is None:
+            break
+        if d.eval(x) == 0:
+            return RealIntervalResult(m.name, -x)
+        right = x
+    return RealIntervalResult(m.name, sp.oo)
+
+
+def _between(a, b) -> sp.Rational:
+    """A rational strictly between real algebraic numbers a < b."""
+    q = (sp.Rational(sp.N(a, 60)) + sp.Rational(sp.N(b, 60))) / 2
+    if not (a < q < b):
+        raise ArithmeticError(f"no rational separated between {a} and {b}")
+    return q

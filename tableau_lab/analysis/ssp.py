@@ -1,0 +1,125 @@
+r"""The SSP coefficient (radius of absolute monotonicity) of a Runge–Kutta method, exactly.
+
+Kraaijevanger (BIT 31 (1991) 482–528; Ketcheson, SIAM J. Sci. Comput. 30 (2008)): with
+K = [[A, 0], [bᵀ, 0]] and e = 1 ((s+1)-vectors), the method is absolutely monotonic at r ≥ 0 when
+I + rK is invertible and
+
+    K(I + rK)⁻¹ ≥ 0,        e − rK(I + rK)⁻¹e ≥ 0          (componentwise),
+
+and the set of such r is an interval [0, R]: R is the SSP coefficient (forward Euler's step
+bound times R is the method's).  Each entry is a rational function of r with rational
+coefficients (rational tableaux), so R is found exactly: the positive real roots of the entries'
+numerators and of det(I + rK) cut [0, ∞) into intervals on which every entry keeps its sign;
+R is the left end of the first interval where one is negative (tested at a rational point),
+∞ when there is none, 0 when K ≥ 0 or the second condition fails at r = 0.  R is then rational
+or a real algebraic number (a root of one numerator), printed exactly.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> ssp_coefficient(load("implicit_midpoint")).R, ssp_coefficient(load("implicit_euler")).R
+(2, oo)
+>>> ssp_coefficient(load("rk4")).R
+0
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .results import Result
+
+__all__ = ["ssp_coefficient", "SSPResult", "SSP_MAX_STAGES"]
+
+SSP_MAX_STAGES = 12          # (s+1)×(s+1) inverse with a symbolic r: beyond this, not computed
+_R = sp.Symbol("r", nonnegative=True)
+
+
+@dataclass(frozen=True)
+class SSPResult(Result):
+    method: str
+    R: object                  # exact SSP coefficient (sympy number, or oo), None when not computed
+    reason: str = ""           # which condition bounds R, or why it was not computed
+
+    def __str__(self):
+        if self.R is None:
+            return f"SSP coefficient: not computed ({self.reason})"
+        approx = "" if self.R in (0, sp.oo) or self.R.is_Rational else f" ≈ {sp.N(self.R, 8)}"
+        return f"SSP coefficient (radius of absolute monotonicity): R = {format_entry(self.R)}{approx}" + (
+            f" — {self.reason}" if self.reason else "")
+
+    def to_json(self):
+        return {"ssp_coefficient": None if self.R is None else ("oo" if self.R == sp.oo else str(format_entry(self.R))),
+                "ssp_coefficient_float": None if self.R is None else float(self.R),
+                "ssp_reason": self.reason}
+
+    def to_latex(self):
+        if self.R is None:
+            return f"SSP coefficient not computed ({self.reason})."
+        return f"SSP coefficient $R = {sp.latex(self.R)}$." + (f" {self.reason}." if self.reason else "")
+
+
+def ssp_coefficient(m: Method) -> SSPResult:
+    """The exact SSP coefficient of an RK method with rational coefficients (module docstring)."""
+    if m.kind != "rk":
+        return SSPResult(m.name, None, f"defined here for Runge–Kutta methods, not {m.kind}")
+    if m.parameters:
+        return SSPResult(m.name, None, "the tableau has free parameters")
+    if not all(x.is_Rational for x in list(m.A) + list(m.b)):
+        return SSPResult(m.name, None, "irrational entries; computed exactly for rational tableaux")
+    s = m.s
+    if s > SSP_MAX_STAGES:
+        return SSPResult(m.name, None, f"{s} stages exceed SSP_MAX_STAGES = {SSP_MAX_STAGES}")
+    K = sp.zeros(s + 1, s + 1)
+    K[:s, :s] = m.A
+    K[s, :s] = m.b.T
+    e = sp.ones(s + 1, 1)
+    det = sp.Poly(sp.expand((sp.eye(s + 1) + _R * K).det()), _R)
+    adj = (sp.eye(s + 1) + _R * K).adjugate()
+    # the entries as numerators over det: K·adj ≥ 0 and det·e − rK·adj·e ≥ 0, divided by det
+    M = (K * adj).applyfunc(sp.expand)
+    v = (det.as_expr() * e - _R * M * e).applyfunc(sp.expand)
+    named = [(f"K(I + rK)⁻¹ entry ({i + 1}, {j + 1})", M[i, j]) for i in range(s + 1) for j in range(s + 1)]
+    named += [(f"e − rK(I + rK)⁻¹e entry {i + 1}", v[i]) for i in range(s + 1)]
+    nums = [(name, sp.Poly(n, _R)) for name, n in named if n != 0]
+
+    def bad_at(x):
+        """The first condition violated at r = x (exact), or None."""
+        d = det.eval(x)
+        if d == 0:
+            return "I + rK is singular"
+        for name, n in nums:
+            if n.eval(x) / d < 0:
+                return name
+        return None
+
+    first = bad_at(sp.Integer(0))
+    if first is not None:
+        return SSPResult(m.name, sp.Integer(0), f"at r = 0: {first} < 0")
+    cuts = set()
+    for _, n in nums + [("det", det)]:
+        if n.degree() > 0:
+            cuts |= {x for x in sp.Poly(n, _R).real_roots() if x > 0}
+    cuts = sorted(cuts, key=lambda x: sp.N(x, 50))
+    left = sp.Integer(0)
+    for x in cuts + [None]:
+        probe = left + 1 if x is None else _rational_between(left, x)
+        why = bad_at(probe)
+        if why is not None:
+            return SSPResult(m.name, left, f"beyond it {why} < 0")
+        if x is None:
+            break
+        if bad_at(x) is not None and det.eval(x) == 0:
+            return SSPResult(m.name, x, "I + rK is singular there")
+        left = x
+    return SSPResult(m.name, sp.oo, "absolutely monotonic for every r ≥ 0")
+
+
+def _rational_between(a, b) -> sp.Rational:
+    """A rational strictly between the real algebraic numbers a < b."""
+    lo, hi = sp.Rational(sp.N(a, 60)), sp.Rational(sp.N(b, 60))
+    q = (lo + hi) / 2
+    if not (a < q < b):                      # exact comparisons with the algebraic ends
+        raise ArithmeticError(f"no rational separated between {a} and {b}")
+    return q
