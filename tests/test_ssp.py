@@ -44,6 +44,27 @@ def test_published_ssp_coefficients(m, expected):
         assert not _holds(m, R(1, 1000))
 
 
+def test_irrational_tableaux():
+    """Gauss 2 has a₁₂ = 1/4 − √3/6 < 0 (certified sign): R = 0.  The m-stage third-order SSP
+    implicit methods (Ketcheson, Macdonald & Gottlieb, Appl. Numer. Math. 59 (2009)) have entries
+    in ℚ(√(m² − 1)) — aᵢᵢ = (1 − √((m−1)/(m+1)))/2, aᵢⱼ = 1/√(m² − 1) below the diagonal, bⱼ = 1/m
+    (NodePy's SSPIRK3) — and R = m − 1 + √(m² − 1), exactly (NodePy's bisection: 6.87298 for m = 4)."""
+    g = ssp_coefficient(load("gauss2"))
+    assert g.R == 0 and "a[1,2]" in g.reason
+    for m in (2, 3, 4):
+        q = sp.sqrt(m * m - 1)
+        v = (1 - sp.sqrt(sp.Rational(m - 1, m + 1))) / 2
+        A = sp.zeros(m, m)
+        for i in range(m):
+            A[i, i] = v
+            for j in range(i):
+                A[i, j] = 1 / q
+        b = [1 / sp.Integer(m)] * m
+        rk = RungeKutta(A=sp.ImmutableMatrix(A), b=sp.ImmutableMatrix(b))
+        res = ssp_coefficient(rk)
+        assert abs(sp.N(res.R - (m - 1 + q), 50)) < 1e-45, res
+        assert sp.minimal_polynomial(res.R, sp.Symbol("x")) == sp.minimal_polynomial(m - 1 + q, sp.Symbol("x"))
+
+
 def test_not_computed_says_why():
-    assert "irrational" in str(ssp_coefficient(load("gauss2")))
     assert "Runge–Kutta" in ssp_coefficient(load("example4_glm")).reason

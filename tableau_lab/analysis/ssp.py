@@ -7,8 +7,8 @@ I + rK is invertible and
     K(I + rK)⁻¹ ≥ 0,        e − rK(I + rK)⁻¹e ≥ 0          (componentwise),
 
 and the set of such r is an interval [0, R]: R is the SSP coefficient (forward Euler's step
-bound times R is the method's).  Each entry is a rational function of r with rational
-coefficients (rational tableaux), so R is found exactly: the positive real roots of the entries'
+bound times R is the method's).  Each entry is a rational function of r with coefficients in the
+entries' field, so R is found exactly: the positive real roots of the entries'
 numerators and of det(I + rK) cut [0, ∞) into intervals on which every entry keeps its sign;
 R is the left end of the first interval where one is negative (tested at a rational point),
 ∞ when there is none, 0 when K ≥ 0 or the second condition fails at r = 0.  R is then rational
@@ -61,46 +61,56 @@ class SSPResult(Result):
 
 
 def ssp_coefficient(m: Method) -> SSPResult:
-    """The exact SSP coefficient of an RK method with rational coefficients (module docstring)."""
+    """The exact SSP coefficient of an RK method (module docstring).  Over ℚ the cuts are the
+    real roots of the numerators; over a number field K (√3 in SSPIRK3) they are those of the
+    numerators' norms (ℚ-polynomials whose roots include the numerators'), and each sign at a
+    rational probe is certified in K (:func:`stability.sign`)."""
     if m.kind != "rk":
         return SSPResult(m.name, None, f"defined here for Runge–Kutta methods, not {m.kind}")
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")
-    if not all(x.is_Rational for x in list(m.A) + list(m.b)):
-        return SSPResult(m.name, None, "irrational entries; computed exactly for rational tableaux")
+    from ..exact.field import element, field_of
+    from .stability import sign
+    K = field_of([m.A, m.b])
     s = m.s
+    # at r = 0 the conditions are K ≥ 0 (a negative entry: R = 0, whatever the size)
+    entries = [(f"a[{i + 1},{j + 1}]", m.A[i, j]) for i in range(s) for j in range(s)]
+    entries += [(f"b[{j + 1}]", m.b[j]) for j in range(s)]
+    for name, x in entries:
+        if sign(K, element(K, x)) < 0:
+            return SSPResult(m.name, sp.Integer(0), f"at r = 0: {name} < 0")
     if s > SSP_MAX_STAGES:
         return SSPResult(m.name, None, f"{s} stages exceed SSP_MAX_STAGES = {SSP_MAX_STAGES}")
-    K = sp.zeros(s + 1, s + 1)
-    K[:s, :s] = m.A
-    K[s, :s] = m.b.T
+    Kmat = sp.zeros(s + 1, s + 1)
+    Kmat[:s, :s] = m.A
+    Kmat[s, :s] = m.b.T
     e = sp.ones(s + 1, 1)
-    det = sp.Poly(sp.expand((sp.eye(s + 1) + _R * K).det()), _R)
-    adj = (sp.eye(s + 1) + _R * K).adjugate()
-    # the entries as numerators over det: K·adj ≥ 0 and det·e − rK·adj·e ≥ 0, divided by det
-    M = (K * adj).applyfunc(sp.expand)
+    I_rK = sp.eye(s + 1) + _R * Kmat
+    det = sp.Poly(sp.expand(I_rK.det()), _R, domain=K)
+    M = (Kmat * I_rK.adjugate()).applyfunc(sp.expand)
     v = (det.as_expr() * e - _R * M * e).applyfunc(sp.expand)
     named = [(f"K(I + rK)⁻¹ entry ({i + 1}, {j + 1})", M[i, j]) for i in range(s + 1) for j in range(s + 1)]
     named += [(f"e − rK(I + rK)⁻¹e entry {i + 1}", v[i]) for i in range(s + 1)]
-    nums = [(name, sp.Poly(n, _R)) for name, n in named if n != 0]
+    nums = [(name, sp.Poly(n, _R, domain=K)) for name, n in named if n != 0]
+
+    def sgn(p, x):
+        return sign(K, K.from_sympy(sp.expand(p.as_expr().subs(_R, x))))
 
     def bad_at(x):
         """The first condition violated at r = x (exact), or None."""
-        d = det.eval(x)
+        d = sgn(det, x)
         if d == 0:
             return "I + rK is singular"
         for name, n in nums:
-            if n.eval(x) / d < 0:
+            if sgn(n, x) * d < 0:
                 return name
         return None
 
-    first = bad_at(sp.Integer(0))
-    if first is not None:
-        return SSPResult(m.name, sp.Integer(0), f"at r = 0: {first} < 0")
     cuts = set()
     for _, n in nums + [("det", det)]:
         if n.degree() > 0:
-            cuts |= {x for x in sp.Poly(n, _R).real_roots() if x > 0}
+            q = n if K.is_QQ else n.norm()         # over ℚ: the same roots, and the conjugates'
+            cuts |= {x for x in sp.Poly(q.as_expr(), _R).real_roots() if x > 0}
     cuts = sorted(cuts, key=lambda x: sp.N(x, 50))
     left = sp.Integer(0)
     for x in cuts + [None]:
@@ -110,8 +120,6 @@ def ssp_coefficient(m: Method) -> SSPResult:
             return SSPResult(m.name, left, f"beyond it {why} < 0")
         if x is None:
             break
-        if bad_at(x) is not None and det.eval(x) == 0:
-            return SSPResult(m.name, x, "I + rK is singular there")
         left = x
     return SSPResult(m.name, sp.oo, "absolutely monotonic for every r ≥ 0")
 
