@@ -25,5 +25,12 @@ def test_published_real_intervals(name, published):
     assert abs(R(-b - 1e-6)) > 1
 
 
-def test_not_computed_says_why():
-    assert "irrational" in str(real_stability_interval(load("sdirk34")))
+def test_irrational_stability_functions():
+    """Over a number field the cuts come from norms and the signs are certified: SDIRK34 (R in
+    ℚ(cos π/18)) is A-stable, so β = ∞; a 2-stage explicit method of order 2 with irrational
+    coefficients (c₂ = √2/2) has R = 1 + z + z²/2 whatever them, so β = 2."""
+    from tableau_lab.exact.methods import RungeKutta
+    assert real_stability_interval(load("sdirk34")).beta == sp.oo
+    c = sp.sqrt(2) / 2
+    m = RungeKutta.from_lists([[0, 0], [c, 0]], [1 - 1 / (2 * c), 1 / (2 * c)])
+    assert real_stability_interval(m).beta == 2

@@ -4,7 +4,8 @@ r"""The real-axis stability interval [−β, 0] of a Runge–Kutta method, exact
 ([HW96] IV.2; NodePy's ``real_stability_interval``).  On the real line |R| ≤ 1 is
 D² − N² ≥ 0 with D ≠ 0; the negative real roots of D² − N² and of D (exact: rational or
 ``CRootOf``) cut (−∞, 0) into intervals of constant sign, tested at a rational point from 0
-leftwards: β is the first cut beyond which the test fails, ∞ when none does.
+leftwards: β is the first cut beyond which the test fails, ∞ when none does (over a number
+field the cuts come from the norms, and the signs are certified).
 
 >>> from tableau_lab.exact.tableau_json import load
 >>> r = real_stability_interval(load("rk4"))
@@ -23,7 +24,7 @@ from .results import Result
 
 __all__ = ["real_stability_interval", "RealIntervalResult"]
 
-_X = sp.Symbol("x")
+_X = sp.Dummy("x")          # not a name that a CRootOf in the coefficients may use
 
 
 @dataclass(frozen=True)
@@ -51,36 +52,36 @@ class RealIntervalResult(Result):
 
 
 def real_stability_interval(m: Method) -> RealIntervalResult:
-    """β of an RK method whose stability function has rational coefficients (module docstring)."""
+    """β of an RK method (module docstring).  When R has coefficients in a number field K
+    (SDIRK34: ℚ(cos π/18)) the cuts are the negative real roots of the norms of D² − N² and D
+    (ℚ-polynomials whose roots include theirs) and each sign at a rational probe is certified in K."""
     if m.kind != "rk":
         return RealIntervalResult(m.name, None, f"computed here for Runge–Kutta methods, not {m.kind}")
-    from .stability import stability_function
+    from .stability import sign_at, stability_function
     N, D, K = stability_function(m)
-    if not K.is_QQ:
-        coeffs = [K.to_sympy(c) for c in list(N.values()) + list(D.values())]
-        if not all(c.is_Rational for c in coeffs):
-            return RealIntervalResult(m.name, None, "R(z) has irrational coefficients")
-    n = sp.Poly(sp.sympify(N.as_expr()).subs(sp.Symbol("z"), _X), _X, domain=sp.QQ) if N.as_expr() != 0 else sp.Poly(0, _X)
-    d = sp.Poly(sp.sympify(D.as_expr()).subs(sp.Symbol("z"), _X), _X, domain=sp.QQ)
+    n = sp.Poly.from_list(N.to_dense() if N else [K.zero], _X, domain=K)      # the ring's coefficients, as they are
+    d = sp.Poly.from_list(D.to_dense(), _X, domain=K)
     g = d ** 2 - n ** 2
 
+    def sgn(p, x):
+        return sign_at(p, x, K)
+
     def fails(x):
-        return d.eval(x) == 0 or g.eval(x) < 0
+        return sgn(d, x) == 0 or sgn(g, x) < 0
 
     cuts = set()
     for p in (g, d):
         if p.degree() > 0:
-            cuts |= {r for r in p.real_roots() if r < 0}
+            q = p if K.is_QQ else p.norm()
+            cuts |= {r for r in sp.Poly(q.as_expr(), _X).real_roots() if r < 0}
     cuts = sorted(cuts, key=lambda r: -sp.N(r, 50))            # from 0 leftwards
     right = sp.Integer(0)
     for x in cuts + [None]:
-        probe = right - 1 if x is None else _between(x, right)
+        probe = sp.Rational(sp.N(right, 30)) - 1 if x is None else _between(x, right)
         if fails(probe):
             return RealIntervalResult(m.name, -right)
         if x is None:
             break
-        if d.eval(x) == 0:
-            return RealIntervalResult(m.name, -x)
         right = x
     return RealIntervalResult(m.name, sp.oo)
 

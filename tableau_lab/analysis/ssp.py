@@ -70,7 +70,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")
     from ..exact.field import element, field_of
-    from .stability import sign
+    from .stability import sign, sign_at
     K = field_of([m.A, m.b])
     s = m.s
     # at r = 0 the conditions are K ≥ 0 (a negative entry: R = 0, whatever the size)
@@ -94,7 +94,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     nums = [(name, sp.Poly(n, _R, domain=K)) for name, n in named if n != 0]
 
     def sgn(p, x):
-        return sign(K, K.from_sympy(sp.expand(p.as_expr().subs(_R, x))))
+        return sign_at(p, x, K)
 
     def bad_at(x):
         """The first condition violated at r = x (exact), or None."""
@@ -114,7 +114,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     cuts = sorted(cuts, key=lambda x: sp.N(x, 50))
     left = sp.Integer(0)
     for x in cuts + [None]:
-        probe = left + 1 if x is None else _rational_between(left, x)
+        probe = sp.Rational(sp.N(left, 30)) + 1 if x is None else _rational_between(left, x)
         why = bad_at(probe)
         if why is not None:
             return SSPResult(m.name, left, f"beyond it {why} < 0")

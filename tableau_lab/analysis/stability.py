@@ -74,7 +74,7 @@ from ..exact.methods import Method
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
-           "sign", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
+           "sign", "sign_at", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
 
 W, Z, X, Y = sp.symbols("w z x y")
 
@@ -133,6 +133,15 @@ def sign(K, a) -> int:
         if box.b < 0:
             return -1
     raise ArithmeticError(f"sign of {e} not decided at {prec} bits")
+
+
+def sign_at(p, x, K) -> int:
+    """The certified sign of the univariate sympy Poly ``p`` over K at the rational ``x``
+    (Horner in K, then :func:`sign`)."""
+    xk, acc = K.convert(sp.Rational(x)), K.zero
+    for c in p.rep.to_list():
+        acc = acc * xk + c
+    return sign(K, acc)
 
 
 # ------------------------------------------------------------------ Sturm sequences over K
