@@ -93,7 +93,8 @@ def compare(rkm, name):
             "real_interval": _f(real_stability_interval(m).beta),
             "imaginary_interval": _f(st.imaginary_interval),
             "ssp_coefficient": _f(ssp_coefficient(m).R),
-            "algebraically_stable": algebraic_stability(m, a_stable=st.a_stable).holds}
+            "algebraically_stable": algebraic_stability(m, a_stable=st.a_stable).holds,
+            "embedded_order": None if r.embedded is None else r.embedded.order}
     ours_seconds = time.perf_counter() - t0
     t0 = time.perf_counter()
     theirs = {}
@@ -101,10 +102,12 @@ def compare(rkm, name):
                       ("real_interval", lambda: rkm.real_stability_interval()),
                       ("imaginary_interval", lambda: rkm.imaginary_stability_interval()),
                       ("ssp_coefficient", lambda: rkm.absolute_monotonicity_radius()),
-                      ("algebraically_stable", lambda: bool(rkm.is_algebraically_stable()))]:
+                      ("algebraically_stable", lambda: bool(rkm.is_algebraically_stable())),
+                      ("embedded_order", lambda: rkm.embedded_method.order())]:
         try:
             v = call()
-            theirs[key] = v if isinstance(v, bool) else (int(v) if key in ("order", "stage_order") else _f(v))
+            theirs[key] = v if isinstance(v, bool) else (int(v) if key in ("order", "stage_order", "embedded_order")
+                                                         else _f(v))
         except AttributeError:           # e.g. no imaginary_stability_interval for implicit methods
             theirs[key] = "n/a"
         except Exception as exc:         # NodePy fails on some methods: recorded, not fatal
@@ -116,7 +119,7 @@ def compare(rkm, name):
         if isinstance(b, str) or a is None:
             verdicts[key] = "—"
             continue
-        same = (a == b) if key in ("order", "stage_order", "algebraically_stable") else _agree(a, b)
+        same = (a == b) if key in ("order", "stage_order", "algebraically_stable", "embedded_order") else _agree(a, b)
         if same:
             verdicts[key] = "="
         elif key in ("real_interval", "imaginary_interval"):
@@ -153,7 +156,8 @@ def main(out=ROOT / "reports" / "nodepy"):
         except MethodError as exc:          # floating-point coefficients (InexactMethod), an empty tableau
             skipped.append((name, str(exc)))
         print(name, file=sys.stderr, flush=True)
-    keys = ["order", "stage_order", "real_interval", "imaginary_interval", "ssp_coefficient", "algebraically_stable"]
+    keys = ["order", "stage_order", "real_interval", "imaginary_interval", "ssp_coefficient", "algebraically_stable",
+            "embedded_order"]
     from importlib.metadata import version
     lines = [f"# NodePy {version('nodepy')} against tableau-lab", "",
              f"{len(rows)} exact methods: the named ones of `nodepy.rk.loadRKM('All')` and the generated "

@@ -130,3 +130,16 @@ def test_principal_error_norm():
     assert r.principal_error_norm == sp.sqrt(1745) / 2880
     assert abs(float(r.principal_error_norm) - 0.014504582343198208) < 1e-15
     assert r.principal_error_norm ** 2 == sum(v ** 2 for v in r.error_coefficients.values())
+
+
+def test_embedded_pair_dormand_prince():
+    """RK5(4)7M: order 5 with A^(6) = ‖τ^(6)‖₂ = 3.99·10⁻⁴ (Dormand & Prince 1980), the embedded b̂
+    of order 4 with ‖τ̂^(5)‖₂ = 1.18·10⁻³ (NodePy: 0.0011829571513510674); b̂ survives a write and
+    read of the file."""
+    from tableau_lab.exact.tableau_json import dumps, loads
+    m = load(METHODS / "dormand_prince54.json")
+    r = rk_order(m)
+    assert (r.order, r.embedded.order) == (5, 4) and r.embedded.residuals
+    assert abs(float(r.principal_error_norm) - 3.99e-4) < 5e-7
+    assert abs(float(r.embedded.principal_error_norm) - 0.0011829571513510674) < 1e-15
+    assert loads(dumps(m)).bhat == m.bhat and r.to_json()["embedded_order"] == 4

@@ -59,6 +59,7 @@ class RKOrderResult(Result):
     capped: bool
     effective_order: int | None = None
     errors_partial: bool = False      # ERROR_TREES_BUDGET hit: only the first nonzero error coefficient
+    embedded: object = None           # RKOrderResult of (A, b̂) for an embedded pair
     effective: object = None          # GLMOrderResult when the effective order was computed
     _F: object = field(default=None, repr=False, compare=False)
     _phi: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ fast), ...), |t| ≤ p + 1
@@ -123,6 +124,12 @@ class RKOrderResult(Result):
             if self.principal_error_norm is not None:
                 out.append(f"  principal error norm ‖τ^({self.order + 1})‖₂ = {format_entry(self.principal_error_norm)}"
                            f" ≈ {sp.N(self.principal_error_norm, 6)}")
+        if self.embedded is not None:
+            e = self.embedded
+            norm = "" if e.principal_error_norm is None else (
+                f"; the error estimate's principal part ‖τ̂^({e.order + 1})‖₂ = {format_entry(e.principal_error_norm)}"
+                f" ≈ {sp.N(e.principal_error_norm, 6)}")
+            out.append(f"  embedded b̂: order {e.order}{norm}")
         if self.effective is not None and self.effective_order > self.order:
             out.append("  starting method for the effective order (y0 ↦ B(ξ, y0)), θ(t) = ξ(t):")
             out.extend(f"    {t:10s} {format_entry(v)}" for t, v in self.effective.theta.items())
@@ -134,6 +141,9 @@ class RKOrderResult(Result):
                "effective_order": self.effective_order, "B": self.B, "C": self.C, "D": self.D,
                "capped": self.capped, "error_coefficients_partial": self.errors_partial,
                "principal_error_norm": None if self.principal_error_norm is None else s(self.principal_error_norm),
+               "embedded_order": None if self.embedded is None else self.embedded.order,
+               "embedded_error_norm": (None if self.embedded is None or self.embedded.principal_error_norm is None
+                                       else s(self.embedded.principal_error_norm)),
                "residuals": {k: s(v) for k, v in self.residuals.items()},
                "error_coefficients": {k: s(v) for k, v in self.error_coefficients.items()}}
         if self.effective is not None and self.effective_order > self.order:
@@ -298,6 +308,7 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
             from .glm_order import glm_order
             eff = glm_order(m, max_order=cap)
             eff_order = eff.order
-    return RKOrderResult(method=m.name, order=p, B=Bp, C=Cq, D=Dr, stage_order=min(Cq, p),
+    emb = rk_order(m.embedded(), max_order, effective=False) if m.bhat is not None else None
+    return RKOrderResult(method=m.name, order=p, B=Bp, C=Cq, D=Dr, stage_order=min(Cq, p), embedded=emb,
                          capped=not bad, effective_order=eff_order, effective=eff, errors_partial=partial,
                          _F=F, _phi=tuple(phis), _bad=tuple(bad))

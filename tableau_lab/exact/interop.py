@@ -5,7 +5,8 @@ NodePy is optional (``pip install tableau-lab[nodepy]``).  :func:`from_nodepy` t
 Runge–Kutta method whose coefficients are exact (integers, sympy numbers: 41 of the 51 methods
 of ``nodepy.rk.loadRKM('All')``); a method with floating-point coefficients is refused with
 its name and the first inexact entry, as a tableau file with a decimal is: nothing is rounded
-to a guess.  An embedded pair keeps its main weights b (b̂ is not represented yet).
+to a guess.  An embedded pair keeps its b̂ (``RungeKutta.bhat``) when it is exact too, else the
+method comes without it, with a note saying so.
 :func:`to_nodepy` gives NodePy the exact method back.  From plain data there is
 ``RungeKutta.from_lists`` and the constructors of :mod:`methods` (sympy matrices, lists of ints,
 sympy numbers; every entry validated like a file's).
@@ -57,9 +58,15 @@ def from_nodepy(rkm) -> RungeKutta:
         raise MethodError(f"{name}: A has shape {A.shape}, b has {s} entries")
     Ax = [[_exact(A[i, j], f"A[{i + 1},{j + 1}]", name) for j in range(s)] for i in range(s)]
     bx = [_exact(b[j], f"b[{j + 1}]", name) for j in range(s)]
-    notes = ("embedded weights b̂ not represented",) if getattr(rkm, "bhat", None) is not None else ()
-    return RungeKutta(A=sp.ImmutableMatrix(Ax), b=sp.ImmutableMatrix(bx), name=name,
-                      source=f"NodePy {_version()} ({getattr(rkm, 'shortname', '') or name})", notes=notes)
+    bhat, bh, notes = getattr(rkm, "bhat", None), None, ()
+    if bhat is not None:
+        try:
+            bh = sp.ImmutableMatrix([_exact(x, f"bhat[{j + 1}]", name)
+                                     for j, x in enumerate(np.asarray(bhat, dtype=object).ravel())])
+        except InexactMethod as exc:        # an exact method with a floating-point embedded b̂ (SSP33)
+            notes = (f"embedded weights not kept: {exc}",)
+    return RungeKutta(A=sp.ImmutableMatrix(Ax), b=sp.ImmutableMatrix(bx), bhat=bh, name=name, notes=notes,
+                      source=f"NodePy {_version()} ({getattr(rkm, 'shortname', '') or name})")
 
 
 def to_nodepy(m: RungeKutta):

@@ -147,6 +147,7 @@ class RungeKutta(Method):
     A: sp.ImmutableMatrix
     b: sp.ImmutableMatrix
     c: sp.ImmutableMatrix = None
+    bhat: sp.ImmutableMatrix = field(default=None, kw_only=True)   # embedded weights b̂ (an embedded pair)
     # the method as rational data on the roots of one polynomial (exact.conjugate), when its
     # entries are values of fixed polynomials at the nodes (Gauss, Radau, Lobatto families):
     # the analyses then run in ℚ instead of the field of all the nodes
@@ -155,6 +156,10 @@ class RungeKutta(Method):
     kind = "rk"
 
     def __post_init__(self):
+        if self.bhat is not None:
+            bh = _column(self.bhat, "bhat")
+            _shape(bh, (_matrix(self.A, "A").rows, 1), "bhat", " (the embedded weights: one per stage)")
+            object.__setattr__(self, "bhat", bh)
         if self.conjugate is None and self.c is not None and sum(isinstance(x, sp.RootOf) for x in self.c) > 1:
             # a tableau written from exact.conjugate (root(P, k) nodes)
             found = detect(_matrix(self.A, "A"), _column(self.b, "b"), _column(self.c, "c"))
@@ -205,7 +210,16 @@ class RungeKutta(Method):
         return self.s if self.explicit else 2 * self.s
 
     def matrices(self) -> dict:
-        return {"A": self.A, "b": self.b, "c": self.c}
+        out = {"A": self.A, "b": self.b, "c": self.c}
+        if self.bhat is not None:
+            out["bhat"] = self.bhat
+        return out
+
+    def embedded(self) -> "RungeKutta | None":
+        """The embedded method (A, b̂), or None."""
+        if self.bhat is None:
+            return None
+        return RungeKutta(A=self.A, b=self.bhat, c=self.c, name=f"{self.name} (embedded b̂)")
 
     def as_glm(self) -> "GeneralLinearMethod":
         """The same method as a GLM with r = 1: U = 1, B = bᵀ, V = [1]."""

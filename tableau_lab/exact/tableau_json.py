@@ -29,7 +29,7 @@ __all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS",
 MAX_BYTES = 1 << 20
 
 KINDS = {
-    "rk": (RungeKutta, {"A": "matrix", "b": "vector"}, {"c": "vector"}),
+    "rk": (RungeKutta, {"A": "matrix", "b": "vector"}, {"c": "vector", "bhat": "vector"}),   # bhat: embedded weights
     "prk": (PartitionedRungeKutta, {"A": "matrix", "b": "vector", "Ahat": "matrix", "bhat": "vector"},
             {"c": "vector", "chat": "vector"}),
     "glm": (GeneralLinearMethod, {"A": "matrix", "U": "matrix", "B": "matrix", "V": "matrix"}, {"c": "vector"}),
