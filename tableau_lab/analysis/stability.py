@@ -783,10 +783,11 @@ class StabilityReport(Result):
     sector: Result | None = field(default=None)        # a_alpha.AAlphaResult (GLMs)
     real: Result | None = field(default=None)          # real_interval.RealIntervalResult (RK)
     ssp: Result | None = field(default=None)           # ssp.SSPResult (RK)
+    internal: Result | None = field(default=None)      # internal_stability.InternalStabilityResult (RK)
 
     def _parts(self):
-        return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.parasitism)
-                if p is not None]
+        return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.internal,
+                            self.parasitism) if p is not None]
 
     def __str__(self):
         return "\n".join(str(p) for p in self._parts())
@@ -796,7 +797,7 @@ class StabilityReport(Result):
         out["zero_stable"] = self.zero.holds if self.zero is not None else None
         out["zero_stability"] = self.zero.to_json() if self.zero is not None else None
         out["a_alpha"] = self.sector.to_json() if self.sector is not None else None
-        for part in (self.real, self.ssp):
+        for part in (self.real, self.ssp, self.internal):
             if part is not None:
                 out.update(part.to_json())
         alg = self.algebraic.to_json()
@@ -821,10 +822,11 @@ def stability_report(m: Method) -> StabilityReport:
     lin = stability(m, gsym)
     alg = algebraic_stability(m, a_stable=lin.a_stable, gsym=gsym)
     if m.kind == "rk":
+        from .internal_stability import internal_stability
         from .real_interval import real_stability_interval
         from .ssp import ssp_coefficient
         return StabilityReport(method=m.name, linear=lin, algebraic=alg, real=real_stability_interval(m),
-                               ssp=ssp_coefficient(m))
+                               ssp=ssp_coefficient(m), internal=internal_stability(m))
     if m.kind != "glm":
         return StabilityReport(method=m.name, linear=lin, algebraic=alg)
     zero = zero_stability(m)

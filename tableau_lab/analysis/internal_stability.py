@@ -1,0 +1,93 @@
+r"""Internal stability of a Runge–Kutta method: how much errors made in the stages are amplified.
+
+A perturbation δⱼ of stage j (round-off, an inexact stage solve) reaches the step's result on
+y′ = λy as Qⱼ(z)δⱼ with the internal stability functions
+
+    Qⱼ(z) = z bᵀ(I − zA)⁻¹eⱼ,        z = hλ
+
+(Verwer, Hundsdorfer & Sommeijer 1990; Ketcheson, Loczi & Parsani, SIAM J. Matrix Anal. Appl. 35
+(2014); NodePy's ``internal_stability_polynomials``).  They are computed exactly, and their
+largest modulus on the real stability interval [−β, 0] is found exactly where the Qⱼ have
+rational coefficients (NodePy's ``maximum_internal_amplification`` takes the maximum over the
+whole complex stability region instead: a different, numerical quantity): |Qⱼ| attains its maximum on the interval at an end or at a real root of
+Qⱼ′, all exact; the amplification is max over j.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> r = internal_stability(load("rk4"))
+>>> r.functions[0]
+z**4/24 + z**3/12 + z**2/6 + z/6
+>>> round(float(r.amplification), 6)
+1.535784
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .results import Result
+
+__all__ = ["internal_stability", "InternalStabilityResult"]
+
+_Z = sp.Symbol("z")
+
+
+@dataclass(frozen=True)
+class InternalStabilityResult(Result):
+    method: str
+    functions: tuple          # Qⱼ(z), exact rational functions (polynomials for explicit methods)
+    interval: object          # β of the real interval the maximum is taken on (oo: not bounded)
+    amplification: object     # max_j max_{x ∈ [−β, 0]} |Qⱼ(x)|, exact; None when not computed
+    reason: str = ""
+
+    def __str__(self):
+        head = "internal stability: Qⱼ(z) = z bᵀ(I − zA)⁻¹eⱼ"
+        if self.amplification is None:
+            return f"{head}; the largest |Qⱼ| on the real interval: not computed ({self.reason})"
+        v = self.amplification
+        approx = "" if v.is_Rational else f" ≈ {sp.N(v, 8)}"
+        return f"{head}; max |Qⱼ(x)| on [−β, 0], β = {format_entry(self.interval)}: {format_entry(v)}{approx}"
+
+    def to_json(self):
+        return {"internal_stability_functions": [str(q) for q in self.functions],
+                "internal_amplification": None if self.amplification is None else str(format_entry(self.amplification)),
+                "internal_amplification_float": None if self.amplification is None else float(self.amplification),
+                "internal_reason": self.reason}
+
+    def to_latex(self):
+        rows = ", ".join(f"Q_{{{j + 1}}} = {sp.latex(q)}" for j, q in enumerate(self.functions))
+        tail = "" if self.amplification is None else f"; $\\max|Q_j| = {sp.latex(self.amplification)}$ on $[-\\beta, 0]$"
+        return f"Internal stability functions ${rows}${tail}."
+
+
+def internal_stability(m: Method) -> InternalStabilityResult:
+    """Qⱼ(z) and their largest modulus on the real stability interval (module docstring)."""
+    if m.kind != "rk":
+        return InternalStabilityResult(m.name, (), None, None, f"defined here for Runge–Kutta methods, not {m.kind}")
+    from .real_interval import real_stability_interval
+    s = m.s
+    M = sp.eye(s) - _Z * sp.Matrix(m.A)
+    row = (_Z * sp.Matrix(m.b).T * M.adjugate()).applyfunc(sp.expand)
+    det = sp.expand(M.det())
+    Q = tuple(sp.cancel(row[0, j] / det) for j in range(s))
+    beta = real_stability_interval(m).beta
+    if beta is None:
+        return InternalStabilityResult(m.name, Q, None, None, "the real interval is not computed")
+    if beta == sp.oo:
+        return InternalStabilityResult(m.name, Q, beta, None, "the real interval is unbounded")
+    if not all(c.is_Rational for q in Q for c in sp.Poly(sp.numer(q) * sp.denom(q), _Z).coeffs()):
+        return InternalStabilityResult(m.name, Q, beta, None, "Qⱼ have irrational coefficients")
+    best = sp.Integer(0)
+    for q in Q:
+        num, den = sp.fraction(sp.together(q))
+        deriv = sp.Poly(sp.expand(sp.diff(num, _Z) * den - num * sp.diff(den, _Z)), _Z)
+        points = [-beta, sp.Integer(0)]
+        if deriv.degree() > 0:
+            points += [r for r in deriv.real_roots() if -beta < r < 0]
+        for x in points:
+            v = sp.Abs(q.subs(_Z, x))
+            if sp.N(v - best, 60) > 0:
+                best = v
+    return InternalStabilityResult(m.name, Q, beta, best)
