@@ -461,19 +461,22 @@ static inline int primary_stages(Pack *P, Work *w)
     return newton_stages(mode, P, w);
 }
 
+/* sum_k m[k] Y[k][l] (zero coefficients skipped): a row of U or V times y^[n-1] */
+static inline double row_times(const double m[R], double Y[R][D], int l)
+{
+    double acc = 0.0;
+    for (int k = 0; k < R; k++)
+        if (m[k] != 0.0)
+            acc = acc + m[k] * Y[k][l];
+    return acc;
+}
+
 /* Ubar = U y^[n-1] */
 static inline void stage_inputs(Pack *P, double Y[R][D], double Ubar[S][D])
 {
     for (int i = 0; i < S; i++)
-        for (int l = 0; l < D; l++) {
-            double acc = 0.0;
-            for (int k = 0; k < R; k++) {
-                const double u = P->U[i][k];
-                if (u != 0.0)
-                    acc = acc + u * Y[k][l];
-            }
-            Ubar[i][l] = acc;
-        }
+        for (int l = 0; l < D; l++)
+            Ubar[i][l] = row_times(P->U[i], Y, l);
 }
 
 /* y^[n] = V y^[n-1] + h B F (Kahan on the principal value); 0, or 2 (not finite) */
@@ -481,12 +484,7 @@ static inline int finish_step(Pack *P, Work *w, double Y[R][D])
 {
     for (int k = 0; k < R; k++)
         for (int l = 0; l < D; l++) {
-            double acc = 0.0;
-            for (int j = 0; j < R; j++) {
-                const double v = P->V[k][j];
-                if (v != 0.0)
-                    acc = acc + v * Y[j][l];
-            }
+            const double acc = row_times(P->V[k], Y, l);
             double x = combine(P->h, P->B[0][k], P->B[1][k], P->cls[l], w->F, l);
             if (k == 0 && w->flags[F_COMPENSATE] == 1) {  /* Kahan: y1 + (increment + carry) */
                 x = x + w->comp[l];

@@ -57,7 +57,7 @@ def real_stability_interval(m: Method) -> RealIntervalResult:
     (ℚ-polynomials whose roots include theirs) and each sign at a rational probe is certified in K."""
     if m.kind != "rk":
         return RealIntervalResult(m.name, None, f"computed here for Runge–Kutta methods, not {m.kind}")
-    from .stability import sign_at, stability_function
+    from .stability import last_good_cut, sign_at, stability_function
     N, D, K = stability_function(m)
     n = sp.Poly.from_list(N.to_dense() if N else [K.zero], _X, domain=K)      # the ring's coefficients, as they are
     d = sp.Poly.from_list(D.to_dense(), _X, domain=K)
@@ -74,21 +74,5 @@ def real_stability_interval(m: Method) -> RealIntervalResult:
         if p.degree() > 0:
             q = p if K.is_QQ else p.norm()
             cuts |= {r for r in sp.Poly(q.as_expr(), _X).real_roots() if r < 0}
-    cuts = sorted(cuts, key=lambda r: -sp.N(r, 50))            # from 0 leftwards
-    right = sp.Integer(0)
-    for x in cuts + [None]:
-        probe = sp.Rational(sp.N(right, 30)) - 1 if x is None else _between(x, right)
-        if fails(probe):
-            return RealIntervalResult(m.name, -right)
-        if x is None:
-            break
-        right = x
-    return RealIntervalResult(m.name, sp.oo)
-
-
-def _between(a, b) -> sp.Rational:
-    """A rational strictly between real algebraic numbers a < b."""
-    q = (sp.Rational(sp.N(a, 60)) + sp.Rational(sp.N(b, 60))) / 2
-    if not (a < q < b):
-        raise ArithmeticError(f"no rational separated between {a} and {b}")
-    return q
+    end, _ = last_good_cut(sp.Integer(0), sorted(cuts, key=lambda r: -sp.N(r, 50)), fails, -1)   # from 0 leftwards
+    return RealIntervalResult(m.name, sp.oo if end is None else -end)

@@ -199,8 +199,7 @@ def _stability_order(m, n: int) -> int:
     """The largest q ≤ n with R(z) = e^z + O(z^{q+1}): the power series of N/D (exact)."""
     from .stability import stability_function
     N, D, K = stability_function(m)
-    Nc = [K.to_sympy(N.coeff(N.ring.gens[0] ** k)) if k else K.to_sympy(N.coeff(1)) for k in range(n + 2)]
-    Dc = [K.to_sympy(D.coeff(D.ring.gens[0] ** k)) if k else K.to_sympy(D.coeff(1)) for k in range(n + 2)]
+    Nc, Dc = ([K.to_sympy(c) for c in reversed(P.to_dense())] + [0] * (n + 2) for P in (N, D))   # z⁰ first
     R = []
     for k in range(n + 2):                       # R·D = N, D(0) = 1
         R.append(sp.expand((Nc[k] - sum(Dc[j] * R[k - j] for j in range(1, k + 1))) / Dc[0]))

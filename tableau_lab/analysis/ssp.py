@@ -70,7 +70,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")
     from ..exact.field import element, field_of
-    from .stability import sign, sign_at
+    from .stability import last_good_cut, sign, sign_at
     K = field_of([m.A, m.b])
     s = m.s
     # at r = 0 the conditions are K ≥ 0 (a negative entry: R = 0, whatever the size)
@@ -111,23 +111,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
         if n.degree() > 0:
             q = n if K.is_QQ else n.norm()         # over ℚ: the same roots, and the conjugates'
             cuts |= {x for x in sp.Poly(q.as_expr(), _R).real_roots() if x > 0}
-    cuts = sorted(cuts, key=lambda x: sp.N(x, 50))
-    left = sp.Integer(0)
-    for x in cuts + [None]:
-        probe = sp.Rational(sp.N(left, 30)) + 1 if x is None else _rational_between(left, x)
-        why = bad_at(probe)
-        if why is not None:
-            return SSPResult(m.name, left, f"beyond it {why} < 0")
-        if x is None:
-            break
-        left = x
-    return SSPResult(m.name, sp.oo, "absolutely monotonic for every r ≥ 0")
-
-
-def _rational_between(a, b) -> sp.Rational:
-    """A rational strictly between the real algebraic numbers a < b."""
-    lo, hi = sp.Rational(sp.N(a, 60)), sp.Rational(sp.N(b, 60))
-    q = (lo + hi) / 2
-    if not (a < q < b):                      # exact comparisons with the algebraic ends
-        raise ArithmeticError(f"no rational separated between {a} and {b}")
-    return q
+    end, why = last_good_cut(sp.Integer(0), sorted(cuts, key=lambda x: sp.N(x, 50)), bad_at, +1)
+    if end is None:
+        return SSPResult(m.name, sp.oo, "absolutely monotonic for every r ≥ 0")
+    return SSPResult(m.name, end, f"beyond it {why} < 0")

@@ -74,7 +74,7 @@ from ..exact.methods import Method
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
-           "sign", "sign_at", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
+           "sign", "sign_at", "rational_between", "last_good_cut", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
 
 W, Z, X, Y = sp.symbols("w z x y")
 
@@ -142,6 +142,33 @@ def sign_at(p, x, K) -> int:
     for c in p.rep.to_list():
         acc = acc * xk + c
     return sign(K, acc)
+
+
+def rational_between(a, b) -> sp.Rational:
+    """A rational strictly between the real algebraic numbers a < b (compared exactly)."""
+    q = (sp.Rational(sp.N(a, 60)) + sp.Rational(sp.N(b, 60))) / 2
+    if not (a < q < b):
+        raise ArithmeticError(f"no rational separated between {a} and {b}")
+    return q
+
+
+def last_good_cut(start, cuts, fails, step: int):
+    """Walking from ``start`` across ``cuts`` (exact real numbers, sorted in the walking direction,
+    ``step`` = +1 rightwards, −1 leftwards), test each open interval between them at a rational
+    point: the cut (or ``start``) where the first failing interval begins, with the probe's
+    ``fails`` value, or (None, None) when no interval fails.  The conditions keep their sign
+    between cuts, so one probe decides an interval."""
+    prev = start
+    for x in list(cuts) + [None]:
+        if x is None:
+            probe = sp.Rational(sp.N(prev, 30)) + step
+        else:
+            probe = rational_between(prev, x) if step > 0 else rational_between(x, prev)
+        why = fails(probe)
+        if why:
+            return prev, why
+        prev = x
+    return None, None
 
 
 # ------------------------------------------------------------------ Sturm sequences over K

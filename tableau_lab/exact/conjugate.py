@@ -261,7 +261,7 @@ def _power_sums(Q: sp.Poly, n: int) -> list:
     p = [sp.Integer(d)]
     for k in range(1, n + 1):
         v = -k * a[k] if k <= d else sp.Integer(0)
-        v -= sum(a[i] * p[k - i] for i in range(1, min(k, d + 1)) if i <= d)
+        v -= sum(a[i] * p[k - i] for i in range(1, min(k, d + 1)))
         p.append(v)
     return p
 
