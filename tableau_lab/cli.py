@@ -1,6 +1,10 @@
 """The ``tableau-lab`` command line.
 
-Exit codes: 0 every file read and every claim holds; 1 a claim fails; 2 unreadable input.
+Exit codes (tableau_lab/errors.py): 0 every file read and every claim holds; 1 a claim fails or a
+run stops (step and time named); 2 bad input or a budget hit (file, entry or option named;
+nothing written); 3 an internal error (a bug: one line, the traceback with ``--debug``); 130
+interrupted. Everything printed passes through ``inputs.printable``: no terminal escapes from
+file contents reach the terminal.
 """
 from __future__ import annotations
 
@@ -11,20 +15,28 @@ import sys
 from pathlib import Path
 
 from . import __version__
+from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, InputError
+from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
 
-EXIT_OK, EXIT_CLAIM, EXIT_INPUT = 0, 1, 2
+EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report")     # within --timeout
+MAX_ORDER = 20                # --max-order
+MAX_DIGITS = 10 ** 4          # --digits
+MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
+MAX_FIELD_DEGREE = 4096       # --max-field-degree (beyond: days of primitive-element arithmetic)
 
 
 def _each_method(args, analyse) -> int:
     """Load each file, run ``analyse(method, path) -> (result, failed)`` and print it (text or JSON).
     Unreadable files are reported on stderr and give exit code 2; a failed claim gives 1."""
+    from .budget import computing
     from .exact.tableau_json import TableauError, load
 
     status = EXIT_OK
     for i, path in enumerate(args.files):
         try:
-            method = load(path)
-            result, failed = analyse(method, path)
+            with computing(f"{args.command} of {path}"):
+                method = load(path)
+                result, failed = analyse(method, path)
         except TableauError as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
@@ -81,18 +93,12 @@ CLAIM_OF = {"symplectic": ("symplectic", True), "g-symplectic": ("g_symplectic",
 
 
 def _solve(args) -> int:
-    from .analysis.design import DesignError, solve_file
+    from .analysis.design import DesignError
     from .exact.methods import MethodError
     from .exact.tableau_json import TableauError, save
 
     try:
-        if args.repair or args.locate:
-            from .analysis.design import repair
-            from .exact.tableau_json import load
-            rep = repair(load(args.file), args.require, _split(args.repair), args.locate, _split(args.within))
-            res = rep.design
-        else:
-            rep = res = solve_file(args.file, args.require)
+        rep, res = _solve_file(args)
     except (TableauError, DesignError, MethodError) as exc:
         print(f"tableau-lab: error: {args.file}: {exc}" if not str(exc).startswith(str(args.file)) else
               f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -132,6 +138,19 @@ def _solve(args) -> int:
     return EXIT_OK
 
 
+def _solve_file(args):
+    """(report, design result) of solve: design, or repair with --repair/--locate."""
+    from .analysis.design import repair, solve_file
+    from .budget import computing
+    from .exact.tableau_json import load
+    with computing(f"solve of {args.file}"):
+        if args.repair or args.locate:
+            rep = repair(load(args.file), args.require, _split(args.repair), args.locate, _split(args.within))
+            return rep, rep.design
+        rep = solve_file(args.file, args.require)
+        return rep, rep
+
+
 def _split(items):
     """'A[2,1],U[2,2]' → ['A[2,1]', 'U[2,2]'] (commas inside brackets kept), over repeated options."""
     return [p.strip() for item in (items or []) for p in re.split(r";|,(?![^\[]*\])", item) if p.strip()]
@@ -153,16 +172,24 @@ def _quick_job(args, frozen=False):
         if vals is not None:
             overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
     h = _exact_number(args.h, "--h")
-    if not h > 0:
-        raise ValueError(f"--h {args.h}: the step size must be positive")
-    if args.steps < 1:
-        raise ValueError(f"--steps {args.steps}: at least one step")
+    _step_size(h, args.h)
     project = [p.strip() for p in args.project.split(",")] if args.project else []
     monitor = float(_exact_number(args.monitor, "--monitor")) if args.monitor else None
     if monitor is not None and not monitor > 0:
         raise ValueError(f"--monitor {args.monitor}: the bound must be positive")
     return prepare_quick(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
                          start=args.start, overrides=overrides, monitor=monitor, frozen=frozen)
+
+
+def _step_size(h, text):
+    """Refuse a step size that is not positive, or that rounds to 0 or overflows in float64
+    (every run starts from float64 h: the compiled loops, and the driver's time grid)."""
+    import math
+    if not h.is_real or not h > 0:
+        raise InputError(f"--h {text}: the step size must be positive")
+    hf = float(h)
+    if not (math.isfinite(hf) and hf > 0):
+        raise InputError(f"--h {text}: rounds to {hf} in float64; give a step size between 1e-300 and 1e300")
 
 
 def _run(args) -> int:
@@ -235,8 +262,7 @@ def _roundoff(args) -> int:
 
     try:
         h = _exact_number(args.h, "--h")
-        if not h > 0 or args.steps < 1 or args.starts < 1:
-            raise ValueError("--h, --steps and --starts must be positive")
+        _step_size(h, args.h)
         res = roundoff(args.method, args.problem, h, args.steps, starts=args.starts, dps=args.digits)
     except (TableauError, ProblemError, ValueError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -253,10 +279,11 @@ def _roundoff(args) -> int:
 
 def _json_and_plot(out, name, data, draw):
     """Write out/name.json (atomically) and out/name.png (by ``draw(png_path)``); returns out/name."""
-    from .files import atomic_write_text
+    from .files import atomic_write_text, output_phase
     base = Path(out) / name
-    atomic_write_text(base.with_suffix(".json"), json.dumps(data, indent=1))
-    draw(base.with_suffix(".png"))
+    with output_phase(out):                    # both or neither; the folder's lock; Ctrl-C deferred
+        atomic_write_text(base.with_suffix(".json"), json.dumps(data, indent=1))
+        draw(base.with_suffix(".png"))
     return base
 
 
@@ -389,6 +416,10 @@ def _report(args) -> int:
     if not methods:
         return status
     out = Path(args.out)
+    for path, _ in methods:
+        if not SAFE_NAME.fullmatch(Path(path).stem):
+            raise InputError(f"{path}: the report would be named {Path(path).stem!r}, not a safe file name "
+                             "(ASCII letters, digits, - _ . starting with a letter or digit): rename the file")
     jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else
             [(out / Path(p).stem, method_document(m, _figures_of(p, out))) for p, m in methods])
     for target, (tex, facts) in jobs:
@@ -438,15 +469,31 @@ def _executor_options(parser):
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="run the independent runs on the Dask cluster whose scheduler is at ADDRESS "
                              "(tcp://HOST:8786), or 'serial' (in this process); default: a process pool here")
-    parser.add_argument("--workers", type=int, metavar="N",
+    parser.add_argument("--workers", type=_count(1, MAX_REPEATS), metavar="N",
                         help="processes of the local pool (default: every core; 1: in this process)")
 
 
 def build_parser() -> argparse.ArgumentParser:
+    from .budget import DEFAULT_SECONDS, FIELD_DEGREE as FIELD_DEGREE_LIMIT
     p = argparse.ArgumentParser(prog="tableau-lab", description=(
         "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
     p.add_argument("--version", action="version", version=f"tableau-lab {__version__}")
+    p.add_argument("--debug", action="store_true", help="print the traceback of an internal error")
+    p.add_argument("--timeout", type=_seconds, default=DEFAULT_SECONDS, metavar="S",
+                   help=f"time budget of the exact commands ({', '.join(EXACT_COMMANDS)}) in seconds; "
+                        f"0: none (default {DEFAULT_SECONDS:g})")
+    p.add_argument("--max-field-degree", type=_count(1, MAX_FIELD_DEGREE), default=FIELD_DEGREE_LIMIT, metavar="N",
+                   help=f"largest degree of a method's number field in the exact commands (default {FIELD_DEGREE_LIMIT})")
+    debug = argparse.ArgumentParser(add_help=False)       # the same options after the command
+    debug.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    timeout = argparse.ArgumentParser(add_help=False)
+    timeout.add_argument("--timeout", type=_seconds, default=argparse.SUPPRESS, metavar="S",
+                         help=f"time budget in seconds, 0: none (default {DEFAULT_SECONDS:g})")
+    timeout.add_argument("--max-field-degree", type=_count(1, MAX_FIELD_DEGREE), default=argparse.SUPPRESS,
+                         metavar="N", help=f"largest degree of a method's number field (default {FIELD_DEGREE_LIMIT})")
     sub = p.add_subparsers(dest="command", required=True)
+    _add = sub.add_parser
+    sub.add_parser = lambda name, **k: _add(name, parents=[debug] + ([timeout] if name in EXACT_COMMANDS else []), **k)
     v = sub.add_parser("verify", help="check symplecticity / G-symplecticity and the claims of tableau files",
                        description="Read JSON tableau files, solve the (G-)symplecticity conditions exactly and "
                                    "check each file's claims. Exit 0: all claims hold; 1: a claim fails; "
@@ -461,7 +508,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "method (Butcher's algebraic theory), the order for θ ≡ 0, the stage order, "
                                    "the starting method ξ(t), the finishing method and the error terms.")
     o.add_argument("files", nargs="+", metavar="FILE")
-    o.add_argument("--max-order", type=int, default=None, metavar="N",
+    o.add_argument("--max-order", type=_count(1, MAX_ORDER), default=None, metavar="N",
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
@@ -492,7 +539,7 @@ def build_parser() -> argparse.ArgumentParser:
                     help="comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
     sv.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
     sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
-    sv.add_argument("--solution", type=int, metavar="K", help="which solution --save writes (1-based)")
+    sv.add_argument("--solution", type=_count(1, MAX_REPEATS), metavar="K", help="which solution --save writes (1-based)")
     sv.add_argument("--name", help="name of the saved method")
     sv.add_argument("--repair", action="append", metavar="ENTRIES",
                     help="repair a printed (numeric) tableau: these entries, e.g. 'A[2,1],U[2,2]', become unknowns; "
@@ -518,7 +565,7 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--q0", help="initial q, comma-separated"), r.add_argument("--p0", help="initial p")
     r.add_argument("--y0", help="initial y (general problems)")
     r.add_argument("--h", help="step size, read exactly (0.01 is 1/100)")
-    r.add_argument("--steps", type=int, help="number of steps")
+    r.add_argument("--steps", type=_count(1, MAX_STEPS), help="number of steps")
     r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
     r.add_argument("--precision", default="float64", help="float64 (default) or mp:DIGITS, e.g. mp:32")
     r.add_argument("--start", choices=("exact", "naive"), default="exact",
@@ -535,9 +582,9 @@ def build_parser() -> argparse.ArgumentParser:
     ro.add_argument("--method", required=True, metavar="FILE")
     ro.add_argument("--problem", required=True, metavar="NAME")
     ro.add_argument("--h", required=True)
-    ro.add_argument("--steps", type=int, required=True)
-    ro.add_argument("--starts", type=int, default=4)
-    ro.add_argument("--digits", type=int, default=32)
+    ro.add_argument("--steps", type=_count(1, MAX_STEPS), required=True)
+    ro.add_argument("--starts", type=_count(1, MAX_REPEATS), default=4)
+    ro.add_argument("--digits", type=_count(16, MAX_DIGITS), default=32)
     ro.add_argument("--out", default="reports/roundoff")
     ro.set_defaults(run=_roundoff)
     cv = sub.add_parser("convergence", help="measured order: global error at T against h, least-squares slope",
@@ -549,7 +596,7 @@ def build_parser() -> argparse.ArgumentParser:
     cv.add_argument("--problem", required=True)
     cv.add_argument("--T", default="10")
     cv.add_argument("--precision", default="float64")
-    cv.add_argument("--max-steps", type=int, default=1 << 15)
+    cv.add_argument("--max-steps", type=_count(1, MAX_STEPS), default=1 << 15)
     cv.add_argument("--start", choices=("exact", "naive"), default="exact")
     _executor_options(cv)
     cv.add_argument("--out", default="reports/convergence")
@@ -558,10 +605,10 @@ def build_parser() -> argparse.ArgumentParser:
                         "scipy DOP853 and plain mpmath; or one case (--method, --problem)")
     bn.add_argument("--method", help="one case: a method file")
     bn.add_argument("--problem", help="one case: a problem name")
-    bn.add_argument("--steps", type=int, help="steps per run (default 10^5)")
+    bn.add_argument("--steps", type=_count(1, MAX_STEPS), help="steps per run (default 10^5)")
     bn.add_argument("--h", default="1/100", help="step size, exact (default 1/100)")
     bn.add_argument("--precision", default="float64", help="float64, dd or mp:DIGITS (one case)")
-    bn.add_argument("--reps", type=int, default=5, help="runs per case; the median is reported (default 5)")
+    bn.add_argument("--reps", type=_count(1, MAX_REPEATS), default=5, help="runs per case; the median is reported (default 5)")
     bn.add_argument("--out", default="reports/bench", help="where the standard set is saved (default reports/bench)")
     bn.add_argument("--no-memory", action="store_true", help="skip the 10^7-step memory probe")
     bn.add_argument("--json", action="store_true", help="print JSON")
@@ -583,7 +630,7 @@ def build_parser() -> argparse.ArgumentParser:
     su.add_argument("suite_dir", nargs="?", default="reports/suite", metavar="SUITE_DIR",
                     help="folder with scenes/*.json (default reports/suite)")
     su.add_argument("--out", help="output folder (default SUITE_DIR)")
-    su.add_argument("--steps", type=int, metavar="N", help="N steps for every scene (default: each scene's own)")
+    su.add_argument("--steps", type=_count(1, MAX_STEPS), metavar="N", help="N steps for every scene (default: each scene's own)")
     su.add_argument("--only", metavar="NAMES", help="comma-separated scene names")
     _executor_options(su)
     su.add_argument("--json", action="store_true", help="print the summary as one JSON object")
@@ -600,13 +647,82 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+class _Printable:
+    """A text stream whose writes go through :func:`inputs.printable` (terminal escapes, lone
+    surrogates and bidirectional overrides of a file's text shown escaped, never sent)."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def write(self, text):
+        return self._stream.write(printable(text))
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def _count(lo: int, hi: int):
+    """An argparse type: an integer of ASCII digits in [lo, hi]."""
+    def read(text: str) -> int:
+        if not re.fullmatch(r"[+-]?[0-9]{1,12}", text.strip()):
+            raise argparse.ArgumentTypeError(f"{text[:40]!r} is not an integer of at most 12 ASCII digits")
+        n = int(text)
+        if not lo <= n <= hi:
+            raise argparse.ArgumentTypeError(f"{n} is not in {lo} … {hi}")
+        return n
+    read.__name__ = "integer"
+    return read
+
+
+def _seconds(text: str) -> float:
+    """--timeout: seconds, 0 for no limit."""
+    if not re.fullmatch(r"[0-9]{1,7}(\.[0-9]{1,3})?", text.strip()):
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number of seconds (0 … 9999999; 0: no limit)")
+    return float(text)
+
+
 def main(argv=None) -> int:
-    args = build_parser().parse_args(argv)
+    out, err = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = _Printable(out), _Printable(err)
     try:
-        return args.run(args)
+        return _main(argv)
+    finally:
+        sys.stdout, sys.stderr = out, err
+
+
+def _main(argv) -> int:
+    from .budget import time_limit
+    from .files import OutputError
+    args = build_parser().parse_args(argv)
+    if args.command in EXACT_COMMANDS:
+        from .exact import field
+        field.FIELD_DEGREE_LIMIT = args.max_field_degree
+    try:
+        with time_limit(args.timeout if args.command in EXACT_COMMANDS else None):
+            return args.run(args)
     except KeyboardInterrupt:
         print("tableau-lab: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except InputError as exc:               # bad input, a budget: the message names what and where
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except OutputError as exc:              # an output that cannot be written: the previous one kept
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    except (RecursionError, MemoryError) as exc:
+        print(f"tableau-lab: error: the input is too large or too deeply nested to analyse "
+              f"({type(exc).__name__})", file=sys.stderr)
+        return EXIT_INPUT
+    except BrokenPipeError:                 # the reader of our output went away
+        return EXIT_CLAIM
+    except Exception as exc:                # a bug
+        if args.debug:
+            import traceback
+            traceback.print_exc()
+        print(f"tableau-lab: internal error (a bug; please report it with the command that caused it): "
+              f"{type(exc).__name__}: {str(exc)[:200]}" + ("" if args.debug else "; --debug shows the traceback"),
+              file=sys.stderr)
+        return EXIT_BUG
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -23,7 +23,7 @@ tracking, records and the fallbacks of a failed stage iteration (the C loop stop
 status 4 where the Python driver would redo the step).
 
     run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact",
-          compensated=True, check_status=True, mode=None, cflags=None, inprocess=True)
+          compensated=True, check_status=True, mode=None, cflags=None, inprocess=True, cc="gcc")
         -> dict(us_per_step, us_per_step_min, final, nfev, sweeps, seconds, seconds_all,
                 status, completed, nvel, mode, shape)
     run_numba(...)        the same, from the compiled numba loop's ``run`` called directly
@@ -43,6 +43,7 @@ from __future__ import annotations
 import argparse
 import ctypes
 import hashlib
+import importlib.util
 import os
 import shutil
 import subprocess
@@ -185,17 +186,26 @@ def limits_header() -> str:
 
 # -- build --------------------------------------------------------------------------------------------
 
-_GCC: dict = {}
+_CC: dict = {}
+COMPILERS = ("gcc", "clang")               # gcc: the reference; clang: the same C through LLVM (numba's backend)
 
 
-def _gcc() -> tuple:
-    if "gcc" not in _GCC:
-        gcc = shutil.which("gcc")
-        if gcc is None:
-            raise RuntimeError("gcc not found")
-        version = subprocess.run([gcc, "--version"], check=True, capture_output=True, text=True).stdout
-        _GCC["gcc"] = (gcc, version.splitlines()[0] if version else "")
-    return _GCC["gcc"]
+def _compiler(cc="gcc") -> tuple:
+    """(command as a list, first line of its --version) of ``cc``: ``gcc``, or ``clang`` (on PATH,
+    else the clang of the ``ziglang`` wheel: ``pip install ziglang``, ``python -m ziglang cc``)."""
+    if cc not in COMPILERS:
+        raise ValueError(f"compiler {cc!r}: one of {', '.join(COMPILERS)}")
+    if cc not in _CC:
+        exe = shutil.which(cc)
+        if exe is not None:
+            cmd = [exe]
+        elif cc == "clang" and importlib.util.find_spec("ziglang") is not None:
+            cmd = [sys.executable, "-m", "ziglang", "cc"]
+        else:
+            raise RuntimeError(f"{cc} not found" + (" (nor the ziglang package)" if cc == "clang" else ""))
+        version = subprocess.run([*cmd, "--version"], check=True, capture_output=True, text=True).stdout
+        _CC[cc] = (cmd, version.splitlines()[0] if version else "")
+    return _CC[cc]
 
 
 def _write_atomic(path: Path, text: str):
@@ -206,25 +216,26 @@ def _write_atomic(path: Path, text: str):
     os.replace(tmp, path)
 
 
-def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False) -> Path:
+def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc") -> Path:
     """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
     -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d), compiled with
-    ``gcc`` and ``cflags`` (default CFLAGS) once, cached under build/ by a hash of glm_loop.c,
-    the generated headers, the shape, the flags, the kind and gcc's version.  (Without
+    ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once, cached under build/ by a hash of
+    glm_loop.c, the generated headers, the shape, the flags, the kind and the compiler's version.  (Without
     arguments: the pendulum at s = r = 1, a check that gcc works.)"""
     P = get_problem(problem)
     s, r, d = (int(x) for x in shape)
     if d != P.dimension:
         raise ValueError(f"problem {P.name!r} has dimension {P.dimension}, not d = {d}")
-    gcc, version = _gcc()
+    compiler, version = _compiler(cc)
     flags = tuple(CFLAGS if cflags is None else cflags)
     lim, prob = limits_header(), problem_header(P)
     kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
-                                        f"{s} {r} {d} {' '.join(flags)} {version}".encode()]
+                                        f"{s} {r} {d} {' '.join(flags)} {version} {cc}".encode()]
                                        + ([" ".join(kind).encode()] if shared else []))).hexdigest()[:16]
     tag = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in P.name)
-    exe = BUILD / (f"libglm_loop_{tag}_{s}x{r}x{d}_{digest}.so" if shared else f"glm_loop_{tag}_{s}x{r}x{d}_{digest}")
+    cct = "" if cc == "gcc" else f"{cc}_"
+    exe = BUILD / (f"libglm_loop_{cct}{tag}_{s}x{r}x{d}_{digest}.so" if shared else f"glm_loop_{cct}{tag}_{s}x{r}x{d}_{digest}")
     if exe.exists():
         return exe
     BUILD.mkdir(parents=True, exist_ok=True)
@@ -233,12 +244,12 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False) -> Pat
     _write_atomic(lim_h, lim)
     _write_atomic(prob_h, prob)
     tmp = BUILD / f".{exe.name}.{os.getpid()}"
-    cmd = [gcc, *flags, *kind, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
+    cmd = [*compiler, *flags, *kind, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
            f'-DTL_PROBLEM_HEADER="{prob_h}"',
            "-o", str(tmp), str(SOURCE), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
-        raise RuntimeError(f"gcc failed ({' '.join(cmd)}):\n{res.stderr}")
+        raise RuntimeError(f"{cc} failed ({' '.join(cmd)}):\n{res.stderr}")
     os.replace(tmp, exe)                   # atomic: concurrent builds do not see a half-written file
     return exe
 
@@ -247,12 +258,12 @@ _LIBS: dict = {}
 _NSTATS = 6                                # glm_run's stats: status, completed, step, nfev, sweeps, nvel
 
 
-def library(problem="pendulum", shape=(1, 1, 2), cflags=None) -> ctypes.CDLL:
+def library(problem="pendulum", shape=(1, 1, 2), cflags=None, cc="gcc") -> ctypes.CDLL:
     """The shared library of :func:`build` (``shared=True``) loaded by ctypes, once per path and
     process, with the argument types of glm_run / glm_functions / glm_shape set, its compiled
     shape checked.  Each (problem, shape, flags) is its own file, loaded RTLD_LOCAL: the
     libraries' equal symbol names do not clash."""
-    path = build(problem, shape, cflags, shared=True)
+    path = build(problem, shape, cflags, shared=True, cc=cc)
     key = str(path)
     if key not in _LIBS:
         lib = ctypes.CDLL(key)
@@ -362,11 +373,11 @@ def _check(status, completed, what, method_path, problem, check_status):
                            f"{_WHY.get(status, f'status {status}')}")
 
 
-def _run_lib(pr: Prepared, steps, reps, cflags) -> tuple:
+def _run_lib(pr: Prepared, steps, reps, cflags, cc="gcc") -> tuple:
     """glm_run of the problem's shared library, in this process: (status, completed, final,
     [nfev, sweeps, nvel], seconds of each rep)."""
     (s, r, d), pk = pr.shape, pr.pk
-    lib = library(pr.cp.problem, pr.shape, cflags)
+    lib = library(pr.cp.problem, pr.shape, cflags, cc)
     f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
     i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
     args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
@@ -387,14 +398,15 @@ def _run_lib(pr: Prepared, steps, reps, cflags) -> tuple:
 
 
 def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact", compensated=True,
-          check_status=True, mode=None, cflags=None, inprocess=True) -> dict:
+          check_status=True, mode=None, cflags=None, inprocess=True, cc="gcc") -> dict:
     """The C loop: ``reps`` whole runs of ``steps`` steps from y^[0]; the median time.  By
     default in this process: glm_run of the shared library (:func:`library`) through ctypes;
     ``inprocess=False``: the executable, the arrays through a text file (the same glm_run, the
     same timing inside C around the step loop alone; bit-identical results).  A stopped run
     (status 2: not finite, 4: the stage iteration failed) raises RuntimeError unless
     ``check_status=False``.  ``mode``: force a stage-iteration mode (limits.NEWTON, FIXED,
-    SPLIT) instead of integrate's choice; ``cflags``: gcc flags instead of CFLAGS."""
+    SPLIT) instead of integrate's choice; ``cflags``: compiler flags instead of CFLAGS; ``cc``: the
+    compiler (:data:`COMPILERS`; gcc, the reference)."""
     steps, reps = int(steps), int(reps)
     if steps < 1:
         raise ValueError("steps must be positive")
@@ -402,10 +414,10 @@ def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact
         raise ValueError("reps must be positive")
     pr = prepare(method_path, problem, h, solver, start, compensated, mode)
     if inprocess:
-        status, completed, final, stats, times = _run_lib(pr, steps, reps, cflags)
+        status, completed, final, stats, times = _run_lib(pr, steps, reps, cflags, cc)
         _check(status, completed, "C", method_path, problem, check_status)
         return _result(times, steps, final, stats, status, completed, pr)
-    out = _run_exe(build(pr.cp.problem, pr.shape, cflags), _input_text(pr, steps, reps))
+    out = _run_exe(build(pr.cp.problem, pr.shape, cflags, cc=cc), _input_text(pr, steps, reps))
     status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
     _check(status, completed, "C", method_path, problem, check_status)
     final = np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.shape[1], pr.shape[2])

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..errors import InputError
 from ..exact.field import is_zero, normal_form, power
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
@@ -58,7 +59,7 @@ __all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requireme
 KEYWORDS = ("g-symplectic", "symplectic", "order", "effective-order", "stage-order", "parasitism-free", "symmetric")
 
 
-class DesignError(ValueError):
+class DesignError(InputError):
     """A requirement that cannot be posed for this tableau (message says why)."""
 
 
@@ -614,7 +615,8 @@ class RepairResult(Result):
         return "" if self.design is None else self.design.to_latex()
 
 
-_ENTRY = re.compile(r"^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*(?:,|\]\s*\[)\s*(\d+)\s*\]\s*$|^\s*([A-Za-z]+)\s*\[\s*(\d+)\s*\]\s*$")
+_ENTRY = re.compile(r"^\s*([A-Za-z]+)\s*\[\s*([0-9]{1,6})\s*(?:,|\]\s*\[)\s*([0-9]{1,6})\s*\]\s*$"
+                    r"|^\s*([A-Za-z]+)\s*\[\s*([0-9]{1,6})\s*\]\s*$")      # ASCII indices of at most 6 digits
 
 
 def _var(entry: str) -> sp.Symbol:

@@ -25,13 +25,16 @@ import sympy as sp
 from sympy import QQ
 from sympy.polys.matrices import DomainMatrix
 
+from ..budget import FIELD_DEGREE
+from ..errors import InputError
+
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
     "solve_linear", "nullspace", "exprs_of", "element", "FastField", "power", "FIELD_DEGREE_LIMIT",
 ]
 
 
-class FieldError(ValueError):
+class FieldError(InputError):
     """Entries that have no exact field arithmetic here (e.g. a radical of a parameter)."""
 
 
@@ -87,19 +90,22 @@ def _algebraic_atoms(e) -> set:
     return out
 
 
-#: the largest degree bound (the product of the degrees of the generators that are roots of
-#: polynomials or values of cos, sin; radicals, which sympy's primitive elements handle well, are
-#: not counted) of a number field built here; beyond it the primitive element and its arithmetic
-#: cost minutes (all six nodes of 6-stage Gauss: 6⁶), and such methods are analysed in ℚ by
-#: :mod:`conjugate` instead
-FIELD_DEGREE_LIMIT = 64
+#: the largest degree bound (the product of the degrees of the generators: roots of polynomials,
+#: values of cos, sin, radicals) of a number field built here; beyond it the primitive element and
+#: its arithmetic cost minutes (all six nodes of 6-stage Gauss: 6⁶; twelve square roots: 2¹²), and
+#: such methods are analysed in ℚ by :mod:`conjugate` instead.  The CLI's --max-field-degree sets it.
+FIELD_DEGREE_LIMIT = FIELD_DEGREE
 
 
 def _degree(g) -> int:
+    """A bound on the degree g adds to a field: its polynomial's degree (RootOf, cos, sin), the
+    root's index q for a radical r**(p/q) (twelve square roots of primes: 2¹² = 4096)."""
     if isinstance(g, sp.RootOf):
         return g.poly.degree()
     if isinstance(g, (sp.cos, sp.sin)):
         return sp.degree(sp.minimal_polynomial(g, sp.Dummy("x")))
+    if g.is_Pow and g.exp.is_Rational:
+        return int(g.exp.q)
     return 1
 
 
@@ -110,8 +116,8 @@ def _field(gens: tuple, syms: tuple):
         bound *= _degree(g)
     if bound > FIELD_DEGREE_LIMIT:
         raise FieldError(f"the entries generate a number field of degree up to {bound} (budget "
-                         f"FIELD_DEGREE_LIMIT = {FIELD_DEGREE_LIMIT}): {len(gens)} algebraic numbers "
-                         f"such as {gens[0]}")
+                         f"FIELD_DEGREE_LIMIT = {FIELD_DEGREE_LIMIT}; raise it with --max-field-degree N): "
+                         f"{len(gens)} algebraic numbers such as {gens[0]}")
     K = QQ.algebraic_field(*gens) if gens else QQ
     if syms:
         K = K.frac_field(*syms)

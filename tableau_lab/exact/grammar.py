@@ -69,6 +69,8 @@ from typing import NamedTuple
 
 import sympy as sp
 
+from ..errors import InputError
+
 __all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
            "RESERVED", "NAME", "Dialect", "Function", "TABLEAU", "parse", "sympy_functions", "declared_names"]
 
@@ -77,6 +79,7 @@ LIMITS = {                    # the tableau dialect's (a dialect's limits have t
     "integer_digits": 100,    # significant digits in one number literal
     "exponent_size": 64,      # |numerator| and denominator of an exponent (|e| in 1e-5 notation: 4 times that)
     "depth": 60,              # nesting of parentheses / unary signs / powers / function arguments
+    "radical_depth": 4,       # roots of roots (Lobatto, Gauss 4 nodes: 2; each level can double the field degree)
     "result_digits": 1000,    # digits in any rational produced on the way
     "radicand_digits": 100,   # digits of a rational under a root
     "trig_denominator": 120,  # n in cos(k*pi/n), sin(k*pi/n) (degree up to φ(2n)/2)
@@ -87,7 +90,7 @@ _NAME = r"[A-Za-z][A-Za-z0-9_]*"
 NAME = re.compile(_NAME + r"\Z")      # a name: a letter, then letters, digits and _
 
 
-class EntryError(ValueError):
+class EntryError(InputError):
     """Text that is not a valid expression of its dialect (a tableau entry, a problem expression)."""
 
 
@@ -152,7 +155,7 @@ def declared_names(p, name, pos):
 
 # ---------------------------------------------------------------------------- the tokenizer
 
-_TOKEN = re.compile(r"(?P<number>(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)"
+_TOKEN = re.compile(r"(?P<number>(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)"    # ASCII digits only
                     rf"|(?P<name>{_NAME})|(?P<op>\*\*|[-+*/^(),])")
 
 
@@ -172,7 +175,7 @@ def _tokens(text: str, dialect: Dialect) -> list:
     """The tokens of ``text`` and an end token; number literals read (or refused) by ``dialect``."""
     out, pos = [], 0
     while pos < len(text):
-        if text[pos].isspace():
+        if text[pos] in " \t\r\n":                 # ASCII white space only (no NBSP, no zero-width)
             pos += 1
             continue
         m = _TOKEN.match(text, pos)
@@ -202,13 +205,11 @@ def _number(literal: str, dialect: Dialect, text: str, pos: int) -> sp.Rational:
 
 
 def _fraction_hint(text: str) -> str:
-    try:
-        r = sp.Rational(text) if len(text) < 40 else None
-    except (TypeError, ValueError):
-        r = None
-    if r is None:
+    """The literal as a fraction, when that is short (1e999999 is not: then an example)."""
+    mantissa, _, exponent = text.lower().partition("e")
+    if len(text) >= 40 or (exponent and abs(int(exponent)) > 40):
         return "1/2"
-    return str(r)
+    return str(sp.Rational(text))
 
 
 def _short(e) -> str:
@@ -343,6 +344,9 @@ class _Parser:
             raise self.error(f"({_short(base)})**({exp}) takes a root of an expression in parameters; "
                              "only integer powers of parameters are exact field arithmetic here", pos)
         lim = self.limits["exponent_size"]
+        if not exp.is_Integer and _radical_depth(base) >= self.limits["radical_depth"]:
+            raise self.error(f"roots nested more than {self.limits['radical_depth']} deep (limit radical_depth; "
+                             "write such a number as root(POLY, k))", pos)
         if abs(exp.p) > lim or exp.q > lim:
             raise self.error(f"exponent {exp} is too large (limit: numerator and denominator at most {lim})", pos)
         if base == 0 and exp < 0:
@@ -369,6 +373,14 @@ class _Parser:
         if e.is_real is False:
             raise self.error("the value is not a real number", pos)
         return e
+
+
+def _radical_depth(e) -> int:
+    """How deeply roots are nested in e: sqrt(2) 1, sqrt(2 + sqrt(2)) 2."""
+    if not e.args:
+        return 0
+    inner = max(_radical_depth(a) for a in e.args)
+    return inner + 1 if e.is_Pow and not e.exp.is_Integer else inner
 
 
 def _found(tok: _Token) -> str:
@@ -431,10 +443,18 @@ def _root(p, name, args, pos):
 
 
 def _parameter_name(p, name, pos):
-    """Every name is a real parameter; pi only in the argument of cos, sin (their scope binds it)."""
+    """Every name is a real parameter; pi only in the argument of cos, sin (their scope binds it);
+    not a name that reads as a number or a constant (:data:`NOT_PARAMETERS`)."""
     if name == "pi":
         raise p.error("pi is not algebraic: it may appear only in the argument of cos or sin", pos)
+    if name.lower() in NOT_PARAMETERS:
+        raise p.error(f"{name!r} is not a number of a tableau (entries are exact; and it cannot name a "
+                      f"parameter)", pos)
     return parameter(name)
+
+
+# names refused as parameters: they read as numbers or constants (nan, inf, e, i …), case-insensitive
+NOT_PARAMETERS = frozenset({"nan", "inf", "infinity", "oo", "zoo", "e", "i", "j", "none", "true", "false"})
 
 
 _ANGLE = MappingProxyType({"pi": sp.pi})

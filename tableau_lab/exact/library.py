@@ -23,6 +23,7 @@ import re
 from pathlib import Path
 
 from . import families, multistep
+from ..errors import InputError
 from .methods import Method
 
 __all__ = ["FamilyError", "FAMILIES", "family", "is_family", "library_path", "library_names", "LIBRARY"]
@@ -31,7 +32,7 @@ __all__ = ["FamilyError", "FAMILIES", "family", "is_family", "library_path", "li
 LIBRARY = Path(__file__).resolve().parent.parent / "methods"
 
 
-class FamilyError(ValueError):
+class FamilyError(InputError):
     """A family name or size that does not give a method (the message names the spec)."""
 
 

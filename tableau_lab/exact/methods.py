@@ -26,6 +26,7 @@ from typing import Any, Mapping
 
 import sympy as sp
 
+from ..errors import InputError
 from .conjugate import detect
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
 
@@ -33,7 +34,7 @@ __all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "Gene
            "glm_parts"]
 
 
-class MethodError(ValueError):
+class MethodError(InputError):
     """A tableau whose matrices do not form a method (shapes, nodes, entries)."""
 
 

@@ -35,12 +35,14 @@ from sympy.polys.groebnertools import groebner
 from sympy.polys.orderings import lex
 from sympy.polys.rings import PolyRing
 
+from ..budget import computing
+from ..errors import InputError
 from .field import element, field_of, is_zero, normal_form
 
 __all__ = ["PolynomialSystem", "Branch", "SystemError_"]
 
 
-class SystemError_(ValueError):
+class SystemError_(InputError):
     """An expression that is not a rational function of the unknowns over a number field."""
 
 
@@ -112,7 +114,8 @@ class PolynomialSystem:
         polys = [p for p in polys if p]
         if not polys:
             return []
-        return groebner(polys, self.R)
+        with computing(f"Gröbner basis of {len(polys)} equations in {len(self.R.gens)} unknowns"):
+            return groebner(polys, self.R)
 
     def consistent(self, polys) -> bool:
         return self.groebner(polys) != [self.R.one]

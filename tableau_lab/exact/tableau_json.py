@@ -19,7 +19,9 @@ from typing import Any
 
 import sympy as sp
 
+from ..errors import InputError
 from ..files import atomic_write_text
+from ..inputs import parse_json, read_json
 from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .library import FamilyError, family, is_family, library_path
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
@@ -49,7 +51,7 @@ META = {"format", "name", "kind", "source", "notes", "claims", "constants"}
 MAX_CONSTANTS = 64          # named numbers in one file
 
 
-class TableauError(ValueError):
+class TableauError(InputError):
     """A tableau file that cannot be read: names the file and the entry."""
 
     def __init__(self, source: str, message: str, entry: str | None = None):
@@ -88,13 +90,7 @@ def _int(text: str):
     return _BigInt(text) if len(text) > LIMITS["integer_digits"] + 1 else int(text)
 
 
-def _pairs(pairs):
-    out = {}
-    for k, v in pairs:
-        if k in out:
-            raise ValueError(f"duplicate key {k!r}")
-        out[k] = v
-    return out
+_HOOKS = {"parse_float": _Float, "parse_int": _int, "parse_constant": _Constant}
 
 
 def _entry(value, source, where, consts=None):
@@ -207,6 +203,10 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
         raise TableauError(source, "notes must be a string or a list of strings", "notes")
     if "format" in data and data["format"] != FORMAT:
         raise TableauError(source, f"format {data['format']!r} is not understood (this is {FORMAT!r})", "format")
+    for key in required:                   # the size budget, before any entry is read
+        if isinstance(data[key], list) and len(data[key]) > MAX_SIZE:
+            raise TableauError(source, f"{len(data[key])} rows: beyond the size budget MAX_SIZE = {MAX_SIZE} stages "
+                                       "or values of the exact analyses (tableau_json.py)", key)
     readers = {"matrix": _matrix, "vector": _vector}
     consts = _constants(data["constants"], source) if "constants" in data else None
     parts = {}
@@ -222,29 +222,19 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
 
 
 FORMAT = "tableau_lab/1"
+MAX_SIZE = 40        # stages, values of a tableau file: exact algebra on a dense 60-stage tableau runs for hours in
+                     # FLINT calls that no time budget can interrupt (the families stop at 8 stages, 30 steps)
+
+
+def _error(source, reason, entry):
+    return TableauError(source, reason, entry)
 
 
 def parse(text: str | bytes, source: str = "<tableau>") -> dict:
-    """The JSON object of a tableau text, read with the size, float, constant and
-    duplicate-key guards (entries are not parsed yet: :func:`from_dict` does that)."""
-    if isinstance(text, bytes):
-        if len(text) > MAX_BYTES:
-            raise TableauError(source, f"file is {len(text)} bytes, larger than the {MAX_BYTES}-byte limit for a tableau")
-        try:
-            text = text.decode("utf-8")
-        except UnicodeDecodeError as exc:
-            raise TableauError(source, f"not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    if len(text) > MAX_BYTES:
-        raise TableauError(source, f"text of {len(text)} characters exceeds the {MAX_BYTES} limit for a tableau")
-    try:
-        return json.loads(text, parse_float=_Float, parse_int=_int, parse_constant=_Constant,
-                          object_pairs_hook=_pairs)
-    except json.JSONDecodeError as exc:
-        raise TableauError(source, f"not valid JSON: {exc.msg} (line {exc.lineno}, column {exc.colno})") from None
-    except RecursionError:
-        raise TableauError(source, "not a tableau: JSON nested too deeply") from None
-    except ValueError as exc:
-        raise TableauError(source, f"not a valid tableau: {exc}") from None
+    """The JSON object of a tableau text, read by the strict reader of :mod:`~tableau_lab.inputs`
+    with the tableau's size limit; floats, NaN and long integers are kept to be refused by entry
+    (entries are not parsed yet: :func:`from_dict` does that)."""
+    return parse_json(text, source, _error, "tableau", max_bytes=MAX_BYTES, **_HOOKS)
 
 
 def loads(text: str | bytes, source: str = "<tableau>") -> Method:
@@ -253,14 +243,8 @@ def loads(text: str | bytes, source: str = "<tableau>") -> Method:
 
 
 def read(path: str | os.PathLike) -> dict:
-    """The JSON object of a tableau file (see :func:`parse`); errors name the file."""
-    path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            raw = fh.read(MAX_BYTES + 1)
-    except OSError as exc:
-        raise TableauError(str(path), f"cannot read: {exc.strerror}") from None
-    return parse(raw, source=str(path))
+    """The JSON object of a tableau file (see :func:`parse`); only a regular file is read."""
+    return read_json(path, _error, "tableau", max_bytes=MAX_BYTES, **_HOOKS)
 
 
 def load(path: str | os.PathLike, **size) -> Method:

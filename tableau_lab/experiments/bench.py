@@ -168,6 +168,26 @@ def compare_case(cref, method, problem, h, steps, reps) -> dict:
             "final_difference": float(abs(nb["final"] - cc["final"]).max())}
 
 
+def llvm_case(cref, method, problem, h, steps, reps) -> dict | None:
+    """The C loop compiled by gcc (the reference) and by clang (LLVM, the backend numba compiles
+    our loop with), interleaved with ours: median µs/step of each.  None without clang (the
+    ``ziglang`` wheel brings one: ``pip install ziglang``)."""
+    path = ROOT / "methods" / f"{method}.json"
+    try:
+        cref.run_c(path, problem, sp.Rational(h), 10, reps=1, cc="clang")    # build, or fail here
+    except RuntimeError as exc:
+        print(f"clang build of the C loop unavailable: {str(exc).splitlines()[0]}", file=sys.stderr)
+        return None
+    times = {"ours": [], "gcc": [], "clang": []}
+    for _ in range(reps):
+        times["ours"].append(cref.run_numba(path, problem, sp.Rational(h), steps, reps=1)["us_per_step"])
+        for cc in ("gcc", "clang"):
+            times[cc].append(cref.run_c(path, problem, sp.Rational(h), steps, reps=1, cc=cc)["us_per_step"])
+    med = {k: statistics.median(v) for k, v in times.items()}
+    return {"method": method, "problem": problem, "h": h, "clang": cref._compiler("clang")[1],
+            **{f"{k}_us_per_step": v for k, v in med.items()}}
+
+
 def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True, log=None) -> dict:
     """The standard set (see the module docstring) as a JSON-ready dict; ``log(line)`` after
     each row."""
@@ -184,6 +204,14 @@ def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True, l
             row["gni_us_per_step"], row["gni_nfev_per_step"] = GNI[method, problem]
         rows.append(row)
         log(_row(row))
+    llvm = []
+    for method, problem, h, _ in STANDARD[:2] if cref is not None else ():
+        row = llvm_case(cref, method, problem, h, steps, reps)
+        if row is None:
+            break
+        llvm.append(row)
+        log(f"LLVM, {method} {problem}: clang/gcc {row['clang_us_per_step'] / row['gcc_us_per_step']:.2f}, "
+            f"ours/clang {row['ours_us_per_step'] / row['clang_us_per_step']:.2f}")
     high = []
     for problem in ("pendulum", "kepler"):
         path = ROOT / "methods" / "gauss2.json"
@@ -194,7 +222,7 @@ def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True, l
                      "mp32_us_per_step": mp["us_per_step"], "mp_over_dd": mp["us_per_step"] / dd["us_per_step"],
                      "dd_vs_mp32_difference": agree, "dd_compile_seconds": dd["compile_seconds"]})
         log(f"32 digits, {problem}: dd {dd['us_per_step']:.2f} µs/step, mp:32 {mp['us_per_step']:.0f} µs/step")
-    out = {"float64": rows, "high_precision": high, "c_reference": cref is not None}
+    out = {"float64": rows, "high_precision": high, "c_reference": cref is not None, "llvm_c": llvm}
     if memory:
         out["memory"] = memory_probe()
     return out
@@ -237,6 +265,14 @@ def table(res: dict) -> str:
         lines += ["", f"Compile (first call; cold when the cache was empty): float64 {min(cold):.1f}–{max(cold):.1f} s "
                       f"per problem and run shape" + (f", double-double {min(dd):.1f}–{max(dd):.1f} s" if dd else "")
                   + "."]
+    if res.get("llvm_c"):
+        lines += ["", f"The same C loop compiled by LLVM ({res['llvm_c'][0]['clang']}; numba's backend), same flags, "
+                      "interleaved:", "", "| method | problem | ours µs/step | C (gcc) | C (clang) | clang/gcc | ours/clang |",
+                  "|---|---|---|---|---|---|---|"]
+        for r in res["llvm_c"]:
+            lines.append(f"| {r['method']} | {r['problem']} | {r['ours_us_per_step']:.3f} | {r['gcc_us_per_step']:.3f} | "
+                         f"{r['clang_us_per_step']:.3f} | {r['clang_us_per_step'] / r['gcc_us_per_step']:.2f} | "
+                         f"{r['ours_us_per_step'] / r['clang_us_per_step']:.2f} |")
     lines += ["", "| 32 digits | problem | dd µs/step | mp:32 µs/step | mpmath/dd | dd − mp:32 after 100 steps |",
               "|---|---|---|---|---|---|"]
     for r in res["high_precision"]:

@@ -16,11 +16,23 @@ distributed cluster — the same code runs each item in each case, so the result
 * an open :class:`Executor` — used as it is and left open (one pool for several sweeps).
 
 ``fn`` must pickle: a module-level function, or a ``functools.partial`` of one with picklable
-arguments.  An exception inside a task comes back as the same exception type, its message
-prefixed with the item that raised it ("task 3 of 8 (n=400): ..."); the remaining tasks are
-cancelled.  A scheduler that cannot be reached within ``timeout`` seconds raises
-:class:`SchedulerError` naming the address.  A progress bar (tqdm, on stderr) is shown when
-stderr is a terminal, or as ``progress`` says.
+arguments.  ``on_result(i, result)`` is called here, in this process, as each item finishes (in
+the order they finish), e.g. to write the results that are complete while the others run.  An
+exception inside a task comes back as the same exception type, its message prefixed with the
+item that raised it ("task 3 of 8 (n=400): ..."); the remaining tasks are cancelled.  A
+scheduler that cannot be reached within ``timeout`` seconds raises :class:`SchedulerError`
+naming the address.  A progress bar (tqdm, on stderr) is shown when stderr is a terminal, or as
+``progress`` says.
+
+No worker outlives its command.  The pool's workers ignore Ctrl-C (SIGINT goes to the whole
+process group): the command handles it, and a ``KeyboardInterrupt`` (or ``SystemExit``) during
+``map`` kills the workers at once instead of waiting for their tasks.  A command that is killed
+(SIGKILL, SIGTERM) cannot end them, so each worker watches the process that started the pool:
+on Linux it reads ``/proc/PID/stat`` twice a second (gone, a zombie, or its start time changed:
+the worker exits at once) and asks the kernel for SIGKILL when its parent, the forkserver, dies
+(``prctl(PR_SET_PDEATHSIG)``); elsewhere it checks the process id.  The forkserver and the
+resource tracker end by themselves when the last worker is gone.  A normal exit shuts the
+pools down and waits for the workers.
 
 >>> with executor("serial") as ex:
 ...     ex.map(abs, [-1, 2, -3])
@@ -37,8 +49,10 @@ import contextlib
 import functools
 import multiprocessing
 import os
+import signal
 import sys
 import threading
+import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 
@@ -63,9 +77,9 @@ class Executor:
     def __init__(self, progress=None):
         self.progress = progress
 
-    def map(self, fn, items, describe=None, desc=None) -> list:
+    def map(self, fn, items, describe=None, desc=None, on_result=None) -> list:
         """``describe(item)`` names an item in error messages (default: its repr); ``desc`` labels
-        the progress bar."""
+        the progress bar; ``on_result(i, result)`` is called as item i finishes."""
         items = list(items)
         results = [None] * len(items)
         show = sys.stderr.isatty() if self.progress is None else bool(self.progress)
@@ -81,8 +95,14 @@ class Executor:
                 except Exception as exc:    # noqa: BLE001 — the task's own exception, named
                     what = describe(items[i]) if describe else _short(repr(items[i]))
                     raise _named(exc, f"task {i + 1} of {len(items)} ({what})") from exc
+                if on_result is not None:
+                    on_result(i, results[i])
                 if bar is not None:
                     bar.update(1)
+        except BaseException as exc:
+            if not isinstance(exc, Exception):  # Ctrl-C, exit: the running tasks are abandoned
+                self._abort()
+            raise
         finally:
             outcomes.close()                # cancels what has not run yet
             if bar is not None:
@@ -94,6 +114,9 @@ class Executor:
         task's exception; on close, cancel what remains."""
         for i, item in enumerate(items):
             yield i, functools.partial(fn, item)
+
+    def _abort(self):
+        """End the running tasks at once (the pool's workers are killed)."""
 
     def close(self):
         pass
@@ -120,6 +143,9 @@ class _Pool(Executor):
         finally:
             for f in futures:
                 f.cancel()
+
+    def _abort(self):
+        _drop_pool(self.workers, self.pool, kill=True)
 
 
 class _Dask(Executor):
@@ -182,16 +208,75 @@ def _shared_pool(workers: int) -> ProcessPoolExecutor:
     with _POOLS_LOCK:
         if workers not in _POOLS:
             method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-            _POOLS[workers] = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method))
+            me = os.getpid()
+            _POOLS[workers] = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method),
+                                                  initializer=_worker_start, initargs=(me, _start_time(me)))
         return _POOLS[workers]
 
 
-def _drop_pool(workers, pool):
-    """A pool whose worker died cannot take more work: the next sweep starts a new one."""
+def _drop_pool(workers, pool, kill=False):
+    """A pool whose worker died cannot take more work: the next sweep starts a new one.
+    ``kill``: its workers are killed first (their tasks abandoned)."""
     with _POOLS_LOCK:
         if _POOLS.get(workers) is pool:
             del _POOLS[workers]
+    if kill:
+        for p in list((getattr(pool, "_processes", None) or {}).values()):
+            with contextlib.suppress(Exception):
+                p.kill()
     pool.shutdown(wait=False, cancel_futures=True)
+
+
+def _start_time(pid: int):
+    """The start time of process ``pid`` (clock ticks since boot, Linux), None elsewhere or if
+    gone: with the pid it names one process (pids are reused)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            return int(f.read().rpartition(b")")[2].split()[19])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def _parent_alive(pid: int, started) -> bool:
+    """Whether the process that started the pool is still there (not gone, not a zombie, not
+    a new process with its pid)."""
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as f:
+            fields = f.read().rpartition(b")")[2].split()
+        return fields[0] not in (b"Z", b"X") and (started is None or int(fields[19]) == started)
+    except FileNotFoundError:
+        return False
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:
+        pass
+    return True
+
+
+def _worker_start(parent: int, started) -> None:
+    """A pool worker's initializer: Ctrl-C is the command's to handle; the worker ends when the
+    command is gone (module docstring)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        with contextlib.suppress(Exception):
+            import ctypes
+            PR_SET_PDEATHSIG = 1
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    if not _parent_alive(parent, started):
+        os._exit(1)
+    threading.Thread(target=_watch_parent, args=(parent, started), daemon=True,
+                     name="tableau-lab: watch the command").start()
+
+
+def _watch_parent(parent: int, started, every: float = 0.5) -> None:
+    while True:
+        time.sleep(every)
+        if not _parent_alive(parent, started):
+            os._exit(1)
 
 
 @atexit.register

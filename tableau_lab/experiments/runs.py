@@ -21,7 +21,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..exact.tableau_json import load
+from ..exact.tableau_json import TableauError, load
 from ..numeric.arith import is_exact, arith
 from ..numeric.codegen import compile_problem, reference
 from ..numeric.export import to_numeric
@@ -40,7 +40,13 @@ def compiled(problem, precision: str):
 
 
 def _setup(method, problem, precision, overrides):
+    """(method, problem, compiled problem, numeric method); a method with free parameters is
+    refused first, naming its file."""
     m = load(method) if not hasattr(method, "kind") else method
+    if m.parameters:
+        raise TableauError(str(method) if not hasattr(method, "kind") else m.name,
+                           f"free parameters {', '.join(map(str, m.parameters))}: a run needs numbers; "
+                           "solve for them first (tableau-lab solve)")
     P = get_problem(problem, **(overrides or {}))
     return m, P, compiled(P, precision), to_numeric(m, precision)
 

@@ -30,6 +30,8 @@ lists the ζ, μ and the largest component per run.
 from __future__ import annotations
 
 import json
+import math
+import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,7 +40,9 @@ import numpy as np
 import sympy as sp
 
 from .. import __version__
+from ..errors import InputError
 from ..files import atomic_write, atomic_write_text
+from ..inputs import MAX_STEPS, SAFE_NAME, printable, read_json
 
 __all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
 
@@ -47,9 +51,16 @@ PLOTS = ("invariants", "orbit", "parasitic", "state")
 KEYS = {"format", "name", "title", "seed", "notes", "problem", "h", "steps", "T", "runs", "record_every",
         "plots", "precision", "start", "monitor"}
 RUN_KEYS = {"method", "project", "precision", "start", "label"}
+STARTS = ("exact", "naive")
+NAME = SAFE_NAME                     # the output folder's name (inputs.py)
+PRECISION = re.compile(r"float64|dd|mp:[0-9]{1,5}")
+MAX_RUNS = 100              # runs of one scene
+MAX_LIST = 1000             # entries of problem.set and of one value there
+MAX_TEXT = 1000             # characters of a title, seed, label or method path
+MAX_NOTES = 20000           # characters of the notes
 
 
-class SceneError(ValueError):
+class SceneError(InputError):
     """A scene that cannot be run: the message names the file and the key."""
 
 
@@ -70,121 +81,226 @@ class Scene:
 
 
 def _exact(v, where, path):
+    """An exact number from an integer or an ASCII string ("1/100", "1e-3", "sqrt(2)/2")."""
     from ..exact.grammar import EntryError, parse_number
     if isinstance(v, bool) or not isinstance(v, (int, str)):
-        raise SceneError(f"{path}: {where}: write numbers as integers or exact strings such as \"1/100\", not {v!r}")
+        raise SceneError(f"{printable(path)}: {where}: write numbers as integers or exact strings such as \"1/100\", "
+                         f"not {_show(v)}")
+    if isinstance(v, str) and not v.isascii():
+        raise SceneError(f"{printable(path)}: {where}: {_show(v)}: a number is written with ASCII digits only")
     try:
         return parse_number(str(v))
     except EntryError as exc:
-        raise SceneError(f"{path}: {where}: {exc}") from None
+        raise SceneError(f"{printable(path)}: {where}: {exc}") from None
+
+
+def _show(v, width=60) -> str:
+    """A JSON value, shortened, for a message."""
+    try:
+        text = printable(json.dumps(v))
+    except (TypeError, ValueError):
+        text = printable(repr(v))
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
+def _positive(v) -> bool:
+    try:
+        return bool(v > 0)
+    except TypeError:                       # not a real number
+        return False
+
+
+def _float64(v, where, src) -> float:
+    """``v`` in float64, refused if it rounds to 0 or overflows."""
+    try:
+        x = float(v)
+    except (TypeError, ValueError, OverflowError):
+        x = math.inf
+    if x == 0 or not math.isfinite(x):
+        raise SceneError(f"{src}: {where}: rounds to {x} in float64 (the working precision of times and records); "
+                         f"use a value between {sys.float_info.min:.3g} and {sys.float_info.max:.3g}")
+    return x
 
 
 def _read_json(path):
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise SceneError(f"{path}: not valid JSON: {exc}") from None
+    """The JSON object of a scene file, read strictly (:func:`tableau_lab.inputs.read_json`)."""
+    data = read_json(path, SceneError, "scene file")
     if not isinstance(data, dict):
-        raise SceneError(f"{path}: a scene is one JSON object")
+        raise SceneError(f"{printable(path)}: a scene is one JSON object")
     return data
 
 
 def _problem(prob, path):
     """The problem of a scene: a name, {"name": ..., "set": {...}} or {"define": {...}}."""
     from ..numeric.problems import ProblemError, get_problem, problem_from_dict
+    src = printable(path)
+    shape = f"{src}: problem must be a name, {{\"name\": ..., \"set\": {{...}}}} or {{\"define\": {{...}}}}"
     try:
         if isinstance(prob, str):
             problem = get_problem(prob)
         elif isinstance(prob, dict) and "define" in prob:
+            if set(prob) != {"define"} or not isinstance(prob["define"], dict):
+                raise SceneError(shape + ": \"define\" is an object, alone")
             problem = problem_from_dict(prob["define"])
         elif isinstance(prob, dict) and isinstance(prob.get("name"), str):
+            if set(prob) - {"name", "set"}:
+                raise SceneError(f"{shape}: unknown keys {sorted(set(prob) - {'name', 'set'})}")
             sets = prob.get("set", {})
-            if not isinstance(sets, dict):
-                raise SceneError(f"{path}: problem.set must be an object such as {{\"e\": \"0.6\"}}")
+            if not isinstance(sets, dict) or len(sets) > MAX_LIST:
+                raise SceneError(f"{src}: problem.set must be an object such as {{\"e\": \"0.6\"}}")
             over = {}
             for k, v in sets.items():
-                over[k] = tuple(_exact(x, f"problem.set.{k}", path) for x in v) if isinstance(v, list) else \
-                    _exact(v, f"problem.set.{k}", path)
+                where = f"problem.set.{k}"
+                if isinstance(v, list) and not 0 < len(v) <= MAX_LIST:
+                    raise SceneError(f"{src}: {where}: a list of 1 to {MAX_LIST} exact numbers is needed")
+                over[k] = tuple(_exact(x, f"{where}[{i}]", path) for i, x in enumerate(v)) if isinstance(v, list) \
+                    else _exact(v, where, path)
             problem = get_problem(prob["name"], **over)
         else:
-            raise SceneError(f"{path}: problem must be a name, {{\"name\": ..., \"set\": {{...}}}} or {{\"define\": {{...}}}}")
+            raise SceneError(shape)
     except ProblemError as exc:
-        raise SceneError(f"{path}: problem: {exc}") from None
+        raise SceneError(f"{src}: problem: {printable(exc)}") from None
     return problem
 
 
+def _text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
+    """A string value (at most ``limit`` characters); ``notes`` may be a list of strings."""
+    v = d.get(key, default)
+    parts = v if key == "notes" and isinstance(v, list) else [v]
+    if not all(isinstance(x, str) for x in parts) or sum(len(x) for x in parts) > limit:
+        raise SceneError(f"{src}: {where}: a string of at most {limit} characters is needed, not {_show(v)}")
+    return v
+
+
+def _choice(d, key, where, src, default, allowed):
+    v = d.get(key, default)
+    if not isinstance(v, str) or v not in allowed:
+        raise SceneError(f"{src}: {where}: {_show(v)} is not one of {', '.join(allowed)}")
+    return v
+
+
+def _precision(d, where, src, default):
+    """float64, dd or mp:DIGITS (ASCII digits, within arith's range)."""
+    from ..numeric.arith import arith
+    prec = d.get("precision", default)
+    ok = isinstance(prec, str) and PRECISION.fullmatch(prec)
+    try:
+        if ok:
+            arith(prec)
+    except ValueError:
+        ok = False
+    if not ok:
+        raise SceneError(f"{src}: {where}: {_show(prec)} is not a precision: use float64, dd or mp:DIGITS with "
+                         f"5 <= DIGITS <= 10000 (e.g. mp:32)")
+    return prec
+
+
+def _count(v, where, src, low, high):
+    if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
+        raise SceneError(f"{src}: {where} must be an integer between {low} and {high}, not {_show(v)}")
+    return v
+
+
 def load_scene(path) -> Scene:
-    """Read and validate a scene file (problem built, methods found; nothing run)."""
+    """Read and validate a scene file: every key's type and range, the problem built, the
+    method files read as JSON (nothing run).  Messages name the file and the key."""
+    from ..exact.tableau_json import TableauError, read
     path = Path(path)
+    src = printable(path)
     data = _read_json(path)
     unknown = set(data) - KEYS
     if unknown:
-        raise SceneError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(KEYS)})")
+        raise SceneError(f"{src}: unknown keys {sorted(unknown)} (allowed: {sorted(KEYS)})")
     if data.get("format", FORMAT) != FORMAT:
-        raise SceneError(f"{path}: format {data.get('format')!r} is not {FORMAT!r}")
+        raise SceneError(f"{src}: format: {_show(data.get('format'))} is not {FORMAT!r}")
     name = data.get("name")
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
-        raise SceneError(f"{path}: name must be a non-empty file-name-safe string (letters, digits, - _ .)")
-    problem = _problem(data.get("problem"), path)
-    h = _exact(data.get("h"), "h", path) if "h" in data else None
-    if h is None or not h > 0:
-        raise SceneError(f"{path}: h must be a positive exact number, got {data.get('h')!r}")
+    if not isinstance(name, str) or not NAME.fullmatch(name):
+        raise SceneError(f"{src}: name: {_show(name)} is not a file-name-safe name: 1 to 100 ASCII letters, "
+                         f"digits, - _ . starting with a letter or digit (it names the output folder)")
+    title = _text(data, "title", "title", src, name)
+    seed = _text(data, "seed", "seed", src)
+    _text(data, "notes", "notes", src, limit=MAX_NOTES)
+    if "h" not in data:
+        raise SceneError(f"{src}: h: missing; give the step size as an exact number such as \"1/100\"")
+    h = _exact(data["h"], "h", path)
+    if not _positive(h):
+        raise SceneError(f"{src}: h must be a positive exact number, got {_show(data['h'])}")
+    _float64(h, "h", src)
     if ("steps" in data) == ("T" in data):
-        raise SceneError(f"{path}: give exactly one of steps and T")
+        raise SceneError(f"{src}: give exactly one of steps and T")
     if "steps" in data:
-        steps = data["steps"]
-        if not isinstance(steps, int) or isinstance(steps, bool) or not 1 <= steps <= 10 ** 9:
-            raise SceneError(f"{path}: steps must be an integer between 1 and 10^9")
+        steps = _count(data["steps"], "steps", src, 1, MAX_STEPS)
     else:
         T = _exact(data["T"], "T", path)
-        steps = T / h
-        if not (steps.is_Integer and steps > 0):
-            raise SceneError(f"{path}: T / h = {steps} is not a positive whole number of steps")
-        steps = int(steps)
-    runs = data.get("runs")
-    if not isinstance(runs, list) or not runs:
-        raise SceneError(f"{path}: runs must be a non-empty list of {{\"method\": FILE, ...}}")
-    out_runs = []
-    for i, r in enumerate(runs):
-        where = f"runs[{i}]"
-        if not isinstance(r, dict) or "method" not in r or set(r) - RUN_KEYS:
-            raise SceneError(f"{path}: {where} must be an object with method and optional {sorted(RUN_KEYS - {'method'})}")
-        mpath = (path.parent / r["method"]).resolve()
-        if not mpath.exists():
-            raise SceneError(f"{path}: {where}.method: no file {r['method']} (relative to the scene file)")
-        project = r.get("project", [])
-        bad = [k for k in project if k not in problem.invariants]
-        if bad:
-            raise SceneError(f"{path}: {where}.project: {bad} are not invariants of {problem.name} "
-                             f"({', '.join(problem.invariants)})")
-        prec = r.get("precision", data.get("precision", "float64"))
-        from ..numeric.arith import arith
-        try:
-            arith(prec)
-        except ValueError as exc:
-            raise SceneError(f"{path}: {where}.precision: {exc}") from None
-        start = r.get("start", data.get("start", "exact"))
-        if start not in ("exact", "naive"):
-            raise SceneError(f"{path}: {where}.start must be exact or naive")
-        out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project), "precision": prec, "start": start,
-                         "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}" if project else "")})
-    every = data.get("record_every", max(1, steps // 1000))
-    if not isinstance(every, int) or every < 1:
-        raise SceneError(f"{path}: record_every must be a positive integer")
-    plots = tuple(data.get("plots", ["invariants"]))
+        if not _positive(T):
+            raise SceneError(f"{src}: T must be a positive exact number, got {_show(data['T'])}")
+        n = T / h
+        if not n.is_Integer:
+            raise SceneError(f"{src}: T: T / h = {_show(data['T'])} / {_show(data['h'])} is not a whole number of steps")
+        if n > MAX_STEPS:
+            raise SceneError(f"{src}: T: T / h = {_show(data['T'])} / {_show(data['h'])} is more than the limit "
+                             f"of {MAX_STEPS} steps (MAX_STEPS)")
+        steps = int(n)
+    every = _count(data.get("record_every", max(1, steps // 1000)), "record_every", src, 1, steps)
+    plots = data.get("plots", ["invariants"])
+    if not isinstance(plots, list) or not all(isinstance(p, str) for p in plots) or len(set(plots)) != len(plots):
+        raise SceneError(f"{src}: plots: a list of distinct names ({', '.join(PLOTS)}) is needed, not {_show(plots)}")
     bad = [p for p in plots if p not in PLOTS]
     if bad:
-        raise SceneError(f"{path}: unknown plots {bad} (known: {', '.join(PLOTS)})")
+        raise SceneError(f"{src}: plots: unknown plots {[printable(p) for p in bad]} (known: {', '.join(PLOTS)})")
     monitor = None
     if "monitor" in data:
         bound = _exact(data["monitor"], "monitor", path)
-        if not bound > 0:
-            raise SceneError(f"{path}: monitor must be a positive bound such as \"1e-3\", got {data['monitor']!r}")
-        monitor = float(bound)
-    return Scene(path, name, data.get("title", name), data.get("seed", ""), problem, h, steps, tuple(out_runs),
-                 every, plots, data, monitor)
+        if not _positive(bound):
+            raise SceneError(f"{src}: monitor must be a positive bound such as \"1e-3\", got {_show(data['monitor'])}")
+        monitor = _float64(bound, "monitor", src)
+    precision = _precision(data, "precision", src, "float64")
+    start = _choice(data, "start", "start", src, "exact", STARTS)
+    runs = data.get("runs")
+    if not isinstance(runs, list) or not 0 < len(runs) <= MAX_RUNS:
+        raise SceneError(f"{src}: runs must be a non-empty list of at most {MAX_RUNS} "
+                         f"{{\"method\": FILE, ...}}, not {_show(runs)}")
+    for i, r in enumerate(runs):
+        where = f"runs[{i}]"
+        if not isinstance(r, dict) or "method" not in r:
+            raise SceneError(f"{src}: {where} must be an object with method and optional {sorted(RUN_KEYS - {'method'})}")
+        if set(r) - RUN_KEYS:
+            raise SceneError(f"{src}: {where}: unknown keys {sorted(set(r) - RUN_KEYS)} (allowed: {sorted(RUN_KEYS)})")
+        if not isinstance(r["method"], str) or not 0 < len(r["method"]) <= MAX_TEXT:
+            raise SceneError(f"{src}: {where}.method: a file name (a string) is needed, not {_show(r['method'])}")
+        project = r.get("project", [])
+        if not isinstance(project, list) or not all(isinstance(k, str) for k in project) \
+                or len(set(project)) != len(project):
+            raise SceneError(f"{src}: {where}.project: a list of distinct invariant names is needed, not {_show(project)}")
+        _precision(r, f"{where}.precision", src, precision)
+        _choice(r, "start", f"{where}.start", src, start, STARTS)
+        _text(r, "label", f"{where}.label", src)
+    problem = _problem(data.get("problem"), path)
+    out_runs, read_methods = [], {}
+    for i, r in enumerate(runs):
+        where = f"runs[{i}]"
+        try:
+            mpath = (path.parent / r["method"]).resolve()
+            found = mpath.exists()
+        except (OSError, RuntimeError, ValueError):
+            found = False
+        if not found:
+            raise SceneError(f"{src}: {where}.method: no file {printable(r['method'])} (relative to the scene file)")
+        if mpath not in read_methods:
+            try:
+                read_methods[mpath] = read(mpath)          # a regular file of strict JSON, or refused now
+            except TableauError as exc:
+                raise SceneError(f"{src}: {where}.method: {exc}") from None
+        project = r.get("project", [])
+        bad = [k for k in project if k not in problem.invariants]
+        if bad:
+            raise SceneError(f"{src}: {where}.project: {[printable(k) for k in bad]} are not invariants of "
+                             f"{problem.name} ({', '.join(problem.invariants)})")
+        out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project),
+                         "precision": r.get("precision", precision), "start": r.get("start", start),
+                         "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}"
+                                                                  if project else "")})
+    return Scene(path, name, title, seed, problem, h, steps, tuple(out_runs), every, tuple(plots), data, monitor)
 
 
 def run_one(sc: Scene, i: int, progress: bool = False):
@@ -250,38 +366,90 @@ def run_one(sc: Scene, i: int, progress: bool = False):
     return arrays, meta, interrupted
 
 
-def write_outputs(sc: Scene, results, out) -> dict:
-    """Data, metadata and plots of a scene from ``run_one``'s results (in run order) under
-    ``out``; stale files of an earlier run are removed.  Returns the metadata."""
+def write_outputs(sc: Scene, results, out, also=None) -> dict:
+    """Data, metadata and plots of a scene under ``out`` from ``run_one``'s results in run
+    order (``None``, or a shorter list, for runs that did not run: listed as ``"not run"``).
+    One write phase (:mod:`tableau_lab.files`): the folder's lock held (a concurrent run of the
+    same scene writes before or after, never in between), Ctrl-C held until the set is written,
+    every file staged and moved into place together; then, still under the lock, the previous
+    run's files that this set does not replace are removed (missing ones tolerated).
+    A full disk (:class:`~tableau_lab.files.OutputError`) leaves the previous set as it was.
+    ``also(out)``: more files drawn in the same phase (their names, kept).  Returns the
+    metadata (with ``"plots"``)."""
+    from ..files import deferred_interrupt, output_lock, output_set, remove_stale_temps
     from .plots import draw
     out = Path(out)
-    arrays = {f"run{i}_{k}": v for i, (a, _, _) in enumerate(results) for k, v in a.items()}
-    meta_runs = [m for _, m, _ in results]
+    results = list(results) + [None] * (len(sc.runs) - len(results))
+    arrays = {f"run{i}_{k}": v for i, res in enumerate(results) if res is not None for k, v in res[0].items()}
+    meta_runs = [res[1] if res is not None else _not_run(sc, i) for i, res in enumerate(results)]
     meta = {"scene": str(sc.path), "name": sc.name, "title": sc.title, "seed": sc.seed, "problem": sc.problem.name,
             "parameters": {k: str(v) for k, v in sc.problem.parameters.items()}, "h": str(sc.h), "steps": sc.steps,
             "record_every": sc.record_every, "tableau_lab": __version__,
             **({"monitor": sc.monitor} if sc.monitor is not None else {}),
-            "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs) and len(meta_runs) == len(sc.runs),
+            "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
-    for stale in list(out.glob("data*.npz")) + list(out.glob("meta*.json")) + list(out.glob(f"{sc.name}_*.png")):
-        stale.unlink()                      # a previous run's files must not contradict this one's
-    atomic_write(out / f"data{suffix}.npz", lambda tmp: np.savez_compressed(tmp, **arrays), suffix=".npz")
-    atomic_write_text(out / f"meta{suffix}.json", json.dumps(meta, indent=1, ensure_ascii=False))
-    meta["plots"] = draw(sc, meta, arrays, out) if meta_runs else []
+    with output_lock(out), deferred_interrupt():
+        remove_stale_temps(out)
+        with output_set():
+            written = [f"data{suffix}.npz", f"meta{suffix}.json"]
+            atomic_write(out / written[0], lambda tmp: np.savez_compressed(tmp, **arrays), suffix=".npz")
+            atomic_write_text(out / written[1], json.dumps(meta, indent=1, ensure_ascii=False))
+            plots = draw(sc, meta, arrays, out) if any(res is not None for res in results) else []
+            extra = list(also(out)) if also is not None else []
+        # the set is in place: a previous run's files must not contradict it
+        keep = set(written) | set(plots) | set(extra)
+        for name in _scene_files(out, sc.name):
+            if name not in keep:
+                try:
+                    (out / name).unlink()
+                except FileNotFoundError:
+                    pass                    # removed by a concurrent writer that does not lock
+    meta["plots"] = plots + extra
     return meta
 
 
+def _scene_files(out: Path, name: str) -> list:
+    """The files of a scene's output set in ``out``: data*.npz, meta*.json, <name>_*.png."""
+    try:
+        names = [p.name for p in out.iterdir()]
+    except OSError:
+        return []
+    return [f for f in names if (f.startswith("data") and f.endswith(".npz"))
+            or (f.startswith("meta") and f.endswith(".json")) or (f.startswith(f"{name}_") and f.endswith(".png"))]
+
+
+def _not_run(sc: Scene, i: int) -> dict:
+    """The meta entry of a run that did not run (the scene was interrupted before it)."""
+    r = sc.runs[i]
+    return {"label": r["label"], "method": None, "file": r["as_written"], "precision": r["precision"],
+            "start": r["start"], "projection": list(r["project"]), "status": "not run",
+            "message": "not run: the scene was interrupted before this run", "completed_steps": 0, "t_end": 0.0,
+            "nfev": 0, "newton_iterations": 0, "projection_iterations": 0, "seconds": 0.0,
+            "max_invariant_error": {}}
+
+
 def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
-    """Run every run of a scene, write data, metadata and plots; returns the metadata."""
+    """Run every run of a scene, write data, metadata and plots; returns the metadata.  Ctrl-C
+    (``KeyboardInterrupt``) stops the runs; the runs that finished and the records of the one
+    interrupted are written as an incomplete set (the others listed as ``"not run"``), then
+    ``KeyboardInterrupt`` is raised again.  Interrupted before any run produced records, the
+    folder is left as it was."""
     sc = load_scene(path)
     show = sys.stderr.isatty() if progress is None else progress
-    results = []
-    for i in range(len(sc.runs)):
-        results.append(run_one(sc, i, show))
-        if results[-1][2]:
-            break
+    results = [None] * len(sc.runs)
+    interrupted = False
+    try:
+        for i in range(len(sc.runs)):
+            results[i] = run_one(sc, i, show)
+            if results[i][2]:
+                interrupted = True
+                break
+    except KeyboardInterrupt:
+        interrupted = True
+    if interrupted and all(res is None for res in results):
+        raise KeyboardInterrupt
     meta = write_outputs(sc, results, Path(out_root) / sc.name)
-    if results[-1][2]:
+    if interrupted:
         raise KeyboardInterrupt
     return meta

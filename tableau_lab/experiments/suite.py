@@ -9,7 +9,11 @@ listing every symplectic and G-symplectic method with and without projection and
 cluster), the most expensive scenes first.  Each scene's data, metadata and plots are written
 as ``tableau-lab run`` writes them, under ``OUT/<scene>/``; then ``OUT/summary.json``,
 ``OUT/summary.md`` (the table and the claims), ``OUT/suite_energy.png`` (max |H − H₀| per run)
-and ``OUT/suite_time_to_failure.png`` (how far each run got).  ``--steps N`` gives every scene N
+and ``OUT/suite_time_to_failure.png`` (how far each run got).  A scene is written as soon as its
+last run finishes (while the others run); after Ctrl-C the scenes with finished runs are written
+as incomplete sets (the others listed as not run), the summary is not rewritten, and the
+command ends with ``KeyboardInterrupt`` (exit 130).  Every file is written atomically under the
+folder's lock (:mod:`tableau_lab.files`).  ``--steps N`` gives every scene N
 steps with as many records as before (the reduced suite of the tests uses 10³).
 
 For the runs whose method has a growth parameter μ ≠ 0 the table compares the measured
@@ -31,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write_text
+from ..files import atomic_write_text, output_phase
 from .executor import executor
 from .scene import SceneError, load_scene, run_one, write_outputs
 
@@ -183,26 +187,46 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     cost = {sc.path: _COST.get(sc.problem.name, 1.0) * sc.steps for sc in scenes}
     order = sorted(range(len(items)), key=lambda k: -cost[Path(items[k][0])])
     t0 = time.perf_counter()
-    with executor(scheduler, workers, progress=progress) as ex:
-        done = ex.map(suite_task, [items[k] for k in order], desc="suite",
-                      describe=lambda it: f"{Path(it[0]).stem} run {it[1]}")
-        n_workers = ex.workers
-    results = {items[k]: res for k, res in zip(order, done)}
+    results, metas = {}, {}
+
+    def write(sc):                   # a scene's data and plots, the energy plot in the same set
+        res = [results.get((str(sc.path), i, steps)) for i in range(len(sc.runs))]
+        metas[sc.name] = write_outputs(sc, res, out / sc.name, also=lambda folder: [
+            _draw_energy(_figure(), sc, [r for r in res if r is not None], folder)])
+
+    def finished(k, res):
+        results[items[order[k]]] = res
+        sc = next(sc for sc in scenes if str(sc.path) == items[order[k]][0])
+        if all((str(sc.path), i, steps) in results for i in range(len(sc.runs))):
+            write(sc)
+        if res[2]:                   # a run in this process, stopped by Ctrl-C
+            raise KeyboardInterrupt
+
+    try:
+        with executor(scheduler, workers, progress=progress) as ex:
+            ex.map(suite_task, [items[k] for k in order], desc="suite",
+                   describe=lambda it: f"{Path(it[0]).stem} run {it[1]}", on_result=finished)
+            n_workers = ex.workers
+    except KeyboardInterrupt:        # the scenes with finished runs, as incomplete sets
+        for sc in scenes:
+            if sc.name not in metas and any((str(sc.path), i, steps) in results for i in range(len(sc.runs))):
+                write(sc)
+        raise
     wall = time.perf_counter() - t0
     rows, scene_info = [], []
     for sc in scenes:
         res = [results[(str(sc.path), i, steps)] for i in range(len(sc.runs))]
-        meta = write_outputs(sc, res, out / sc.name)
-        meta["plots"].append(_draw_energy(_figure(), sc, res, out / sc.name))
+        meta = metas[sc.name]
         rows += [_row(sc, m, a) for a, m, _ in res]
         scene_info.append({"name": sc.name, "title": sc.title, "problem": sc.problem.name, "h": str(sc.h),
                            "steps": sc.steps, "monitor": sc.monitor, "plots": meta["plots"]})
     summary = {"tableau_lab": __version__, "wall_seconds": round(wall, 1), "workers": n_workers, "runs": len(rows),
                "steps": steps, "scenes": scene_info, "rows": rows,
                "claims": _claims(rows, {sc.name: sc.monitor for sc in scenes})}
-    atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, ensure_ascii=False))
-    atomic_write_text(out / "summary.md", _markdown(summary))
-    summary["plots"] = _draw(_figure(), rows, scenes, out)
+    with output_phase(out):          # the summary's files: one set, under the folder's lock
+        atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, ensure_ascii=False))
+        atomic_write_text(out / "summary.md", _markdown(summary))
+        summary["plots"] = _draw(_figure(), rows, scenes, out)
     return summary
 
 

@@ -48,7 +48,7 @@ class WPScene:
 
 
 def load_wp_scene(path) -> WPScene:
-    from .scene import SceneError, _exact, _problem, _read_json
+    from .scene import NAME, SceneError, _exact, _problem, _read_json
     path = Path(path)
     data = _read_json(path)
     allowed = {"format", "name", "title", "problem", "T", "methods", "peers", "invariant", "notes"}
@@ -58,8 +58,9 @@ def load_wp_scene(path) -> WPScene:
     if data.get("format") != FORMAT:
         raise SceneError(f"{path}: format must be {FORMAT!r}")
     name = data.get("name")
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
-        raise SceneError(f"{path}: name must be a non-empty file-name-safe string")
+    if not isinstance(name, str) or not NAME.fullmatch(name):
+        raise SceneError(f"{path}: name must be ASCII letters, digits, - _ . starting with a letter or digit "
+                         "(the output folder's name)")
     problem = _problem(data.get("problem"), path)
     T = _exact(data.get("T"), "T", path)
     if not T > 0:

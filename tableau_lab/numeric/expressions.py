@@ -35,7 +35,7 @@ FUNCTIONS = {"sqrt": sp.sqrt, "exp": sp.exp, "log": sp.log, "sin": sp.sin, "cos"
 # nesting of parentheses, signs, powers and calls; digits of any rational produced on the
 # way; digits of a rational under a root
 LIMITS = dict(text_length=2000, integer_digits=60, exponent_size=64, depth=50, result_digits=500,
-              radicand_digits=120)
+              radicand_digits=120, radical_depth=6)
 
 PROBLEM = Dialect(name="problem expressions", functions=sympy_functions(FUNCTIONS), names=declared_names,
                   decimals=True, roots_of_names=True, limits=LIMITS)

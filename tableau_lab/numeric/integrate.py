@@ -293,8 +293,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         record(0, Y)
         try:
             try:
-                out = kernels.drive(loop, pk, Y, steps, every, record=record, progress=progress,
-                                    track_every=track_every)
+                with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: a status, below
+                    out = kernels.drive(loop, pk, Y, steps, every, record=record, progress=progress,
+                                        track_every=track_every)
             except BaseException as exc:
                 if hasattr(exc, "outcome"):
                     settle(exc.outcome)

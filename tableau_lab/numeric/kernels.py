@@ -46,8 +46,8 @@ from . import limits as L
 __all__ = ["available", "cache_dir", "Shape", "loop_shape", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
-_MODULES: dict = {}        # module name -> module
-_BY_KEY: dict = {}         # (problem.key, kind, shape) -> module: generated once per process
+_MODULES: dict = {}        # module file -> module (the cache folder may change: TABLEAU_LAB_CACHE)
+_BY_KEY: dict = {}         # (cache folder, problem.key, kind, shape) -> module: generated once per process
 _COMPILE: dict = {}        # module name -> seconds of the first (compiling or cache-loading) call
 _PURE_CODE: dict = {}      # the compiled code object of stepcore.py's text
 
@@ -177,13 +177,14 @@ def write_problem_module(problem, kind: str = "f64") -> tuple:
 
 
 def _load(name, path):
-    if name not in _MODULES:
+    key = str(path)
+    if key not in _MODULES:
         spec = importlib.util.spec_from_file_location(name, path)
         mod = importlib.util.module_from_spec(spec)
         sys.modules[name] = mod
         spec.loader.exec_module(mod)
-        _MODULES[name] = mod
-    return _MODULES[name]
+        _MODULES[key] = mod
+    return _MODULES[key]
 
 
 def compiled_loop(problem, kind: str = "f64", shape=None):
@@ -192,7 +193,7 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     ``kernel_files``: kind -> (name, path)), imported once per process; numba compiles on the
     first call or loads its disk cache.  ``loop.sibling(mode)``: the loop of the same problem
     and shape for another stage iteration (the run switched to Newton)."""
-    key = (problem.key, kind, shape)
+    key = (str(cache_dir()), problem.key, kind, shape)
     if key in _BY_KEY:
         return _BY_KEY[key]
     files = getattr(problem, "kernel_files", None) or {}
@@ -407,11 +408,15 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
             _COMPILE[key] = time.perf_counter() - (t0 if entry == "run" and n0 == 0 else t)
             out.compile_seconds += _COMPILE[key]
         done[0] = 0
+        inside[0] = True
         status = int(getattr(loop, entry)(*st.args(n0, n1)))
+        inside[0] = False
+        if status == 0:
+            finished[0] = n1
         records()
         return status
 
-    n = 0
+    n, inside, finished = 0, [False], [0]      # in a loop call; the last step of the last call that finished
     try:
         while n < steps:
             n1 = min(steps, n + chunk)
@@ -436,8 +441,8 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
     except BaseException as exc:
         if done[1]:                            # raised by record(): the run stops at that record
             out.completed = int(recn[done[0] - 1])
-        else:                                  # inside the loop (Ctrl-C in the pure loop): keep its records
-            out.completed = int(stats[L.S_STEP]) - 1
+        else:                                  # Ctrl-C in the pure loop, or between calls: keep the records
+            out.completed = int(stats[L.S_STEP]) - 1 if inside[0] else max(out.completed, finished[0])
             try:
                 records()
             except BaseException:

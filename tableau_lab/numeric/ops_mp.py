@@ -8,6 +8,8 @@ import math
 import mpmath
 import numpy as np
 
+from .limits import HUGE
+
 
 def kernel(fn):
     return fn
@@ -57,7 +59,9 @@ def isnz(a):
 
 
 def lofinite(x):
-    return mpmath.isfinite(x) if isinstance(x, mpmath.mpf) else math.isfinite(x)
+    """Finite, and within ±limits.HUGE: mpmath never overflows, so a diverging run stops here as
+    the float64 and double-double loops stop at inf."""
+    return (mpmath.isfinite(x) if isinstance(x, mpmath.mpf) else math.isfinite(x)) and abs(x) <= HUGE
 
 
 def g1(a, i):

@@ -13,12 +13,13 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 
+from ..errors import InputError
 from ..analysis.trees import trees_up_to
 
 __all__ = ["ProblemError", "ProblemFunctions"]
 
 
-class ProblemError(ValueError):
+class ProblemError(InputError):
     """A problem definition, parameter or value that cannot be used."""
 
 
@@ -54,7 +55,8 @@ class ProblemFunctions:
 
     def _call(self, fn, y, *extra):
         if self.backend == "numpy":
-            return fn(self._input(y), self.constants, *extra)
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: the driver reports them
+                return fn(self._input(y), self.constants, *extra)
         with mpmath.workdps(self.dps):
             return fn(self._input(y), self.constants, *extra)
 

@@ -318,6 +318,8 @@ def get_problem(name, **overrides) -> Problem:
 
 
 _KEYS = {"hamiltonian": ("q", "p", "H", "q0", "p0"), "general": ("y", "f", "y0")}
+# names a user problem cannot declare (any case): they read as numbers or constants
+NOT_NAMES = frozenset({"nan", "inf", "infinity", "oo", "zoo", "pi", "none", "true", "false"})
 
 
 def problem_from_dict(d: dict) -> Problem:
@@ -355,11 +357,14 @@ def problem_from_dict(d: dict) -> Problem:
 
     def declare(key, names):
         for i, n in enumerate(names):
-            if not isinstance(n, str) or not NAME.match(n) or n in FUNCTIONS:
+            if not isinstance(n, str) or not NAME.match(n) or n in FUNCTIONS or n.lower() in NOT_NAMES:
                 raise fail(key if isinstance(names, dict) else f"{key}[{i + 1}]", f"{n!r} is not a valid name")
         return _symbols(" ".join(names))
 
     psyms = dict(zip(items("parameters", True), declare("parameters", items("parameters", True))))
+    for k in items("invariants", True):
+        if not NAME.match(k) or k.lower() in NOT_NAMES:
+            raise fail(f"invariants.{k}", f"{k!r} is not a valid invariant name (a letter, then letters, digits, _)")
     state = declare("q", items("q")) + declare("p", items("p")) if kind == "hamiltonian" else declare("y", items("y"))
     names = {str(s): s for s in state} | psyms
     if len(names) != len(state) + len(psyms) or (kind == "hamiltonian" and len(d["q"]) != len(d["p"])):

@@ -28,7 +28,7 @@ from ..analysis.order import order as order_of
 from ..analysis.parasitism import growth_parameters
 from ..analysis.symplectic import g_symplectic, rk_symplectic
 from ..exact.field import normal_form
-from ..files import atomic_write_text
+from ..files import OutputError, atomic_copy, atomic_write_text, output_phase
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 
@@ -350,18 +350,29 @@ def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
                                 str(tex_path)], capture_output=True, text=True, errors="replace", cwd=tex_path.parent,
                                timeout=300)
         log = Path(tmp) / (tex_path.stem + ".log")
-        if log.exists():
-            shutil.copy(log, tex_path.with_suffix(".log"))
         pdf = Path(tmp) / (tex_path.stem + ".pdf")
-        if p.returncode != 0 or not pdf.exists():
+        failed = p.returncode != 0 or not pdf.exists()
+        try:
+            # the PDF and its log: atomic copies, in place together (a full disk leaves both as they were)
+            with output_phase(tex_path.parent):
+                if log.exists():
+                    atomic_copy(log, tex_path.with_suffix(".log"))
+                if not failed:
+                    atomic_copy(pdf, tex_path.with_suffix(".pdf"))
+        except OutputError as exc:
+            raise ReportError(str(exc)) from exc
+        if failed:
             raise ReportError(f"{tex_path}: pdflatex failed (see {tex_path.with_suffix('.log')}): "
                               + p.stdout[-400:].replace("\n", " "))
-        shutil.copy(pdf, tex_path.with_suffix(".pdf"))
     return given.with_suffix(".pdf")
 
 
 def write_report(tex: str, facts: dict, out: Path) -> Path:
-    """Write NAME.tex and NAME.json (the facts) atomically; returns the .tex path."""
+    """Write NAME.tex and NAME.json (the facts) atomically, as one set under the folder's lock
+    (:mod:`tableau_lab.files`: a full disk raises ``OutputError`` naming the file and leaves both
+    as they were); returns the .tex path."""
     out = Path(out)
-    atomic_write_text(out.with_suffix(".json"), json.dumps(facts, indent=1, ensure_ascii=False, default=str))
-    return atomic_write_text(out.with_suffix(".tex"), tex)
+    with output_phase(out.parent):
+        atomic_write_text(out.with_suffix(".json"), json.dumps(facts, indent=1, ensure_ascii=False, default=str))
+        atomic_write_text(out.with_suffix(".tex"), tex)
+    return out.with_suffix(".tex")

@@ -1,0 +1,75 @@
+"""Time budgets for the exact analyses, and what was being computed when one ran out.
+
+Exact work (Gröbner bases, order conditions of high order, number fields of high degree) can
+run for hours on legal but hopeless input. Every exact command runs within a time budget
+(``--timeout S``, default :data:`DEFAULT_SECONDS`; 0 for none); when it runs out the work stops
+with a :class:`~tableau_lab.errors.BudgetError` that names the budget, what was being computed
+(the innermost :func:`computing` label) and the option that raises it.
+
+The budget is a real-time alarm (``SIGALRM``), so it works only in the main thread of a POSIX
+process; elsewhere :func:`time_limit` runs the work unbounded (the size budgets still hold).
+
+>>> with time_limit(5):
+...     with computing("a quick sum"):
+...         sum(range(10))
+45
+"""
+from __future__ import annotations
+
+import signal
+import threading
+from contextlib import contextmanager
+
+from .errors import BudgetError
+
+__all__ = ["DEFAULT_SECONDS", "FIELD_DEGREE", "OPTION", "computing", "time_limit", "current"]
+
+DEFAULT_SECONDS = 300.0       # the default budget of one exact command (the slowest shipped analysis: ~15 s)
+FIELD_DEGREE = 64             # the default degree budget of a method's number field (exact/field.py)
+OPTION = "--timeout S"        # how a user raises it
+
+_STACK: list[str] = []
+
+
+@contextmanager
+def computing(what: str):
+    """Label the enclosed work for the message of a budget that runs out (:func:`current`)."""
+    _STACK.append(what)
+    try:
+        yield
+    finally:
+        _STACK.pop()
+
+
+def current(default: str = "the analysis") -> str:
+    """What is being computed now: the outermost and the innermost :func:`computing` labels.
+
+    >>> with computing("solve of m.json"), computing("Gröbner basis of 3 equations in 2 unknowns"):
+    ...     current()
+    'solve of m.json: Gröbner basis of 3 equations in 2 unknowns'
+    """
+    if not _STACK:
+        return default
+    return _STACK[0] if len(_STACK) == 1 else f"{_STACK[0]}: {_STACK[-1]}"
+
+
+@contextmanager
+def time_limit(seconds: float | None, option: str = OPTION):
+    """Raise BudgetError in the enclosed work after ``seconds`` (None or 0: no limit)."""
+    usable = (seconds and seconds > 0 and hasattr(signal, "setitimer")
+              and threading.current_thread() is threading.main_thread())
+    if not usable:
+        yield
+        return
+
+    def expire(signum, frame):
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        raise BudgetError("time", f"{seconds:g} s", current(), option)
+
+    old = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, float(seconds))
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
