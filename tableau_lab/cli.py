@@ -9,13 +9,14 @@ file contents reach the terminal.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import re
 import sys
 from pathlib import Path
 
 from . import __version__
-from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, InputError
+from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
 from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
 
 EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report")     # within --timeout
@@ -682,27 +683,86 @@ def _seconds(text: str) -> float:
 
 
 def main(argv=None) -> int:
+    """The command line.  Called as the program (``argv`` None) an exact command runs in a child
+    process under a hard deadline (:func:`_hard_deadline`); with ``argv`` given (tests, other
+    programs) everything runs in this process, under the time budget's alarm only."""
     out, err = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = _Printable(out), _Printable(err)
     try:
-        return _main(argv)
+        args = build_parser().parse_args(argv)
+        if argv is None:
+            import signal
+            signal.signal(signal.SIGTERM, _terminate)
+            if args.command in EXACT_COMMANDS and args.timeout:
+                return _hard_deadline(args)
+        return _dispatch(args)
     finally:
         sys.stdout, sys.stderr = out, err
 
 
-def _main(argv) -> int:
+def _terminate(signum, frame):
+    raise Terminated()
+
+
+HARD_GRACE = 5.0              # seconds past --timeout after which an uninterruptible computation is killed
+
+
+def _hard_deadline(args) -> int:
+    """Run the command in a forked child; kill it HARD_GRACE s after its time budget.  The alarm
+    of the budget stops Python code, but not one long call into FLINT or GMP: this makes every
+    budget end within HARD_GRACE s.  Ctrl-C reaches the child (same process group), which reports it."""
+    import os
+    import signal
+    import time
+    if not hasattr(os, "fork"):
+        return _dispatch(args)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pid = os.fork()
+    if pid == 0:                                  # the child: the command, then its exit code
+        from .process import die_with_parent
+        die_with_parent()
+        code = EXIT_BUG
+        try:
+            code = _dispatch(args)
+        finally:
+            with contextlib.suppress(Exception):
+                sys.stdout.flush()
+                sys.stderr.flush()
+            os._exit(code if isinstance(code, int) else EXIT_BUG)
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    deadline = time.monotonic() + args.timeout + HARD_GRACE
+    try:
+        while True:
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                code = os.waitstatus_to_exitcode(status)
+                return code if code >= 0 else 128 - code
+            if time.monotonic() > deadline:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                files = ", ".join(getattr(args, "files", None) or [getattr(args, "file", "")])
+                print(f"tableau-lab: error: {args.command} of {files}: time budget of {args.timeout:g} s exceeded in "
+                      f"a computation that could not be interrupted (stopped {HARD_GRACE:g} s later); raise it "
+                      "with --timeout S", file=sys.stderr)
+                return EXIT_INPUT
+            time.sleep(0.02)
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
+def _dispatch(args) -> int:
     from .budget import time_limit
     from .files import OutputError
-    args = build_parser().parse_args(argv)
     if args.command in EXACT_COMMANDS:
         from .exact import field
         field.FIELD_DEGREE_LIMIT = args.max_field_degree
     try:
         with time_limit(args.timeout if args.command in EXACT_COMMANDS else None):
             return args.run(args)
-    except KeyboardInterrupt:
-        print("tableau-lab: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:        # Ctrl-C, or SIGTERM (Terminated)
+        print(f"tableau-lab: {'terminated' if isinstance(exc, Terminated) else 'interrupted'}", file=sys.stderr)
+        return EXIT_TERMINATED if isinstance(exc, Terminated) else EXIT_INTERRUPTED
     except InputError as exc:               # bad input, a budget: the message names what and where
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT

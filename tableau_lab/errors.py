@@ -17,9 +17,14 @@ True
 """
 from __future__ import annotations
 
-__all__ = ["InputError", "BudgetError", "EXIT_OK", "EXIT_CLAIM", "EXIT_INPUT", "EXIT_BUG", "EXIT_INTERRUPTED"]
+__all__ = ["InputError", "BudgetError", "Terminated", "EXIT_TERMINATED", "EXIT_OK", "EXIT_CLAIM", "EXIT_INPUT", "EXIT_BUG", "EXIT_INTERRUPTED"]
 
-EXIT_OK, EXIT_CLAIM, EXIT_INPUT, EXIT_BUG, EXIT_INTERRUPTED = 0, 1, 2, 3, 130
+EXIT_OK, EXIT_CLAIM, EXIT_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 3, 130, 143
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where Ctrl-C would be: the same clean stop (finished runs saved, no half
+    file), exit 143."""
 
 
 class InputError(ValueError):

@@ -52,6 +52,8 @@ import threading
 import time
 from pathlib import Path
 
+from .process import alive
+
 __all__ = ["atomic_write", "atomic_write_text", "atomic_copy", "OutputError", "output_set", "output_lock",
            "output_phase", "deferred_interrupt", "remove_stale_temps", "is_temp", "TEMP_PATTERN", "LOCK_NAME"]
 
@@ -79,28 +81,6 @@ def is_temp(name: str) -> bool:
     return bool(TEMP_PATTERN.match(name))
 
 
-def _alive(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a zombie counts as gone)."""
-    if pid == os.getpid():
-        return True
-    if pid <= 0:
-        return False
-    try:
-        os.kill(pid, 0)
-    except (ProcessLookupError, OverflowError):
-        return False
-    except PermissionError:
-        return True
-    except OSError:
-        return True
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            state = f.read().rpartition(b")")[2].split()[0]
-        return state not in (b"Z", b"X")
-    except (OSError, IndexError):
-        return True
-
-
 def remove_stale_temps(folder) -> list:
     """Remove the temporary files in ``folder`` left by processes that are gone (killed while
     writing); returns the names removed.  Temporary files of live processes are kept."""
@@ -114,7 +94,7 @@ def remove_stale_temps(folder) -> list:
         m = TEMP_PATTERN.match(name)
         stale = False
         if m:
-            stale = not _alive(int(m["pid"]))
+            stale = not alive(int(m["pid"]))
         elif name.startswith(".") and _LEGACY.match(name):
             try:
                 stale = now - os.stat(os.path.join(folder, name)).st_mtime > _LEGACY_AGE

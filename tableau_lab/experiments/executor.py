@@ -56,6 +56,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 
+from ..process import die_with_parent
+
 __all__ = ["executor", "Executor", "SchedulerError", "TaskError"]
 
 
@@ -261,11 +263,7 @@ def _worker_start(parent: int, started) -> None:
     """A pool worker's initializer: Ctrl-C is the command's to handle; the worker ends when the
     command is gone (module docstring)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(Exception):
-            import ctypes
-            PR_SET_PDEATHSIG = 1
-            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    die_with_parent()
     if not _parent_alive(parent, started):
         os._exit(1)
     threading.Thread(target=_watch_parent, args=(parent, started), daemon=True,
