@@ -162,6 +162,7 @@ def _quick_job(args, frozen=False):
     a RunJob, frozen when it goes to another process."""
     from .experiments.runs import prepare_quick
 
+    _entry_limits(args)
     overrides = {}
     for item in args.set or []:
         k, _, v = item.partition("=")
@@ -480,6 +481,8 @@ def build_parser() -> argparse.ArgumentParser:
         "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
     p.add_argument("--version", action="version", version=f"tableau-lab {__version__}")
     p.add_argument("--debug", action="store_true", help="print the traceback of an internal error")
+    p.add_argument("--entry-limit", action="append", default=[], metavar="KEY=N",
+                   help="raise a limit of tableau entries, e.g. depth=100 (repeatable; docs/reliability.md)")
     p.add_argument("--timeout", type=_seconds, default=DEFAULT_SECONDS, metavar="S",
                    help=f"time budget of the exact commands ({', '.join(EXACT_COMMANDS)}) in seconds; "
                         f"0: none (default {DEFAULT_SECONDS:g})")
@@ -487,6 +490,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help=f"largest degree of a method's number field in the exact commands (default {FIELD_DEGREE_LIMIT})")
     debug = argparse.ArgumentParser(add_help=False)       # the same options after the command
     debug.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
+    debug.add_argument("--entry-limit", action="append", default=argparse.SUPPRESS, metavar="KEY=N",
+                       help="raise a limit of tableau entries, e.g. depth=100 (docs/reliability.md)")
     timeout = argparse.ArgumentParser(add_help=False)
     timeout.add_argument("--timeout", type=_seconds, default=argparse.SUPPRESS, metavar="S",
                          help=f"time budget in seconds, 0: none (default {DEFAULT_SECONDS:g})")
@@ -751,13 +756,25 @@ def _hard_deadline(args) -> int:
         signal.signal(signal.SIGINT, old)
 
 
+def _entry_limits(args) -> None:
+    """Apply --entry-limit KEY=N (grammar.raise_limit): in this process, and in a run's build child."""
+    if getattr(args, "entry_limit", None):
+        from .exact.grammar import EntryError, raise_limit
+        for item in args.entry_limit:
+            key, _, value = item.partition("=")
+            if not re.fullmatch(r"[0-9]{1,9}", value.strip()):
+                raise EntryError(f"--entry-limit {item[:60]!r}: write KEY=N with N an integer, e.g. depth=100")
+            raise_limit(key.strip(), int(value))
+
+
 def _dispatch(args) -> int:
     from .budget import time_limit
     from .files import OutputError
-    if args.command in EXACT_COMMANDS:
-        from .exact import field
-        field.FIELD_DEGREE_LIMIT = args.max_field_degree
     try:
+        _entry_limits(args)
+        if args.command in EXACT_COMMANDS:
+            from .exact import field
+            field.FIELD_DEGREE_LIMIT = args.max_field_degree
         with time_limit(args.timeout if args.command in EXACT_COMMANDS else None):
             return args.run(args)
     except KeyboardInterrupt as exc:        # Ctrl-C, or SIGTERM (Terminated)

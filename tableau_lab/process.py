@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import signal
 import sys
+import tempfile
+from pathlib import Path
 
-__all__ = ["die_with_parent", "alive"]
+__all__ = ["die_with_parent", "alive", "scratch_folder"]
 
 
 def die_with_parent() -> bool:
@@ -45,3 +48,13 @@ def alive(pid: int) -> bool:
         return state not in (b"Z", b"X")
     except (OSError, IndexError):
         return True
+
+
+def scratch_folder(prefix: str):
+    """A temporary folder ``<tmp>/<prefix><pid>_…`` for this process (a TemporaryDirectory);
+    the folders of that prefix left by processes that are gone (killed) are removed first."""
+    for d in Path(tempfile.gettempdir()).glob(f"{prefix}*_*"):
+        pid = d.name[len(prefix):].split("_", 1)[0]
+        if pid.isdigit() and not alive(int(pid)):
+            shutil.rmtree(d, ignore_errors=True)
+    return tempfile.TemporaryDirectory(prefix=f"{prefix}{os.getpid()}_")

@@ -192,3 +192,8 @@ CASES += [Case("scene-duplicate-key", "scene", "json", ("run", "{d}/scene.json",
                {"scene.json": _scene({})[:-1] + ', "monitor": NaN}', "m.json": GOOD}, 2, "NaN"),
           Case("scene-dev-zero", "scene", "path", ("run", "/dev/zero", "--out", "{d}/out"), {}, 2, "/dev/zero"),
           Case("scene-directory", "scene", "path", ("run", "{d}", "--out", "{d}/out"), {}, 2, "directory")]
+
+# raising a limit: only the named ones, within 100 times their default
+CASES += [Case(f"entry-limit-{i}", "cli number", "range", ("verify", "{d}/m.json", "--entry-limit", v), {"m.json": GOOD}, 2,
+               "--entry-limit") for i, v in enumerate(("bogus=3", "depth=x", "depth=0", "depth=999999", "depth", "=5",
+                                                        "depth=١٠"))]

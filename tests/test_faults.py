@@ -440,3 +440,38 @@ def test_no_worker_outlives_convergence(lab, tmp_path):
     assert _gone(marker, within=5) == []
     found = _check_folder(out)
     assert set(found) == {"convergence_pendulum_float64.json", "convergence_pendulum_float64.png"}
+
+
+KILLED = {   # command, and the files a complete run leaves in its output folder
+    "convergence": (lambda out: [sys.executable, "-m", "tableau_lab", "convergence", str(METHODS / "rk4.json"),
+                                 "--problem", "harmonic", "--T", "1", "--max-steps", "800", "--workers", "1",
+                                 "--out", str(out)],
+                    {"convergence_harmonic_float64.json", "convergence_harmonic_float64.png"}),
+    "report": (lambda out: [sys.executable, "-m", "tableau_lab", "report", str(METHODS / "gauss2.json"), "--pdf",
+                            "--out", str(out)],
+               {"gauss2.json", "gauss2.tex", "gauss2.pdf", "gauss2.log"}),
+}
+
+
+@pytest.mark.parametrize("command", sorted(KILLED))
+def test_kill_9_of_convergence_and_report(command, lab, tmp_path):
+    """SIGKILL at random moments of ``convergence`` and ``report --pdf`` (REPEATS times): the
+    files there load each time; then a complete run leaves exactly its set, no temporary file."""
+    import shutil
+    if command == "report" and shutil.which("pdflatex") is None:
+        pytest.skip("no pdflatex")
+    make, complete = KILLED[command]
+    out = tmp_path / "out"
+    t0 = time.monotonic()
+    subprocess.run(make(tmp_path / "timing"), env=lab["env"], check=True, capture_output=True, timeout=300)
+    normal = time.monotonic() - t0
+    rng = random.Random(17)
+    for _ in range(REPEATS):
+        p = _start(make(out), lab["env"])
+        time.sleep(rng.uniform(0.1, max(0.2, normal)))
+        p.kill()
+        p.communicate()
+        _check_folder(out, temps_allowed=True)
+    done = subprocess.run(make(out), env=lab["env"], check=False, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert set(_check_folder(out)) == complete

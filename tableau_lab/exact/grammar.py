@@ -71,7 +71,7 @@ import sympy as sp
 
 from ..errors import InputError
 
-__all__ = ["EntryError", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
+__all__ = ["EntryError", "over", "raise_limit", "LIMIT_OPTION", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
            "RESERVED", "NAME", "Dialect", "Function", "TABLEAU", "parse", "sympy_functions", "declared_names"]
 
 LIMITS = {                    # the tableau dialect's (a dialect's limits have these keys; the last two: tableau only)
@@ -85,6 +85,30 @@ LIMITS = {                    # the tableau dialect's (a dialect's limits have t
     "trig_denominator": 120,  # n in cos(k*pi/n), sin(k*pi/n) (degree up to φ(2n)/2)
     "root_degree": 40,        # degree of the polynomial of root(...)
 }
+_DEFAULT_LIMITS = dict(LIMITS)
+
+LIMIT_OPTION = "--entry-limit"   # the command-line option that raises a limit of the tableau dialect
+
+
+def over(dialect, key: str) -> str:
+    """The limit a text went over, and how to raise it (tableau entries: ``--entry-limit KEY=N``).
+
+    >>> over(TABLEAU, "depth")
+    '(limit depth = 60; raise it with --entry-limit depth=N)'
+    """
+    raise_it = f"; raise it with {LIMIT_OPTION} {key}=N" if dialect.limits is LIMITS else ""
+    return f"(limit {key} = {dialect.limits[key]}{raise_it})"
+
+
+def raise_limit(key: str, value: int) -> None:
+    """Set a limit of the tableau dialect (``--entry-limit KEY=N``): at most 100 times its default."""
+    if key not in LIMITS:
+        raise EntryError(f"{LIMIT_OPTION} {key}: no such limit (limits: {', '.join(LIMITS)})")
+    if not 1 <= value <= 100 * _DEFAULT_LIMITS[key]:
+        raise EntryError(f"{LIMIT_OPTION} {key}={value}: give 1 … {100 * _DEFAULT_LIMITS[key]}")
+    LIMITS[key] = value
+    _parse_text.cache_clear()
+
 
 _NAME = r"[A-Za-z][A-Za-z0-9_]*"
 NAME = re.compile(_NAME + r"\Z")      # a name: a letter, then letters, digits and _
@@ -198,9 +222,9 @@ def _number(literal: str, dialect: Dialect, text: str, pos: int) -> sp.Rational:
     mantissa, _, exponent = literal.lower().partition("e")
     digits, lim = len(mantissa.replace(".", "").lstrip("0")), dialect.limits["integer_digits"]
     if digits > lim:
-        raise EntryError(f"number with {digits} digits is too long (limit {lim}) {_where(text, pos)}")
+        raise EntryError(f"number with {digits} digits is too long {over(dialect, 'integer_digits')} {_where(text, pos)}")
     if exponent and (len(exponent) > 8 or abs(int(exponent)) > 4 * dialect.limits["exponent_size"]):
-        raise EntryError(f"exponent of {literal[:40]!r} is too large {_where(text, pos)}")
+        raise EntryError(f"exponent of {literal[:40]!r} is too large {over(dialect, 'exponent_size')} {_where(text, pos)}")
     return sp.Integer(int(literal)) if literal.isdigit() else sp.Rational(Fraction(literal))
 
 
@@ -248,7 +272,7 @@ class _Parser:
         """``parse()`` one level deeper (the depth is limited), with ``scope`` bound (None: as it is)."""
         self.depth += 1
         if self.depth > self.limits["depth"]:
-            raise self.error(f"expression nested too deeply (limit {self.limits['depth']})", self.peek().pos)
+            raise self.error(f"expression nested too deeply {over(self.dialect, 'depth')}", self.peek().pos)
         saved = self.scope
         if scope is not None:
             self.scope = scope
@@ -345,8 +369,8 @@ class _Parser:
                              "only integer powers of parameters are exact field arithmetic here", pos)
         lim = self.limits["exponent_size"]
         if not exp.is_Integer and _radical_depth(base) >= self.limits["radical_depth"]:
-            raise self.error(f"roots nested more than {self.limits['radical_depth']} deep (limit radical_depth; "
-                             "write such a number as root(POLY, k))", pos)
+            raise self.error(f"roots nested more than {self.limits['radical_depth']} deep "
+                             f"{over(self.dialect, 'radical_depth')}; or write the number as root(POLY, k)", pos)
         if abs(exp.p) > lim or exp.q > lim:
             raise self.error(f"exponent {exp} is too large (limit: numerator and denominator at most {lim})", pos)
         if base == 0 and exp < 0:
@@ -359,7 +383,7 @@ class _Parser:
             radicand, digits = base**exp.p, self.limits["radicand_digits"]
             if max(abs(radicand.p), radicand.q).bit_length() > 3.33 * digits:
                 raise self.error(f"({_short(base)})**({exp}): the number under the root is too large "
-                                 f"(limit {digits} digits)", pos)
+                                 f"{over(self.dialect, 'radicand_digits')}", pos)
             return self.checked(sp.Pow(radicand, sp.Rational(1, exp.q)), pos)
         return self.checked(sp.Pow(base, exp), pos)
 
@@ -369,7 +393,7 @@ class _Parser:
             raise self.error("the value is not a finite number", pos)
         digits = self.limits["result_digits"]
         if any(max(abs(r.p), r.q).bit_length() > 3.33 * digits for r in e.atoms(sp.Rational)):
-            raise self.error(f"the value holds numbers too large to handle (over {digits} digits)", pos)
+            raise self.error(f"the value holds numbers too large to handle {over(self.dialect, 'result_digits')}", pos)
         if e.is_real is False:
             raise self.error("the value is not a real number", pos)
         return e
@@ -395,7 +419,7 @@ def parse(text: str, dialect: Dialect, names: Mapping | None = None) -> sp.Expr:
     """
     lim = dialect.limits["text_length"]
     if len(text) > lim:
-        raise EntryError(f"expression of {len(text)} characters is too long (limit {lim})")
+        raise EntryError(f"expression of {len(text)} characters is too long {over(dialect, 'text_length')}")
     return _Parser(text, dialect, names).parse()
 
 
@@ -412,7 +436,7 @@ def _trig(p, name, args, pos):
         raise p.error(f"{name}({_short(arg)}): the argument must be a rational multiple of pi "
                       "(an algebraic value)", pos)
     if q.q > p.limits["trig_denominator"]:
-        raise p.error(f"{name}({arg}): denominator {q.q} too large (limit {p.limits['trig_denominator']})", pos)
+        raise p.error(f"{name}({arg}): denominator {q.q} too large {over(p.dialect, 'trig_denominator')}", pos)
     return (sp.cos if name == "cos" else sp.sin)(q * sp.pi)
 
 
@@ -424,7 +448,8 @@ def _root(p, name, args, pos):
         raise p.error(f"root(...): {_short(poly)} is not a polynomial in x with rational coefficients", pos)
     P = sp.Poly(poly, _X, domain=sp.QQ)
     if P.degree() < 1 or P.degree() > p.limits["root_degree"]:
-        raise p.error(f"root(...): the polynomial must have degree 1 to {p.limits['root_degree']}", pos)
+        raise p.error(f"root(...): the polynomial must have degree 1 to {p.limits['root_degree']} "
+                      f"{over(p.dialect, 'root_degree')}", pos)
     if any(a.free_symbols or not a.is_Rational for a in ends):
         raise p.error("root(...): the index and the interval ends must be rational numbers", pos)
     reals = sp.Poly(P.as_expr(), _X).real_roots()       # exact (CRootOf), ascending, with multiplicity

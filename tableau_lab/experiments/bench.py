@@ -288,8 +288,9 @@ def table(res: dict) -> str:
 
 
 def save(res: dict, out="reports/bench") -> Path:
-    from ..files import atomic_write_text
+    from ..files import atomic_write_text, output_phase
     out = Path(out)
-    atomic_write_text(out / "bench.json", json.dumps(res, indent=1, default=float))
-    atomic_write_text(out / "bench.md", "# tableau-lab bench\n\n" + table(res) + "\n")
+    with output_phase(out):                   # both or neither, under the folder's lock
+        atomic_write_text(out / "bench.json", json.dumps(res, indent=1, default=float))
+        atomic_write_text(out / "bench.md", "# tableau-lab bench\n\n" + table(res) + "\n")
     return out

@@ -19,14 +19,13 @@ import os
 import pickle
 import subprocess
 import sys
-import shutil
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import mpmath
 
 from ..numeric.integrate import integrate
+from ..process import die_with_parent, scratch_folder
 
 __all__ = ["RunJob", "BuildError", "run_job", "separate_stages"]
 
@@ -92,8 +91,7 @@ def run_job(build, *args, precision: str = "float64"):
     of the build (bad files, parameters) come back as the exceptions it raised."""
     if not separate_stages(precision):
         return build(*args, frozen=False).execute()
-    _remove_stale_jobs()
-    with tempfile.TemporaryDirectory(prefix=f"{JOB_PREFIX}{os.getpid()}_") as tmp:
+    with scratch_folder(JOB_PREFIX) as tmp:
         task, result = Path(tmp) / "task.pickle", Path(tmp) / "job.pickle"
         task.write_bytes(pickle.dumps((build, args)))
         done = subprocess.run([sys.executable, "-m", "tableau_lab.experiments.job", str(task), str(result)],
@@ -107,22 +105,12 @@ def run_job(build, *args, precision: str = "float64"):
     return value.execute()
 
 
-JOB_PREFIX = "tableau_lab_job_"         # + the parent's pid + "_": its folder in the temporary directory
-
-
-def _remove_stale_jobs() -> None:
-    """Remove the job folders of commands that are gone (killed before they could)."""
-    from ..process import alive
-    for d in Path(tempfile.gettempdir()).glob(f"{JOB_PREFIX}*_*"):
-        pid = d.name[len(JOB_PREFIX):].split("_", 1)[0]
-        if pid.isdigit() and not alive(int(pid)):
-            shutil.rmtree(d, ignore_errors=True)
+JOB_PREFIX = "tableau_lab_job_"         # its folder in the temporary directory: + the pid + "_"
 
 
 def _child(task: str, result: str) -> None:
     """``python -m tableau_lab.experiments.job TASK RESULT``: build, write (True, job) or
     (False, exception) to RESULT.  It dies with the command that started it."""
-    from ..process import die_with_parent
     die_with_parent()
     build, args = pickle.loads(Path(task).read_bytes())
     try:

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write_text
+from ..files import atomic_write_text, output_phase
 
 __all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point"]
 
@@ -186,10 +186,11 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
             "invariant": scene.invariant, "reference_error_bound": gap, "series": series}
     data["speedup"] = speedup(data)
     out = Path(out_root) / scene.name
-    atomic_write_text(out / "data.json", json.dumps(data, indent=1))
     from .plots import draw_workprecision
-    draw_workprecision(data, out / f"{scene.name}.png")
-    atomic_write_text(out / "summary.md", f"# {data['title']}\n\n{summary_table(data)}\n")
+    with output_phase(out):                   # the three together, under the folder's lock
+        atomic_write_text(out / "data.json", json.dumps(data, indent=1))
+        draw_workprecision(data, out / f"{scene.name}.png")
+        atomic_write_text(out / "summary.md", f"# {data['title']}\n\n{summary_table(data)}\n")
     return data
 
 

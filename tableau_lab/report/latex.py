@@ -19,7 +19,6 @@ from __future__ import annotations
 import json
 import shutil
 import subprocess
-import tempfile
 from pathlib import Path
 
 import sympy as sp
@@ -29,6 +28,7 @@ from ..analysis.parasitism import growth_parameters
 from ..analysis.symplectic import g_symplectic, rk_symplectic
 from ..exact.field import normal_form
 from ..files import OutputError, atomic_copy, atomic_write_text, output_phase
+from ..process import die_with_parent, scratch_folder
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 
@@ -344,11 +344,11 @@ def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
         return None
     given = Path(tex_path)
     tex_path = given.resolve()
-    with tempfile.TemporaryDirectory() as tmp:
-        for _ in range(2):
+    with scratch_folder("tableau_lab_pdf_") as tmp:
+        for _ in range(2):                       # pdflatex dies with this process (kill -9 included)
             p = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", "-output-directory", tmp,
                                 str(tex_path)], capture_output=True, text=True, errors="replace", cwd=tex_path.parent,
-                               timeout=300)
+                               timeout=300, preexec_fn=die_with_parent)
         log = Path(tmp) / (tex_path.stem + ".log")
         pdf = Path(tmp) / (tex_path.stem + ".pdf")
         failed = p.returncode != 0 or not pdf.exists()
