@@ -71,7 +71,7 @@ import sympy as sp
 
 from ..errors import InputError
 
-__all__ = ["EntryError", "over", "raise_limit", "LIMIT_OPTION", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
+__all__ = ["EntryError", "NUMBER_NAMES", "over", "raise_limit", "LIMIT_OPTION", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
            "RESERVED", "NAME", "Dialect", "Function", "TABLEAU", "parse", "sympy_functions", "declared_names"]
 
 LIMITS = {                    # the tableau dialect's (a dialect's limits have these keys; the last two: tableau only)
@@ -478,8 +478,10 @@ def _parameter_name(p, name, pos):
     return parameter(name)
 
 
-# names refused as parameters: they read as numbers or constants (nan, inf, e, i …), case-insensitive
-NOT_PARAMETERS = frozenset({"nan", "inf", "infinity", "oo", "zoo", "e", "i", "j", "none", "true", "false"})
+# names that read as numbers in every dialect (case-insensitive): never a parameter's name
+NUMBER_NAMES = frozenset({"nan", "inf", "infinity", "oo", "zoo", "none", "true", "false"})
+# a tableau's parameters are not e, i, j either (constants); a problem may name its eccentricity e
+NOT_PARAMETERS = NUMBER_NAMES | {"e", "i", "j"}
 
 
 _ANGLE = MappingProxyType({"pi": sp.pi})

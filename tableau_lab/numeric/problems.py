@@ -30,6 +30,7 @@ from typing import Callable
 import mpmath
 import sympy as sp
 
+from ..exact.grammar import NUMBER_NAMES
 from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
@@ -319,7 +320,7 @@ def get_problem(name, **overrides) -> Problem:
 
 _KEYS = {"hamiltonian": ("q", "p", "H", "q0", "p0"), "general": ("y", "f", "y0")}
 # names a user problem cannot declare (any case): they read as numbers or constants
-NOT_NAMES = frozenset({"nan", "inf", "infinity", "oo", "zoo", "pi", "none", "true", "false"})
+NOT_NAMES = NUMBER_NAMES | {"pi"}
 
 
 def problem_from_dict(d: dict) -> Problem:
