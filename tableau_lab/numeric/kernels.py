@@ -408,15 +408,11 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
             _COMPILE[key] = time.perf_counter() - (t0 if entry == "run" and n0 == 0 else t)
             out.compile_seconds += _COMPILE[key]
         done[0] = 0
-        inside[0] = True
         status = int(getattr(loop, entry)(*st.args(n0, n1)))
-        inside[0] = False
-        if status == 0:
-            finished[0] = n1
         records()
         return status
 
-    n, inside, finished = 0, [False], [0]      # in a loop call; the last step of the last call that finished
+    n = 0
     try:
         while n < steps:
             n1 = min(steps, n + chunk)
@@ -442,7 +438,7 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
         if done[1]:                            # raised by record(): the run stops at that record
             out.completed = int(recn[done[0] - 1])
         else:                                  # Ctrl-C in the pure loop, or between calls: keep the records
-            out.completed = int(stats[L.S_STEP]) - 1 if inside[0] else max(out.completed, finished[0])
+            out.completed = max(out.completed, int(stats[L.S_DONE]))    # the last step finished
             try:
                 records()
             except BaseException:

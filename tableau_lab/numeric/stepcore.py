@@ -58,7 +58,7 @@ from .limits import (ANY, DIVERGE_AFTER, EXPLICIT, F_COMPENSATE, F_EXPLICIT, F_H
                      HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
                      F_MODE, FIXED, FULL, FULL_NEWTON_SWEEPS, NEWTON, PROJECTION_ACCEPT, PROJECTION_ROUNDOFF,
                      PROJECTION_STALL, PROJECTION_SWEEPS, RESCUE_SWEEPS, ROUNDOFF_FLOOR, S_FALLBACKS, S_LAST,
-                     S_NFEV, S_NREC, S_NVEL, S_PROJ, S_PROJ_RES, S_STEP, S_SWEEPS, SPLIT, STAGE_SWEEPS,
+                     S_DONE, S_NFEV, S_NREC, S_NVEL, S_PROJ, S_PROJ_RES, S_STEP, S_SWEEPS, SPLIT, STAGE_SWEEPS,
                      STALL_THETA, SWITCH_AFTER)
 
 
@@ -638,6 +638,7 @@ def observe(track, ttarget, tmax, Y, c, tmp, yfirst, d):
 def after_step(n, track_due, record_due, Y, c, track, ttarget, tmax, rec, recn, nrec, work, stats, r, d):
     """The invariants tracked and the record kept, where due after step n; the records so far."""
     tmp, yfirst = work[7], work[8]
+    stats[S_DONE] = n
     if track_due and track.shape[0] > 0:
         observe(track, ttarget, tmax, Y, c, tmp, yfirst, d)
     if record_due:
