@@ -10,50 +10,25 @@ slowest case.
 from __future__ import annotations
 
 import argparse
-import contextlib
-import io
-import os
 import sys
-import tempfile
-import time
 from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
-from hostile_cases import CASES  # noqa: E402
+from hostile_cases import CASES, SLACK, run_case  # noqa: E402
 
 from tableau_lab.cli import main  # noqa: E402
 
-SLACK = 5.0
 BEGIN, END = "<!-- hostile table: begin -->", "<!-- hostile table: end -->"
 
 
-def run_case(case) -> dict:
-    with tempfile.TemporaryDirectory() as d:
-        d = Path(d)
-        for name, text in case.files.items():
-            (d / name).write_text(text, encoding="utf-8", errors="surrogatepass")
-        before = set(d.rglob("*"))
-        argv = [a.replace("{d}", str(d)) for a in case.argv]
-        budget = float(argv[argv.index("--timeout") + 1]) if "--timeout" in argv[:2] else 60.0
-        err, cwd = io.StringIO(), os.getcwd()
-        os.chdir(d)
-        t0 = time.perf_counter()
-        try:
-            with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
-                try:
-                    code = main(argv)
-                except SystemExit as exc:
-                    code = exc.code
-        finally:
-            os.chdir(cwd)
-        seconds = time.perf_counter() - t0
-        text = err.getvalue()
-        return {"id": case.id, "surface": case.surface, "category": case.category, "ok": code == case.exit,
-                "refused": code == 2, "traceback": "Traceback" in text or "internal error" in text,
-                "hang": seconds > budget + SLACK, "executed": any(Path(p).exists() for p in ("PWNED", d / "PWNED")),
-                "left": len(set(d.rglob("*")) - before), "seconds": seconds}
+def row(case) -> dict:
+    r = run_case(case, main)
+    return {"id": case.id, "surface": case.surface, "category": case.category, "ok": r["code"] == case.exit,
+            "refused": r["code"] == 2, "traceback": "Traceback" in r["err"] or "internal error" in r["err"],
+            "hang": r["seconds"] > r["budget"] + SLACK, "executed": r["executed"], "left": len(r["added"]),
+            "seconds": r["seconds"]}
 
 
 def table(rows) -> str:
@@ -78,7 +53,7 @@ def main_table(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--write", metavar="DOC", help="replace the table between the markers of DOC")
     args = ap.parse_args(argv)
-    rows = [run_case(c) for c in CASES]
+    rows = [row(c) for c in CASES]
     out = table(rows)
     print(out)
     bad = [r["id"] for r in rows if not r["ok"] or r["traceback"] or r["hang"] or r["executed"] or r["left"]]

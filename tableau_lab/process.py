@@ -13,7 +13,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-__all__ = ["die_with_parent", "alive", "scratch_folder"]
+__all__ = ["die_with_parent", "alive", "start_time", "scratch_folder"]
 
 
 def die_with_parent() -> bool:
@@ -28,26 +28,43 @@ def die_with_parent() -> bool:
     return False
 
 
-def alive(pid: int) -> bool:
-    """Whether process ``pid`` runs on this machine (a zombie counts as gone)."""
+def _stat(pid: int) -> list:
+    """The fields of /proc/PID/stat after the command name (state first; start time at 19)."""
+    with open(f"/proc/{pid}/stat", "rb") as f:
+        return f.read().rpartition(b")")[2].split()
+
+
+def start_time(pid: int):
+    """The start time of process ``pid`` (clock ticks since boot, Linux), None elsewhere or if
+    gone: with the pid it names one process (pids are reused)."""
+    try:
+        return int(_stat(pid)[19])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def alive(pid: int, started: int | None = None) -> bool:
+    """Whether process ``pid`` runs on this machine (a zombie counts as gone); with ``started``
+    (its start time, field 22 of /proc/PID/stat) also that it is the same process, not a new one
+    that got its pid."""
     if pid == os.getpid():
         return True
     if pid <= 0:
         return False
     try:
+        fields = _stat(pid)
+        return fields[0] not in (b"Z", b"X") and (started is None or int(fields[19]) == started)
+    except FileNotFoundError:
+        return False
+    except (OSError, ValueError, IndexError):     # no /proc: ask the kernel
+        pass
+    try:
         os.kill(pid, 0)
     except (ProcessLookupError, OverflowError):
         return False
-    except PermissionError:
-        return True
-    except OSError:
-        return True
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            state = f.read().rpartition(b")")[2].split()[0]
-        return state not in (b"Z", b"X")
-    except (OSError, IndexError):
-        return True
+    except OSError:                                 # PermissionError: it exists
+        pass
+    return True
 
 
 def scratch_folder(prefix: str):

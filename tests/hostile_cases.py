@@ -5,8 +5,16 @@ benchmarks/hostile_table.py (every case as a user runs it, in a subprocess with 
 the table of docs/reliability.md).  ``{d}`` in an argument is the case's own folder."""
 from __future__ import annotations
 
+import contextlib
+import io
 import json
+import os
+import tempfile
+import time
+from pathlib import Path
 from typing import NamedTuple
+
+SLACK = 5.0          # seconds a case may take beyond its --timeout (issue 16: budget + 5 s)
 
 
 class Case(NamedTuple):
@@ -17,6 +25,33 @@ class Case(NamedTuple):
     files: dict             # name -> text
     exit: int
     fragment: str           # in stderr (case-insensitive)
+
+
+def run_case(case, main) -> dict:
+    """Run ``case`` through ``main`` (tableau_lab.cli.main) in this process, in a fresh folder that
+    is also the working directory: exit code, stderr, seconds, the time budget, the files added
+    beside the inputs, and whether an injection created its marker file."""
+    with tempfile.TemporaryDirectory() as d:
+        d = Path(d)
+        for name, text in case.files.items():
+            (d / name).write_text(text, encoding="utf-8", errors="surrogatepass")
+        before = set(d.rglob("*"))
+        argv = [a.replace("{d}", str(d)) for a in case.argv]
+        budget = float(argv[argv.index("--timeout") + 1]) if "--timeout" in argv[:2] else 60.0
+        err, cwd = io.StringIO(), os.getcwd()
+        os.chdir(d)
+        t0 = time.perf_counter()
+        try:
+            with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+                try:
+                    code = main(argv)
+                except SystemExit as exc:            # argparse's refusals
+                    code = exc.code
+        finally:
+            os.chdir(cwd)
+        return {"code": code, "err": err.getvalue(), "seconds": time.perf_counter() - t0, "budget": budget,
+                "added": sorted(str(p.relative_to(d)) for p in set(d.rglob("*")) - before),
+                "executed": (d / "PWNED").exists() or Path("PWNED").exists()}
 
 
 def rk(A, b=None, c=None, **extra) -> str:

@@ -9,38 +9,20 @@ import time
 import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
-from hostile_cases import CASES  # noqa: E402
+from hostile_cases import CASES, SLACK, run_case  # noqa: E402
 
 from tableau_lab.cli import main  # noqa: E402
 
-SLACK = 5.0          # seconds a case may take beyond its --timeout (issue 16: budget + 5 s)
-
-
-def _run(argv):
-    try:
-        return main(list(argv))
-    except SystemExit as exc:            # argparse's refusals
-        return exc.code
-
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
-def test_hostile_case(case, tmp_path, monkeypatch, capsys):
-    for name, text in case.files.items():
-        (tmp_path / name).write_text(text, encoding="utf-8", errors="surrogatepass")
-    monkeypatch.chdir(tmp_path)
-    before = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
-    argv = [a.replace("{d}", str(tmp_path)) for a in case.argv]
-    budget = float(argv[argv.index("--timeout") + 1]) if "--timeout" in argv[:2] else 60.0
-    t0 = time.perf_counter()
-    code = _run(argv)
-    seconds = time.perf_counter() - t0
-    err = capsys.readouterr().err
-    assert code == case.exit, f"exit {code}, expected {case.exit}: {err[-500:]}"
+def test_hostile_case(case):
+    r = run_case(case, main)
+    err = r["err"]
+    assert r["code"] == case.exit, f"exit {r['code']}, expected {case.exit}: {err[-500:]}"
     assert "Traceback" not in err and "internal error" not in err, err[-1000:]
     assert case.fragment.lower() in err.lower(), err[-500:]
-    assert seconds < budget + SLACK, f"{seconds:.1f} s"
-    after = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
-    assert after == before, f"files written on refusal: {set(after) - set(before)}"
+    assert r["seconds"] < r["budget"] + SLACK, f"{r['seconds']:.1f} s"
+    assert not r["added"] and not r["executed"], f"files written on refusal: {r['added']}"
 
 
 def test_corpus_size():

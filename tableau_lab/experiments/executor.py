@@ -56,7 +56,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 
-from ..process import die_with_parent
+from ..process import alive, die_with_parent, start_time
 
 __all__ = ["executor", "Executor", "SchedulerError", "TaskError"]
 
@@ -212,7 +212,7 @@ def _shared_pool(workers: int) -> ProcessPoolExecutor:
             method = "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
             me = os.getpid()
             _POOLS[workers] = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context(method),
-                                                  initializer=_worker_start, initargs=(me, _start_time(me)))
+                                                  initializer=_worker_start, initargs=(me, start_time(me)))
         return _POOLS[workers]
 
 
@@ -229,42 +229,12 @@ def _drop_pool(workers, pool, kill=False):
     pool.shutdown(wait=False, cancel_futures=True)
 
 
-def _start_time(pid: int):
-    """The start time of process ``pid`` (clock ticks since boot, Linux), None elsewhere or if
-    gone: with the pid it names one process (pids are reused)."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            return int(f.read().rpartition(b")")[2].split()[19])
-    except (OSError, ValueError, IndexError):
-        return None
-
-
-def _parent_alive(pid: int, started) -> bool:
-    """Whether the process that started the pool is still there (not gone, not a zombie, not
-    a new process with its pid)."""
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as f:
-            fields = f.read().rpartition(b")")[2].split()
-        return fields[0] not in (b"Z", b"X") and (started is None or int(fields[19]) == started)
-    except FileNotFoundError:
-        return False
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except OSError:
-        pass
-    return True
-
-
 def _worker_start(parent: int, started) -> None:
     """A pool worker's initializer: Ctrl-C is the command's to handle; the worker ends when the
     command is gone (module docstring)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     die_with_parent()
-    if not _parent_alive(parent, started):
+    if not alive(parent, started):
         os._exit(1)
     threading.Thread(target=_watch_parent, args=(parent, started), daemon=True,
                      name="tableau-lab: watch the command").start()
@@ -273,7 +243,7 @@ def _worker_start(parent: int, started) -> None:
 def _watch_parent(parent: int, started, every: float = 0.5) -> None:
     while True:
         time.sleep(every)
-        if not _parent_alive(parent, started):
+        if not alive(parent, started):
             os._exit(1)
 
 
