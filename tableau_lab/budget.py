@@ -22,10 +22,13 @@ from contextlib import contextmanager
 
 from .errors import BudgetError
 
-__all__ = ["DEFAULT_SECONDS", "FIELD_DEGREE", "OPTION", "computing", "time_limit", "current"]
+__all__ = ["DEFAULT_SECONDS", "FIELD_DEGREE", "SERIES_ORDER", "MODIFIED_ORDER", "OPTION", "computing", "time_limit",
+           "current"]
 
 DEFAULT_SECONDS = 300.0       # the default budget of one exact command (the slowest shipped analysis: ~15 s)
 FIELD_DEGREE = 64             # the default degree budget of a method's number field (exact/field.py)
+SERIES_ORDER = 12             # the highest order of a B-series (order 12: 4766 trees, 2^11 edge subsets each)
+MODIFIED_ORDER = 10           # the highest --order of `tableau-lab modified` (order 10: 719 trees, about a minute)
 OPTION = "--timeout S"        # how a user raises it
 
 _STACK: list[str] = []

@@ -16,10 +16,11 @@ import sys
 from pathlib import Path
 
 from . import __version__
+from .budget import MODIFIED_ORDER as MODIFIED_MAX_ORDER
 from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
 from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
 
-EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report")     # within --timeout
+EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified")     # within --timeout
 MAX_ORDER = 20                # --max-order
 MAX_DIGITS = 10 ** 4          # --digits
 MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
@@ -69,6 +70,24 @@ def _order(args) -> int:
             return order(method, max_order=args.max_order), ()
         except ValueError as exc:          # e.g. a GLM that is not preconsistent: no order theory applies
             raise TableauError(path, str(exc)) from None
+    return _each_method(args, analyse)
+
+
+def _modified(args) -> int:
+    from .analysis.modified import modified_equation
+    from .analysis.results import Combined
+    from .exact.tableau_json import TableauError
+
+    def analyse(method, path):
+        try:
+            res = modified_equation(method, args.order, "modifying" if args.modifying else "modified")
+            if args.structure:
+                from .analysis.method_series import method_series
+                from .analysis.series_structure import structure
+                res = Combined((res, structure(method_series(method, args.order).phi)), ("", "structure"))
+        except ValueError as exc:          # a PRK (P-series), a GLM without a simple eigenvalue 1 of V
+            raise TableauError(path, str(exc)) from None
+        return res, ()
     return _each_method(args, analyse)
 
 
@@ -518,6 +537,22 @@ def build_parser() -> argparse.ArgumentParser:
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     o.set_defaults(run=_order)
+    md = sub.add_parser("modified", help="modified equation (backward error analysis) or modifying integrator, "
+                                         "exactly; for GLMs that of the underlying one-step method",
+                        description="The numerical solution is the exact flow of ỹ′ = Σ h^(|t|−1) b(t)/σ(t) F(t)(ỹ) "
+                                    "(Hairer, Lubich & Wanner, Geometric Numerical Integration, IX). Prints the "
+                                    "coefficients b(t)/σ(t) by powers of h for every tree of order ≤ N. "
+                                    "--structure adds the orders to which the series is symplectic, "
+                                    "conjugate-symplectic, symmetric and energy-preserving.")
+    md.add_argument("files", nargs="+", metavar="FILE")
+    md.add_argument("--order", type=_count(1, MODIFIED_MAX_ORDER), default=5, metavar="N",
+                    help=f"trees of order ≤ N, terms up to h^(N−1) (default 5, at most {MODIFIED_MAX_ORDER})")
+    md.add_argument("--modifying", action="store_true",
+                    help="the modifying integrator: the field whose numerical flow is the exact flow of f")
+    md.add_argument("--structure", action="store_true",
+                    help="also: symplectic, conjugate-symplectic, symmetric, energy-preserving to which order")
+    md.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+    md.set_defaults(run=_modified)
     st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval, and for GLMs "
                                           "zero-stability and A(alpha)), algebraic stability and parasitism, exactly",
                         description="The characteristic polynomial P(w, z) = det[[I - zA, -U], [-zB, wI - V]] "

@@ -99,9 +99,10 @@ def test_fuzz_tableau_json():
 
 
 SCENE_KEYS = ["format", "name", "title", "seed", "notes", "problem", "h", "steps", "T", "runs", "record_every", "plots",
-              "precision", "start", "monitor", "bogus"]
+              "precision", "start", "monitor", "modified_energy", "bogus"]
 scene_value = st.one_of(json_value, st.sampled_from(["pendulum", "kepler", "1/100", "gauss2.json", 10, "..", "float64",
-                                                      "dd", "mp:32", ["invariants"], [{"method": "m.json"}]]))
+                                                      "dd", "mp:32", ["invariants"], [{"method": "m.json"}],
+                                                      {"terms": 2}, {"terms": "2"}, {"terms": 9}]))
 scene_text = st.one_of(st.dictionaries(st.sampled_from(SCENE_KEYS), scene_value, max_size=8).map(json.dumps),
                        st.text(max_size=200))
 

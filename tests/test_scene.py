@@ -136,3 +136,54 @@ def test_ctrl_c_in_the_compiled_loop_leaves_valid_incomplete_file(tmp_path, monk
     assert meta["runs"][0]["status"] == "interrupted"
     t = np.load(tmp_path / "out" / "t1" / "data.incomplete.npz")["run0_t"]
     assert len(t) == 13 and np.all(np.diff(t) > 0)            # t = 0 and the 12 records before the interrupt
+
+
+def test_modified_energy_key_plots_H_beside_Htilde(tmp_path, capsys):
+    """"modified_energy": {"terms": 2}: per run |H − H₀| and |H̃ − H̃₀| at the records; a method
+    without a modified energy (RK4) is drawn with H alone and the reason, not an error."""
+    p = _scene(tmp_path, problem="pendulum", steps=2000, record_every=10, plots=["invariants"],
+               modified_energy={"terms": 2},
+               runs=[{"method": str(METHODS / "implicit_midpoint.json")},
+                     {"method": str(METHODS / "stormer_verlet.json")}, {"method": str(METHODS / "rk4.json")}])
+    assert load_scene(p).modified_energy == 2
+    assert main(["run", str(p), "--out", str(tmp_path / "out")]) == 0
+    assert "t1_modified_energy.png" in capsys.readouterr().out
+    out = tmp_path / "out" / "t1"
+    meta = json.loads((out / "meta.json").read_text())
+    assert meta["modified_energy"] == {"terms": 2}
+    assert {q.name for q in out.glob("*.png")} == {"t1_invariants.png", "t1_modified_energy.png"}
+    mid, sv, rk4 = (r["modified_energy"] for r in meta["runs"])
+    for me in (mid, sv):
+        assert me["powers"] == [2, 4] and me["evaluated_at"] == "y_n"
+        assert me["max_abs_H_error"] > 1e-7 and me["ratio"] >= 100, me
+    assert "no modified energy" in rk4["none"] and "ratio" not in rk4
+    data = np.load(out / "data.npz")
+    assert len(data["run1_modified_Htilde"]) == len(data["run1_t"]) == 201
+    assert "run2_modified_H" in data and "run2_modified_Htilde" not in data
+    # H from the states agrees with the integrator's own record of H
+    assert np.max(np.abs(data["run0_modified_H"] - data["run0_H"])) < 1e-14
+
+
+@pytest.mark.parametrize("value, match", [
+    ({"terms": 0}, "modified_energy.terms must be an integer between 1 and 3"),
+    ({"terms": 4}, "modified_energy.terms must be an integer between 1 and 3"),
+    ({"terms": "2"}, "modified_energy.terms"),
+    ({"terms": True}, "modified_energy.terms"),
+    ({"terms": 2.0}, "modified_energy.terms"),
+    ({"term": 2}, "modified_energy: unknown keys"),
+    (True, "modified_energy must be an object"),
+    ([2], "modified_energy must be an object"),
+])
+def test_modified_energy_key_bad_values_refused(tmp_path, value, match):
+    p = _scene(tmp_path, problem="pendulum", modified_energy=value)
+    with pytest.raises(SceneError, match=match) as info:
+        load_scene(p)
+    assert str(p) in str(info.value)
+
+
+def test_modified_energy_key_needs_a_hamiltonian_problem(tmp_path):
+    define = {"name": "decay", "y": ["x"], "f": ["-x"], "y0": ["1"]}
+    p = _scene(tmp_path, problem={"define": define}, modified_energy={"terms": 1},
+               runs=[{"method": str(METHODS / "gauss2.json")}], plots=["invariants"])
+    with pytest.raises(SceneError, match="modified_energy: the problem decay is not Hamiltonian"):
+        load_scene(p)

@@ -32,7 +32,7 @@ from sympy.polys.matrices import DomainMatrix
 from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
-from .bseries import flow_cuts, inverse
+from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
 from .trees import bracket, density, leaf_removals, order, trees_of_order
 
@@ -266,7 +266,7 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
         else:
             break
     alpha = {t: solver.dot_w(xi[t]) for t in xi if t is not None}
-    beta = inverse(alpha, p)
+    beta = inverse_coefficients(alpha, p)
     lift = K.to_sympy
     return GLMOrderResult(
         method=m.name, order=p, order_identity_start=p0, stage_order=q,

@@ -12,7 +12,6 @@ when Φ(t) = 1/γ(t) for every bicoloured tree with |t| ≤ p.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import sympy as sp
 
@@ -20,44 +19,13 @@ from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
 from .results import Result
+from .tree_kinds import BICOLOURED, bicoloured_trees
 
-__all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees"]
-
-
-@lru_cache(maxsize=None)
-def bicoloured_trees(n: int) -> tuple:
-    """All bicoloured rooted trees with n vertices (counts 2, 4, 14, 52, 214, ...: OEIS A000151)."""
-    if n == 1:
-        return ((0, ()), (1, ()))
-    out = set()
-
-    def forests(rem, bound):
-        if rem == 0:
-            yield ()
-            return
-        for k in range(min(rem, bound[0]), 0, -1):
-            for t in bicoloured_trees(k):
-                if (k, t) <= bound:
-                    for rest in forests(rem - k, (k, t)):
-                        yield (t,) + rest
-
-    for colour in (0, 1):
-        for f in forests(n - 1, (n, (2, ()))):
-            out.add((colour, tuple(sorted(f))))
-    return tuple(sorted(out))
+__all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function"]
 
 
-@lru_cache(maxsize=None)
-def _size(t) -> int:
-    return 1 + sum(_size(c) for c in t[1])
-
-
-@lru_cache(maxsize=None)
 def _gamma(t) -> int:
-    g = _size(t)
-    for c in t[1]:
-        g *= _gamma(c)
-    return g
+    return BICOLOURED.density(t)
 
 
 def _label(t) -> str:
@@ -87,8 +55,9 @@ class PRKOrderResult(Result):
         return f"The partitioned method has order {self.order}."
 
 
-def _residuals(m: PartitionedRungeKutta, K):
-    """Per order n, the list of (tree, Φ(t) − 1/γ(t)) over K (a generator, order by order)."""
+def weight_function(m: PartitionedRungeKutta, K):
+    """t ↦ Φ(t) over K for the bicoloured trees of :mod:`tree_kinds`: Φ(t) = b_{col(t)}ᵀΨ(t),
+    Ψ(t) = Π over the children c of A_{col(c)}Ψ(c) (componentwise)."""
     As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
     bs = [[element(K, x) for x in m.b], [element(K, x) for x in m.bhat]]
     s = m.s
@@ -103,12 +72,16 @@ def _residuals(m: PartitionedRungeKutta, K):
                 v = [x * y for x, y in zip(v, w)]
             psi[t] = v
         return psi[t]
+    return lambda t: sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero)
 
+
+def _residuals(m: PartitionedRungeKutta, K):
+    """Per order n, the list of (tree, Φ(t) − 1/γ(t)) over K (a generator, order by order)."""
+    phi = weight_function(m, K)
     n = 0
     while True:
         n += 1
-        yield [(t, sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero) - K.convert(sp.Rational(1, _gamma(t))))
-               for t in bicoloured_trees(n)]
+        yield [(t, phi(t) - K.convert(sp.Rational(1, _gamma(t)))) for t in bicoloured_trees(n)]
 
 
 def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:

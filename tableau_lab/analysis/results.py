@@ -8,7 +8,7 @@ import sympy as sp
 
 from ..exact.grammar import format_matrix
 
-__all__ = ["Result", "matrix_text", "matrix_latex"]
+__all__ = ["Result", "Combined", "matrix_text", "matrix_latex"]
 
 
 def matrix_text(M, indent: str = "    ") -> str:
@@ -38,3 +38,23 @@ class Result:
 
     def _repr_latex_(self) -> str:
         return "$" + self.to_latex() + "$"
+
+
+class Combined(Result):
+    """Several results of one method shown together: text one after the other, JSON merged
+    (each later part under its ``key``), LaTeX one after the other."""
+
+    def __init__(self, parts: tuple, keys: tuple = ()):
+        self.parts, self.keys = tuple(parts), tuple(keys) or tuple(f"part{i}" for i in range(len(parts)))
+
+    def __str__(self):
+        return "\n".join(str(p) for p in self.parts)
+
+    def to_json(self) -> dict:
+        out = dict(self.parts[0].to_json())
+        for k, p in zip(self.keys[1:], self.parts[1:]):
+            out[k] = p.to_json()
+        return out
+
+    def to_latex(self) -> str:
+        return "\n\n".join(p.to_latex() for p in self.parts)

@@ -36,7 +36,7 @@ from ..exact.methods import RungeKutta
 from .results import Result
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
-__all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights"]
+__all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights", "weight_function"]
 
 #: trees of at most this order are listed in the LaTeX table (order 6 has 20 trees, 7 has 48)
 LATEX_MAX_ORDER = 6
@@ -259,23 +259,29 @@ def elementary_weights(A, b, zero, one):
     return lambda t: sum((bi * x for bi, x in zip(b, stage(t))), zero)
 
 
+def weight_function(m: RungeKutta):
+    """(F, t ↦ Φ(t)): the elementary weights of ``m`` as elements of the FastField F, over ℚ by
+    the conjugate form when the nodes are all the roots of one polynomial, else over the method's
+    number field."""
+    if m.conjugate is not None:                 # nodes = all roots of one polynomial: in ℚ
+        F = FastField(sp.QQ)
+        one, _, Aop, bfun = m.conjugate.operators()
+        return F, elementary_weights([[Aop]], [bfun], ANY, one)
+    K = field_of([m.A, m.b, m.c])
+    F = FastField(K)
+    A = [[F.lift(x) for x in row] for row in to_dm(m.A, K).to_list()]
+    b = [F.lift(element(K, x)) for x in m.b]
+    return F, elementary_weights(A, b, F.zero, F.one)
+
+
 def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True) -> RKOrderResult:
     """Classical order by elementary weights over the method's number field, pinned at p + 1
     (default cap: the bound 2s, or s for explicit methods), with the stage order, B, C, D and,
     unless ``effective=False``, the effective order (Butcher's algebraic theory with r = 1)."""
     if m.kind != "rk":
         raise TypeError(f"rk_order applies to Runge–Kutta methods, not {m.kind!r}")
-    if m.conjugate is not None:                 # nodes = all roots of one polynomial: in ℚ
-        K = sp.QQ
-        F = FastField(K)
-        one, _, Aop, bfun = m.conjugate.operators()
-        phi_of = elementary_weights([[Aop]], [bfun], ANY, one)
-    else:
-        K = field_of([m.A, m.b, m.c])
-        F = FastField(K)
-        A = [[F.lift(x) for x in row] for row in to_dm(m.A, K).to_list()]
-        b = [F.lift(element(K, x)) for x in m.b]
-        phi_of = elementary_weights(A, b, F.zero, F.one)
+    F, phi_of = weight_function(m)
+    K = F.K
     bound = m.order_bound
     cap = max_order if max_order is not None else bound
     phis, p, bad, partial = [], 0, [], False

@@ -12,6 +12,8 @@ Trees are hashable, totally ordered and canonical, so equal trees are equal tupl
 ('[τ]', 2)
 >>> [bracket(u) for u in subtrees(t)]
 ['[τ[τ]]', 'τ', '[τ]', 'τ']
+>>> parse_tree("[t[t^2]]") == parse_tree("[[τ²]τ]"), differential(parse_tree("[τ[τ]]"))
+(True, "f''(f, f'f)")
 """
 from __future__ import annotations
 
@@ -19,7 +21,8 @@ from functools import lru_cache
 from math import factorial
 
 __all__ = ["TAU", "trees_of_order", "trees_up_to", "from_children", "order", "density", "symmetry",
-           "butcher_product", "bracket", "latex", "leaf_removals", "subtrees"]
+           "butcher_product", "bracket", "latex", "leaf_removals", "subtrees", "parse_tree", "TreeError",
+           "differential", "forests"]
 
 TAU = ()
 
@@ -36,21 +39,21 @@ def trees_of_order(n: int) -> tuple:
         return ()
     if n == 1:
         return (TAU,)
-    out = set()
+    return tuple(sorted({tuple(sorted(f)) for f in forests(n - 1, trees_of_order)}))
 
-    def forests(rem, bound):
-        if rem == 0:
-            yield ()
-            return
-        for k in range(min(rem, bound[0]), 0, -1):
-            for t in trees_of_order(k):
-                if (k, t) <= bound:
-                    for rest in forests(rem - k, (k, t)):
-                        yield (t,) + rest
 
-    for f in forests(n - 1, (n, ())):
-        out.add(tuple(sorted(f)))
-    return tuple(sorted(out))
+def forests(m: int, trees_of, bound=None):
+    """Every multiset of trees with m vertices in all, once, as a tuple in decreasing (order, tree);
+    ``trees_of(k)`` lists the trees with k vertices (plain or coloured), ``bound`` the largest
+    (order, tree) allowed first."""
+    if m == 0:
+        yield ()
+        return
+    for k in range(min(m, bound[0]) if bound else m, 0, -1):
+        for t in trees_of(k):
+            if bound is None or (k, t) <= bound:
+                for rest in forests(m - k, trees_of, (k, t)):
+                    yield (t,) + rest
 
 
 def trees_up_to(n: int):
@@ -140,3 +143,89 @@ def subtrees(t) -> tuple:
     for c in t:
         out.extend(subtrees(c))
     return tuple(out)
+
+
+class TreeError(ValueError):
+    """Text that is not a tree in bracket notation."""
+
+
+_SUPER_DIGITS = {c: str(i) for i, c in enumerate(_SUP)}
+#: the longest text and the most vertices parse_tree reads
+TREE_TEXT_MAX, TREE_ORDER_MAX = 400, 40
+
+
+def parse_tree(text: str) -> tuple:
+    """A tree from bracket notation: ``τ`` (or ``t``), ``[τ²]`` (or ``[t^2]``, ``[t t]``),
+    ``[τ[τ]]``; the inverse of :func:`bracket`.  Whitespace is ignored; at most
+    TREE_TEXT_MAX characters and TREE_ORDER_MAX vertices."""
+    if not isinstance(text, str) or len(text) > TREE_TEXT_MAX:
+        raise TreeError(f"a tree is a string of at most {TREE_TEXT_MAX} characters in bracket notation such as '[τ[τ]]'")
+    s = "".join(text.split())
+    pos = 0
+
+    def power():
+        nonlocal pos
+        digits = ""
+        if pos < len(s) and s[pos] == "^":
+            pos += 1
+            while pos < len(s) and s[pos] in "0123456789":
+                digits += s[pos]
+                pos += 1
+            if not digits:
+                raise TreeError(f"{text!r}: '^' must be followed by a count")
+        else:
+            while pos < len(s) and s[pos] in _SUPER_DIGITS:
+                digits += _SUPER_DIGITS[s[pos]]
+                pos += 1
+        return int(digits) if digits else 1
+
+    def tree(depth):
+        nonlocal pos
+        if depth > TREE_ORDER_MAX:
+            raise TreeError(f"{text!r}: more than {TREE_ORDER_MAX} vertices")
+        if pos < len(s) and s[pos] in "τt":
+            pos += 1
+            return TAU
+        if pos < len(s) and s[pos] == "[":
+            pos += 1
+            kids = []
+            while pos < len(s) and s[pos] != "]":
+                c = tree(depth + 1)
+                n = power()
+                if n < 1 or len(kids) + n > TREE_ORDER_MAX:
+                    raise TreeError(f"{text!r}: more than {TREE_ORDER_MAX} vertices")
+                kids.extend([c] * n)
+            if pos >= len(s):
+                raise TreeError(f"{text!r}: missing ']'")
+            pos += 1
+            if not kids:
+                raise TreeError(f"{text!r}: '[]' is not a tree (write τ for the single vertex)")
+            return from_children(kids)
+        raise TreeError(f"{text!r}: expected τ, t or '[' at character {pos + 1}")
+
+    t = tree(0)
+    if pos != len(s):
+        raise TreeError(f"{text!r}: unexpected {s[pos]!r} at character {pos + 1}")
+    if order(t) > TREE_ORDER_MAX:
+        raise TreeError(f"{text!r}: {order(t)} vertices; at most {TREE_ORDER_MAX}")
+    return t
+
+
+_PRIMES = ("", "′", "″", "‴")
+
+
+@lru_cache(maxsize=None)
+def differential(t, ascii: bool = True, tex: bool = False) -> str:
+    """The elementary differential F(t) in the usual notation ([HLW06] III.1.1): f, f'f,
+    f''(f, f), f'f'f, ...; f^(m) for m > 3 derivatives (f^{(m)} with ``tex``); primes as ′ ″ ‴
+    with ``ascii=False``."""
+    if t == TAU:
+        return "f"
+    m = len(t)
+    head = "f" + (_PRIMES[m] if m < 4 else (f"^{{({m})}}" if tex else f"^({m})"))
+    if ascii:
+        head = head.replace("′", "'").replace("″", "''").replace("‴", "'''")
+    args = [differential(c, ascii, tex) for c in t]
+    if m == 1:
+        return head + args[0]
+    return head + "(" + ", ".join(args) + ")"

@@ -26,6 +26,16 @@ run is a result, not a failure (the scene stays complete).  For every GLM with e
 ζ ≠ 1 of V on the unit circle the data hold ``run<i>_parasitic_<j>`` (the component of the j-th
 ζ at the records) and, when μ ≠ 0, ``run<i>_predicted_<j>`` (∫ max Re eig(μ f′) dt); meta.json
 lists the ζ, μ and the largest component per run.
+
+``"modified_energy": {"terms": 2}`` (Hamiltonian problems; terms an integer 1 to 3, default 2)
+adds ``<name>_modified_energy.png``: per run, |H(y_n) − H₀| beside |H̃(y_n) − H̃₀|, H̃ the
+method's modified energy to its ``terms`` lowest nonzero corrections at the scene's h
+(:mod:`~tableau_lab.experiments.modified_energy`), both evaluated in float64 at the recorded
+states (for a GLM z_n = wᵀy^[n], or its finished output when the finishing method is not the
+identity: meta.json says which).  A run whose method has no modified energy (RK4, explicit Euler)
+shows |H − H₀| alone with the reason.  The data hold ``run<i>_modified_H`` and
+``run<i>_modified_Htilde``; meta.json per run the powers, the corrections, the maxima and their
+ratio (or the reason).
 """
 from __future__ import annotations
 
@@ -49,7 +59,9 @@ __all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", 
 FORMAT = "tableau_lab/scene/1"
 PLOTS = ("invariants", "orbit", "parasitic", "state")
 KEYS = {"format", "name", "title", "seed", "notes", "problem", "h", "steps", "T", "runs", "record_every",
-        "plots", "precision", "start", "monitor"}
+        "plots", "precision", "start", "monitor", "modified_energy"}
+MODIFIED_ENERGY_KEYS = {"terms"}
+MAX_MODIFIED_TERMS = 3      # nonzero corrections of H̃ (each costs a tree order or two of exact algebra)
 RUN_KEYS = {"method", "project", "precision", "start", "label"}
 STARTS = ("exact", "naive")
 NAME = SAFE_NAME                     # the output folder's name (inputs.py)
@@ -78,6 +90,7 @@ class Scene:
     plots: tuple
     raw: dict
     monitor: float | None = None     # bound on the parasitic components (None: recorded, not bounded)
+    modified_energy: int | None = None   # terms of H̃ to plot beside H (None: no modified-energy plot)
 
 
 def _exact(v, where, path):
@@ -254,6 +267,16 @@ def load_scene(path) -> Scene:
         if not _positive(bound):
             raise SceneError(f"{src}: monitor must be a positive bound such as \"1e-3\", got {_show(data['monitor'])}")
         monitor = _float64(bound, "monitor", src)
+    modified = None
+    if "modified_energy" in data:
+        me = data["modified_energy"]
+        if not isinstance(me, dict):
+            raise SceneError(f"{src}: modified_energy must be an object such as {{\"terms\": 2}}, not {_show(me)}")
+        extra = sorted(set(me) - MODIFIED_ENERGY_KEYS)
+        if extra:
+            raise SceneError(f"{src}: modified_energy: unknown keys {[printable(k) for k in extra]} "
+                             f"(allowed: {sorted(MODIFIED_ENERGY_KEYS)})")
+        modified = _count(me.get("terms", 2), "modified_energy.terms", src, 1, MAX_MODIFIED_TERMS)
     precision = _precision(data, "precision", src, "float64")
     start = _choice(data, "start", "start", src, "exact", STARTS)
     runs = data.get("runs")
@@ -276,6 +299,9 @@ def load_scene(path) -> Scene:
         _choice(r, "start", f"{where}.start", src, start, STARTS)
         _text(r, "label", f"{where}.label", src)
     problem = _problem(data.get("problem"), path)
+    if modified is not None and problem.kind != "hamiltonian":
+        raise SceneError(f"{src}: modified_energy: the problem {printable(problem.name)} is not Hamiltonian "
+                         f"(a modified energy needs H(q, p))")
     out_runs, read_methods = [], {}
     for i, r in enumerate(runs):
         where = f"runs[{i}]"
@@ -300,7 +326,8 @@ def load_scene(path) -> Scene:
                          "precision": r.get("precision", precision), "start": r.get("start", start),
                          "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}"
                                                                   if project else "")})
-    return Scene(path, name, title, seed, problem, h, steps, tuple(out_runs), every, tuple(plots), data, monitor)
+    return Scene(path, name, title, seed, problem, h, steps, tuple(out_runs), every, tuple(plots), data, monitor,
+                 modified)
 
 
 def run_one(sc: Scene, i: int, progress: bool = False):
@@ -312,7 +339,7 @@ def run_one(sc: Scene, i: int, progress: bool = False):
     from .runs import compiled
 
     r = sc.runs[i]
-    want_states = any(p in ("orbit", "state") for p in sc.plots)
+    want_states = any(p in ("orbit", "state") for p in sc.plots) or sc.modified_energy is not None
     m = load(r["method"])
     nm = to_numeric(m, r["precision"])
     cp = compiled(sc.problem, r["precision"])
@@ -363,7 +390,53 @@ def run_one(sc: Scene, i: int, progress: bool = False):
             "newton_iterations": run.newton_iterations, "projection_iterations": run.projection_iterations,
             "seconds": round(run.seconds, 3), "max_invariant_error": run.max_invariant_error(),
             **({"parasitic_modes": modes} if modes else {})}
+    if sc.modified_energy is not None and not interrupted:
+        meta["modified_energy"] = _modified_energy(sc, m, nm, r, arrays)
     return arrays, meta, interrupted
+
+
+_MODIFIED: dict = {}        # (method file, its text, problem key, h, terms) -> (corrections, H, H̃) or the reason
+
+
+def _modified_energy(sc: Scene, m, nm, r, arrays) -> dict:
+    """H and H̃ at the run's recorded states (into ``arrays`` as ``modified_H``, ``modified_Htilde``)
+    and the meta entry; a method without a modified energy gets H alone and the reason."""
+    from .modified_energy import energy_errors, modified_energy_expression, problem_hamiltonian
+    try:
+        text = Path(r["method"]).read_bytes()
+    except OSError:
+        text = b""
+    key = (str(r["method"]), text, sc.problem.key, sc.h, sc.modified_energy)
+    if key not in _MODIFIED:
+        try:
+            _MODIFIED[key] = modified_energy_expression(m, sc.problem, sc.h, sc.modified_energy)
+        except ValueError as exc:                  # no H̃ (RK4), or not within the series' orders
+            _MODIFIED[key] = printable(str(exc)) or "no modified energy"
+        except Exception as exc:                   # noqa: BLE001 - an optional plot never stops the scene
+            _MODIFIED[key] = printable(f"H̃ not computed ({type(exc).__name__}: {exc})")
+    found = _MODIFIED[key]
+    states = arrays.get("y", np.zeros((0, sc.problem.dimension)))
+    finished = nm.r > 1 and r["start"] == "exact" and any(v != 0 for v in nm.finishing.values())
+    where = ("the GLM's finished output (its H̃ is conserved at z_n = wᵀy^[n], not there)" if finished
+             else "z_n = wᵀy^[n]" if nm.r > 1 else "y_n")
+    if isinstance(found, str):
+        (eH,) = energy_errors(sc.problem, [problem_hamiltonian(sc.problem)[0]], states)
+        arrays["modified_H"] = eH
+        return {"terms": sc.modified_energy, "none": found, "evaluated_at": where,
+                "max_abs_H_error": float(np.max(np.abs(eH), initial=0.0))}
+    corr, H, Ht = found
+    try:
+        eH, eT = energy_errors(sc.problem, [H, Ht], states)
+    except Exception as exc:                       # noqa: BLE001 - e.g. a derivative numpy cannot evaluate
+        eH, = energy_errors(sc.problem, [H], states)
+        arrays["modified_H"] = eH
+        return {"terms": sc.modified_energy, "none": printable(f"H̃ not evaluated ({type(exc).__name__}: {exc})"),
+                "evaluated_at": where, "max_abs_H_error": float(np.max(np.abs(eH), initial=0.0))}
+    arrays["modified_H"], arrays["modified_Htilde"] = eH, eT
+    mH, mT = float(np.max(np.abs(eH), initial=0.0)), float(np.max(np.abs(eT), initial=0.0))
+    return {"terms": sc.modified_energy, "powers": [k for k, _ in corr],
+            "corrections": {f"h^{k}": str(e) for k, e in corr}, "evaluated_at": where,
+            "max_abs_H_error": mH, "max_abs_Htilde_error": mT, "ratio": mH / mT if mT > 0 else None}
 
 
 def write_outputs(sc: Scene, results, out, also=None) -> dict:
@@ -386,6 +459,7 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
             "parameters": {k: str(v) for k, v in sc.problem.parameters.items()}, "h": str(sc.h), "steps": sc.steps,
             "record_every": sc.record_every, "tableau_lab": __version__,
             **({"monitor": sc.monitor} if sc.monitor is not None else {}),
+            **({"modified_energy": {"terms": sc.modified_energy}} if sc.modified_energy is not None else {}),
             "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
@@ -396,6 +470,8 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
             atomic_write(out / written[0], lambda tmp: np.savez_compressed(tmp, **arrays), suffix=".npz")
             atomic_write_text(out / written[1], json.dumps(meta, indent=1, ensure_ascii=False))
             plots = draw(sc, meta, arrays, out) if any(res is not None for res in results) else []
+            if sc.modified_energy is not None and any(res is not None for res in results):
+                plots.append(_draw_modified_energy(sc, meta, arrays, out, suffix))
             extra = list(also(out)) if also is not None else []
         # the set is in place: a previous run's files must not contradict it
         keep = set(written) | set(plots) | set(extra)
@@ -407,6 +483,30 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
                     pass                    # removed by a concurrent writer that does not lock
     meta["plots"] = plots + extra
     return meta
+
+
+def _draw_modified_energy(sc: Scene, meta, arrays, out: Path, suffix: str) -> str:
+    """``<name>_modified_energy.png``: a panel per run, |H − H₀| beside |H̃ − H̃₀|."""
+    from .modified_energy import plot_energy_panels
+    panels = []
+    for i, r in enumerate(meta["runs"]):
+        me, t = r.get("modified_energy"), arrays.get(f"run{i}_t")
+        if me is None or t is None:
+            panels.append({"t": [], "err_H": [], "title": r["label"], "note": f"run {r['status']}"})
+            continue
+        if "none" in me:
+            panels.append({"t": t, "err_H": arrays[f"run{i}_modified_H"], "note": me["none"],
+                           "title": f"{r['label']}: no modified energy"})
+            continue
+        ratio = f"ratio of maxima {me['ratio']:.3g}" if me["ratio"] is not None else "H̃ exactly conserved"
+        panels.append({"t": t, "err_H": arrays[f"run{i}_modified_H"], "err_Ht": arrays[f"run{i}_modified_Htilde"],
+                       "powers": me["powers"], "title": f"{r['label']} ({ratio})"})
+    name = f"{sc.name}_modified_energy{suffix}.png"
+    title = sc.title + ("" if meta["complete"] else " (incomplete)")
+    lowest = "its lowest nonzero correction" if sc.modified_energy == 1 else \
+        f"its {sc.modified_energy} lowest nonzero corrections"
+    plot_energy_panels(panels, out / name, f"{title}\nH̃ = H + {lowest} (the method's modified energy at h = {sc.h})")
+    return name
 
 
 def _scene_files(out: Path, name: str) -> list:

@@ -26,6 +26,7 @@ import sympy as sp
 from ..analysis.order import order as order_of
 from ..analysis.parasitism import growth_parameters
 from ..analysis.symplectic import g_symplectic, rk_symplectic
+from .backward_error import modified_section
 from ..exact.field import normal_form
 from ..files import OutputError, atomic_copy, atomic_write_text, output_phase
 from ..process import die_with_parent, scratch_folder
@@ -282,6 +283,7 @@ def _body(m: Method, figures, C: _Constants) -> tuple[str, dict]:
         parts.append(_g_section(m, gs, C, facts))
     if not m.parameters:
         parts.append(_order_section(m, C, facts))
+        parts.append(modified_section(m, C, facts))
     if m.kind == "glm" and not m.V.free_symbols:
         par = growth_parameters(m)
         facts["parasitism"] = [{"zeta": str(p.zeta), "mu": str(p.mu)} for p in par.items]

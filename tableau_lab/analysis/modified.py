@@ -1,0 +1,114 @@
+r"""Modified equations and modifying integrators of a method, exactly ([HLW06] IX.1, IX.9;
+Chartier, Hairer & Vilmart, *Found. Comput. Math.* 10 (2010)).
+
+The numerical solution of y′ = f(y) by a method with B-series Φ is, formally, the exact flow of
+
+    ỹ′ = f̃(ỹ) = Σ_t h^{|t|−1} b(t)/σ(t) F(t)(ỹ),        b ⋆ E = Φ,
+
+and the method applied to y′ = Σ_t h^{|t|−1} c(t)/σ(t) F(t)(y), c ⋆ Φ = E, reproduces the exact
+flow of y′ = f (the *modifying integrator*).  For a GLM, Φ is its underlying one-step method
+(:mod:`method_series`).  The terms are listed by powers of h with coefficients b(t)/σ(t).
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> print(modified_equation(load("methods/explicit_euler.json"), 3))
+explicit Euler: modified equation, trees to order 3
+  ỹ′ = f
+     + h   ( -1/2 f'f )
+     + h^2 ( 1/12 f''(f, f) + 1/3 f'f'f )
+>>> modified_equation(load("methods/implicit_midpoint.json"), 5).terms[1:3]   # h²(−1/24 f″(f,f) + 1/12 f′f′f)
+((2, '[τ²]', -1/24), (2, '[[τ]]', 1/12))
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from ..budget import MODIFIED_ORDER, computing
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from .bseries import BSeries, modified_field, modifying_field
+from .method_series import method_series
+from .results import Result
+
+__all__ = ["modified_equation", "ModifiedEquation", "MODIFIED_MAX_ORDER"]
+
+#: the largest tree order of a modified equation from the command line (budget.MODIFIED_ORDER)
+MODIFIED_MAX_ORDER = MODIFIED_ORDER
+
+
+@dataclass(frozen=True)
+class ModifiedEquation(Result):
+    """The field f̃ (``kind`` "modified") or the modifying field (``kind`` "modifying") of a method,
+    as h-power, tree, coefficient b(t)/σ(t)."""
+
+    method: str
+    kind: str
+    max_order: int
+    field: BSeries
+    method_kind: str
+
+    @property
+    def terms(self) -> tuple:
+        """((power of h, bracket, b(t)/σ(t)), ...) for the nonzero terms, by order."""
+        k = self.field.kind
+        return tuple((k.order(t) - 1, k.bracket(t), v / k.symmetry(t)) for t, v in self.field.items() if v != 0)
+
+    def __str__(self):
+        what = "modified equation" if self.kind == "modified" else "modifying integrator (the field to integrate)"
+        lhs = "ỹ′ =" if self.kind == "modified" else "y′ ="
+        lines = [f"{self.method}: {what}, trees to order {self.max_order}"]
+        if self.method_kind == "glm":
+            lines[0] += " (underlying one-step method)"
+        by_power: dict = {}
+        k = self.field.kind
+        if k.coloured:
+            lhs = "(q̃′, p̃′) =" if self.kind == "modified" else "(q′, p′) ="
+            lines[0] += " (P-series: q′ = f(q, p), p′ = g(q, p); f-terms go to q̃′, g-terms to p̃′)"
+        for t, v in self.field.items():
+            if v != 0:
+                by_power.setdefault(k.order(t) - 1, []).append(f"{format_entry(v / k.symmetry(t))} {k.differential(t)}")
+        for k in sorted(by_power):
+            body = " + ".join(by_power[k]).replace("+ -", "- ")
+            if k == 0:
+                lines.append(f"  {lhs} " + body.replace("1 f", "f").replace("1 g", "g"))
+            else:
+                lines.append(f"     + {('h' if k == 1 else 'h^' + str(k)).ljust(4)}( {body} )")
+        if 0 not in by_power:
+            lines.insert(1, f"  {lhs} 0")
+        return "\n".join(lines)
+
+    def to_json(self):
+        k = self.field.kind
+        return {"method": self.method, "kind": self.kind, "max_order": self.max_order, "trees": k.name,
+                "terms": [{"h_power": k.order(t) - 1, "tree": k.bracket(t),
+                           "coefficient": str(format_entry(v / k.symmetry(t))), "differential": k.differential(t)}
+                          for t, v in self.field.items() if v != 0],
+                "series": self.field.to_json()}
+
+    def to_latex(self):
+        by_power: dict = {}
+        k = self.field.kind
+        for t, v in self.field.items():
+            if v != 0:
+                c = v / k.symmetry(t)
+                by_power.setdefault(k.order(t) - 1, []).append(
+                    (f"{sp.latex(c)}\\, " if c != 1 else "") + k.differential(t, tex=True))
+        parts = []
+        for n in sorted(by_power):
+            body = " + ".join(by_power[n]).replace("+ -", "- ")
+            hk = "" if n == 0 else ("h" if n == 1 else f"h^{{{n}}}")
+            parts.append(body if n == 0 else rf"{hk}\left({body}\right)")
+        lhs = r"\tilde f" if self.kind == "modified" else r"f_h"
+        return f"{lhs} = " + r" \\ &\quad + ".join(parts) if parts else f"{lhs} = 0"
+
+
+def modified_equation(m: Method, max_order: int, kind: str = "modified") -> ModifiedEquation:
+    """The modified equation (``kind="modified"``) or the modifying integrator (``"modifying"``)
+    of ``m`` with every tree of order ≤ ``max_order`` (terms up to h^(max_order − 1))."""
+    if kind not in ("modified", "modifying"):
+        raise ValueError(f"kind must be 'modified' or 'modifying', not {kind!r}")
+    with computing(f"{kind} equation of {m.name} to order {max_order}"):
+        phi = method_series(m, max_order).phi
+        field = modified_field(phi) if kind == "modified" else modifying_field(phi)
+    return ModifiedEquation(m.name, kind, max_order, field, m.kind)
