@@ -20,7 +20,7 @@ from .budget import MODIFIED_ORDER as MODIFIED_MAX_ORDER
 from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
 from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
 
-EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified")     # within --timeout
+EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
 MAX_ORDER = 20                # --max-order
 MAX_DIGITS = 10 ** 4          # --digits
 MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
@@ -169,6 +169,61 @@ def _solve_file(args):
             return rep, rep.design
         rep = solve_file(args.file, args.require)
         return rep, rep
+
+
+def _design(args) -> int:
+    """Search a solution family for its best member and certify it (experiments/design_search.py)."""
+    from .analysis.family import FamilyError, families_of
+    from .budget import computing
+    from .experiments.design_search import search
+    from .exact.tableau_json import TableauError, save
+
+    lo, _, hi = args.box.partition(":")
+    try:
+        box = (float(lo), float(hi))
+    except ValueError:
+        print(f"tableau-lab: error: --box {args.box!r}: write LO:HI, e.g. -3:3", file=sys.stderr)
+        return EXIT_INPUT
+    if not all(map(lambda v: abs(v) < 1e6, box)):
+        print(f"tableau-lab: error: --box {args.box!r}: bounds within ±1e6", file=sys.stderr)
+        return EXIT_INPUT
+    requirements = _split(args.require)
+    constraints = tuple(_split(args.constrain))
+    try:
+        with computing(f"design search of {args.file}"):
+            fams = [f for f in families_of(args.file, requirements) if f.free]
+            if not fams:
+                raise FamilyError(f"{args.file}: no family with free parameters for {', '.join(requirements)}")
+            results = [search(f, maximize=args.maximize, minimize=args.minimize, constraints=constraints, box=box,
+                              samples=args.samples, starts=args.starts, seed=args.seed) for f in fams]
+    except (TableauError, FamilyError, ValueError) as exc:
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    for res in results:
+        print(json.dumps({"file": args.file, **res.to_json()}, ensure_ascii=False) if args.json else f"== {args.file}\n{res}",
+              flush=True)
+    best = next((c for res in results for c in res.candidates if c.certified is not None), None)
+    if best is None:
+        return EXIT_CLAIM
+    if args.save:
+        from dataclasses import replace
+        claims = {"order": best.verified["order"]} if "order" in best.verified else {}
+        if "g-symplectic" in requirements:
+            claims["g_symplectic"] = True
+        if best.verified.get("mu") is not None and all(mu == 0 for mu in best.verified["mu"]):
+            claims["parasitism_free"] = True
+        meth = replace(best.certified, name=args.name or best.certified.name, claims=tuple(sorted(claims.items())),
+                       notes=(f"Found by tableau-lab design ({args.maximize or args.minimize}; "
+                              f"{', '.join(constraints) or 'no constraints'}) and re-verified exactly.",))
+        save(meth, args.save)
+        print(f"saved the best certified member to {args.save}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _family_options(parser, require_help: str):
+    """FILE and --require, shared by solve and design."""
+    parser.add_argument("file", metavar="FILE", help="JSON tableau with unknowns (names) in its entries")
+    parser.add_argument("--require", action="append", required=True, metavar="CONDITIONS", help=require_help)
 
 
 def _split(items):
@@ -575,9 +630,7 @@ def build_parser() -> argparse.ArgumentParser:
                                     "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, effective-order=P, "
                                     "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
                                     "Exit 0: solved; 1: no (real, radical) solution; 2: bad input.")
-    sv.add_argument("file", metavar="FILE", help="JSON tableau with unknowns (names) in its entries")
-    sv.add_argument("--require", action="append", required=True, metavar="CONDITIONS",
-                    help="comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
+    _family_options(sv, "comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
     sv.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
     sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
     sv.add_argument("--solution", type=_count(1, MAX_REPEATS), metavar="K", help="which solution --save writes (1-based)")
@@ -591,6 +644,28 @@ def build_parser() -> argparse.ArgumentParser:
     sv.add_argument("--within", action="append", metavar="MATRICES",
                     help="with --locate: search only these matrices, e.g. 'A,B'")
     sv.set_defaults(run=_solve)
+    ds = sub.add_parser("design", help="search a solution family for its best member, then certify it exactly",
+                        description="The families of `solve FILE --require …` are searched numerically (a Sobol "
+                                    "sample, then Nelder–Mead) for one objective under constraints; each optimum is "
+                                    "snapped to exact values (small rationals, or the exact solutions of the "
+                                    "constraints on the family) and re-verified by the ordinary analyses. Objectives: "
+                                    "imaginary-interval, real-interval (maximise); error-norm, mu (minimise). "
+                                    "Constraints: order=P, parasitism-free. Exit 0: a certified member; 1: none; "
+                                    "2: bad input.")
+    _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic)")
+    goal = ds.add_mutually_exclusive_group(required=True)
+    goal.add_argument("--maximize", metavar="OBJECTIVE", help="imaginary-interval or real-interval")
+    goal.add_argument("--minimize", metavar="OBJECTIVE", help="error-norm or mu")
+    ds.add_argument("--constrain", action="append", metavar="CONSTRAINTS",
+                    help="comma-separated: order=P, parasitism-free")
+    ds.add_argument("--box", default="-2:2", metavar="LO:HI", help="search box of every free parameter (default -2:2)")
+    ds.add_argument("--samples", type=_count(8, 100_000), default=256, metavar="N", help="Sobol points (default 256)")
+    ds.add_argument("--starts", type=_count(1, 64), default=8, metavar="K", help="local searches (default 8)")
+    ds.add_argument("--seed", type=_count(0, 2 ** 31), default=0, metavar="S")
+    ds.add_argument("--json", action="store_true", help="one JSON object per family")
+    ds.add_argument("--save", metavar="OUT", help="write the best certified member with its verified claims")
+    ds.add_argument("--name", help="name of the saved method")
+    ds.set_defaults(run=_design)
     r = sub.add_parser("run", help="run scenes, or a method on a problem (float64 or mpmath)",
                        description="Run scene files (data, metadata and plots under reports/<name>/), or integrate "
                                    "a built-in problem with a method file: the final state (through the "

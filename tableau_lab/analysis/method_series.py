@@ -80,6 +80,38 @@ class MethodSeries(Result):
         return r"\begin{array}{c|c} t & \Phi(t) \\ \hline " + "\n".join(rows) + r" \end{array}"
 
 
+def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:
+    """(Φ, ξ) of the module docstring for a GLM given as row lists in any arithmetic with +, −, *
+    (field elements here; floats in :mod:`..numeric.objectives`): u and w the right and left
+    eigenvectors of V for 1 (wᵀu = 1), ``Pinv`` the r × (r+1) solver of (I − V)x = q, wᵀx = 0."""
+    def mat(rows, v):
+        out = []
+        for row in rows:
+            acc = zero
+            for a, x in zip(row, v):
+                acc = acc + a * x
+            out.append(acc)
+        return out
+    s = len(A)
+    xi = {None: list(u)}
+    phi = {None: one}
+    eta = {}
+    for t in trees_up_to(max_order):
+        d = [one] * s
+        for c in t:
+            d = [x * y for x, y in zip(d, eta[c])]
+        q = mat(B, d)
+        for trunk, coef in kept_cuts(t, lambda c: phi[c], one).items():
+            if trunk != t:
+                q = [a - coef * b for a, b in zip(q, xi[trunk])]
+        ph = mat([w], q)[0]
+        phi[t] = ph
+        x = mat(Pinv, [a - ph * b for a, b in zip(q, u)] + [zero])
+        xi[t] = x
+        eta[t] = [a + b for a, b in zip(mat(A, d), mat(U, x))]
+    return phi, xi
+
+
 def method_series(m: Method, max_order: int) -> MethodSeries:
     """The exact B-series of ``m`` to ``max_order`` (see the module docstring)."""
     if not 1 <= max_order <= MAX_SERIES_ORDER:
@@ -98,25 +130,8 @@ def method_series(m: Method, max_order: int) -> MethodSeries:
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V])
     S = _Solver(g, K)
-    zero = K.zero
-    ones = [K.one] * S.s
-    xi = {None: list(S.u)}
-    phi = {None: K.one}
-    eta = {}
-    B_rows, Pinv = S.B.to_list(), S.Pinv
-    for t in trees_up_to(max_order):
-        d = list(ones)
-        for c in t:
-            d = [x * y for x, y in zip(d, eta[c])]
-        q = S.mat_rows(B_rows, d)
-        for trunk, coef in kept_cuts(t, lambda c: phi[c], K.one).items():
-            if trunk != t and trunk in xi:
-                q = [a - coef * b for a, b in zip(q, xi[trunk])]
-        ph = S.dot_w(q)
-        phi[t] = ph
-        x = S.mat_rows(Pinv, [a - ph * b for a, b in zip(q, S.u)] + [zero])
-        xi[t] = x
-        eta[t] = [a + b for a, b in zip(S.mat(S.A, d), S.mat(S.U, x))]
+    phi, xi = glm_series(S.A.to_list(), S.U.to_list(), S.B.to_list(), S.u, S.w, S.Pinv, max_order,
+                         K.zero, K.one)
     F = FastField(K)
     series = BSeries(F, {t: F.lift(v) for t, v in phi.items()}, max_order, m.name)
     lift = K.to_sympy

@@ -1,0 +1,103 @@
+r"""Solution families as objects: the free parameters, the branch conditions and the exact members
+of a family that :func:`design.solve` found (issue: design search).
+
+A :class:`Family` holds the method with its free parameters as symbols, the conditions that must
+not vanish, and the requirements every member meets (re-verified generically by ``solve``).
+:meth:`Family.member` substitutes exact values and returns an ordinary method object, which the
+analyses then check like any other.
+
+>>> fams = families_of("methods/design/pn_family.json", ["g-symplectic"])
+>>> f = fams[0]
+>>> f.free, f.conditions
+((u,), (u,))
+>>> m = f.member({"u": "1 + 2*sqrt(3)/3"})          # Example 4 (method P) is the member u = 1 + 2/√3
+>>> m.A[0, 0]
+sqrt(3)/6 + 1/2
+>>> f.member({"u": 0})
+Traceback (most recent call last):
+...
+tableau_lab.analysis.family.FamilyError: 2-stage 2-value G-symplectic family #1: u = 0 makes the branch condition u vanish
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from ..errors import InputError
+from ..exact.field import normal_form
+from ..exact.grammar import parse_entry
+from ..exact.methods import Method, MethodError
+from ..exact.tableau_json import load
+
+__all__ = ["Family", "FamilyError", "families_of", "family_from_solution"]
+
+
+class FamilyError(InputError):
+    """A family that cannot be built, or a member outside it."""
+
+
+@dataclass(frozen=True)
+class Family:
+    """A solution family: ``method`` has the ``free`` symbols in its entries; ``conditions`` must not
+    vanish; ``requirements`` hold for every member (verified by ``solve``)."""
+
+    name: str
+    method: Method
+    free: tuple
+    conditions: tuple
+    requirements: tuple
+
+    def _values(self, values) -> dict:
+        out = {}
+        names = {str(s): s for s in self.free}
+        for k, v in values.items():
+            key = str(k)
+            if key not in names:
+                raise FamilyError(f"{self.name}: {key!r} is not a free parameter (free: {', '.join(names)})")
+            if isinstance(v, float) or isinstance(v, bool):
+                raise FamilyError(f"{self.name}: {key} = {v!r}: exact values only (a fraction, a radical, text such "
+                                  "as \"1/3\")")
+            val = parse_entry(v) if isinstance(v, str) else sp.sympify(v)
+            if val.has(sp.Float) or val.free_symbols:
+                raise FamilyError(f"{self.name}: {key} = {v!r} is not an exact number")
+            out[names[key]] = val
+        missing = [str(s) for s in self.free if s not in out]
+        if missing:
+            raise FamilyError(f"{self.name}: values missing for {', '.join(missing)}")
+        return out
+
+    def member(self, values: dict, name: str | None = None) -> Method:
+        """The member with the given exact values (text in the tableau grammar, ints, Rationals,
+        sympy numbers) of every free parameter; refused where a branch condition vanishes."""
+        vals = self._values(values)
+        for c in self.conditions:
+            if sp.simplify(sp.sympify(c).xreplace(vals)) == 0:
+                shown = ", ".join(f"{k} = {v}" for k, v in vals.items())
+                raise FamilyError(f"{self.name}: {shown} makes the branch condition {c} vanish")
+        m = self.method
+        fields = {k: v for k, v in m.matrices().items() if isinstance(v, sp.MatrixBase)}
+        try:
+            return replace(m, name=name or f"{self.name} at " + ", ".join(f"{k} = {v}" for k, v in vals.items()),
+                           claims=(), **{k: M.applyfunc(lambda e: normal_form(e.xreplace(vals))) for k, M in fields.items()})
+        except (MethodError, ValueError) as exc:
+            raise FamilyError(f"{self.name}: the member is not a method: {exc}") from None
+
+
+def family_from_solution(sol, requirements, name: str) -> Family:
+    """A :class:`Family` from a :class:`design.Solution` with free parameters."""
+    if sol.method is None:
+        raise FamilyError(f"{name}: the solution has no method (not re-verified)")
+    return Family(name, sol.method, tuple(sol.free), tuple(sol.conditions), tuple(requirements))
+
+
+def families_of(path, requirements) -> list:
+    """Every real, verified solution family of ``requirements`` for the unknowns of the tableau file
+    at ``path`` (families without free parameters are single methods: members with no values)."""
+    from .design import solve
+    m = load(path)
+    res = solve(m, list(requirements))
+    if res.status != "solved":
+        raise FamilyError(f"{path}: {res.status} for {', '.join(map(str, requirements))}")
+    good = [s for s in res.solutions if s.real and s.method is not None]
+    return [family_from_solution(s, requirements, f"{m.name} #{i + 1}") for i, s in enumerate(good)]

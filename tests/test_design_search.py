@@ -1,0 +1,124 @@
+"""Design search (issue 18): solution families as objects, numeric objectives checked against exact
+analyses and known values, and the rediscovery of Butcher, Habib, Hill & Norton's methods P and N
+from the G-symplectic family of their structure, with their published μ and imaginary intervals."""
+import json
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from tableau_lab.analysis.family import FamilyError, families_of
+from tableau_lab.analysis.method_series import method_series
+from tableau_lab.analysis.parasitism import growth_parameters
+from tableau_lab.analysis.stability import stability
+from tableau_lab.analysis.trees import density, symmetry, trees_of_order
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.experiments.design_search import SearchError, search
+from tableau_lab.numeric.objectives import YMAX, NumericGLM, growth, imaginary_interval, series_defects
+
+FAMILY = "methods/design/pn_family.json"
+
+
+@pytest.fixture(scope="module")
+def pn():
+    fams = families_of(FAMILY, ["g-symplectic"])
+    assert len(fams) == 1 and [str(s) for s in fams[0].free] == ["u"]
+    return fams[0]
+
+
+def test_family_members_are_exact_methods(pn):
+    """The member u = 1 + 2/√3 is Example 4 entry by entry; a vanishing branch condition, a float
+    and an unknown name are refused."""
+    m = pn.member({"u": "1 + 2*sqrt(3)/3"})
+    ex4 = load("methods/example4_glm.json")
+    for key in "AUBV":
+        assert sp.simplify(getattr(m, key) - getattr(ex4, key)) == sp.zeros(2, 2)
+    for bad in ({"u": 0}, {"u": 0.5}, {"v": 1}, {}):
+        with pytest.raises(FamilyError):
+            pn.member(bad)
+
+
+@pytest.mark.parametrize("name", ["glm43", "example4_glm", "rk4", "gauss2", "lobatto_iiic3"])
+def test_numeric_objectives_match_exact_analyses(name):
+    m = load(f"methods/{name}.json")
+    g = NumericGLM.of(m)
+    exact = stability(m).bounded_radius
+    y = imaginary_interval(g)
+    assert (y == YMAX) if exact == sp.oo or exact >= YMAX else abs(y - float(exact)) < 1e-8
+    if m.kind == "glm":
+        mus = sorted(complex(sp.N(p.mu, 20)).real for p in growth_parameters(m).items)
+        assert np.allclose(sorted(x.real for x in growth(g)), mus, atol=1e-12)
+    phi = method_series(m, 5).phi
+    p = 4
+    err = float(sp.sqrt(sum(((phi[t] - sp.Rational(1, density(t))) / symmetry(t)) ** 2 for t in trees_of_order(5))))
+    residual, e = series_defects(g, p)
+    assert residual < 1e-12 and abs(e - err) < 1e-12
+
+
+def test_rk4_imaginary_interval_is_2_sqrt_2():
+    """|R(iy)| ≤ 1 for RK4 exactly when y ≤ 2√2 (a classical fact, independent of our exact code)."""
+    assert abs(imaginary_interval(NumericGLM.of(load("methods/rk4.json"))) - 2 * np.sqrt(2)) < 1e-9
+
+
+def test_rediscovers_p_and_n(pn):
+    """Maximising Y* over the family under order = 4 returns P (Y* = ∞, μ = 1 + 2/√3) and N
+    (μ = 1 − 2/√3 ≈ −0.155, Y* ≈ 2.060 [BHHN14]), both certified exactly."""
+    res = search(pn, maximize="imaginary-interval", constraints=("order=4",), box=(-3.0, 3.0), seed=1)
+    cert = [c for c in res.candidates if c.certified is not None]
+    assert len(cert) == 2
+    P, N = cert
+    assert sp.simplify(P.exact["u"] - (1 + 2 * sp.sqrt(3) / 3)) == 0 and P.verified["imaginary interval"] == sp.oo
+    assert sp.simplify(N.exact["u"] - (1 - 2 * sp.sqrt(3) / 3)) == 0
+    assert P.verified["order"] == N.verified["order"] == 4
+    assert abs(float(N.verified["mu"][0]) + 0.1547) < 1e-4
+    assert abs(float(N.verified["imaginary interval"]) - 2.060) < 1e-3
+
+
+def test_rational_snap_certifies_without_constraints(pn):
+    """On this family μ = u exactly (so no member is parasitism-free: u = 0 makes G singular).  Minimising
+    |μ| over the box [1/2, 2] ends at the edge u = 1/2, which is snapped to the rational 1/2 and certified."""
+    res = search(pn, minimize="mu", box=(0.5, 2.0), samples=32, starts=2)
+    best = res.candidates[0]
+    assert best.certified is not None and best.exact["u"] == sp.Rational(1, 2)
+    assert best.verified["mu"] == (sp.Rational(1, 2),)
+
+
+def test_bad_requests(pn):
+    with pytest.raises(SearchError):
+        search(pn, maximize="error-norm")
+    with pytest.raises(SearchError):
+        search(pn, maximize="imaginary-interval", constraints=("order",), box=(1.0, 1.0))
+    with pytest.raises(SearchError):
+        search(pn, maximize="imaginary-interval", constraints=("bogus",))
+
+
+def test_cli_design(tmp_path, capsys):
+    from tableau_lab.cli import main
+    out = tmp_path / "best.json"
+    assert main(["design", FAMILY, "--require", "g-symplectic", "--maximize", "imaginary-interval",
+                 "--constrain", "order=4", "--box=-3:3", "--seed", "1", "--samples", "32", "--starts", "2",
+                 "--json", "--save", str(out)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["candidates"][0]["certified"] and data["objective"] == "imaginary-interval"
+    saved = load(out)
+    assert dict(saved.claims) == {"g_symplectic": True, "order": 4}
+    assert main(["verify", str(out)]) == 0
+    capsys.readouterr()
+    assert main(["design", FAMILY, "--require", "g-symplectic", "--maximize", "imaginary-interval",
+                 "--box", "3:1"]) == 2
+    assert main(["design", FAMILY, "--require", "g-symplectic", "--maximize", "imaginary-interval",
+                 "--constrain", "order=5", "--samples", "16", "--starts", "2"]) == 1     # no member of order 5
+
+
+def test_documented_design_output_is_current(capsys):
+    """The `$ tableau-lab design …` block of docs/design.md is the command's output."""
+    import re
+    import shlex
+    from pathlib import Path
+    from tableau_lab.cli import main
+    text = (Path(__file__).resolve().parents[1] / "docs/design.md").read_text()
+    blocks = re.findall(r"```\n\$ (tableau-lab design [^\n]*)\n(.*?)```", text, re.S)
+    assert blocks
+    for cmd, shown in blocks:
+        assert main(shlex.split(cmd)[1:]) == 0
+        assert capsys.readouterr().out == shown
