@@ -176,6 +176,7 @@ def _design(args) -> int:
     from .analysis.family import FamilyError, families_of
     from .budget import computing
     from .experiments.design_search import search
+    from .experiments.executor import SchedulerError
     from .exact.tableau_json import TableauError, save
 
     lo, _, hi = args.box.partition(":")
@@ -195,8 +196,9 @@ def _design(args) -> int:
             if not fams:
                 raise FamilyError(f"{args.file}: no family with free parameters for {', '.join(requirements)}")
             results = [search(f, maximize=args.maximize, minimize=args.minimize, constraints=constraints, box=box,
-                              samples=args.samples, starts=args.starts, seed=args.seed) for f in fams]
-    except (TableauError, FamilyError, ValueError) as exc:
+                              samples=args.samples, starts=args.starts, seed=args.seed, scheduler=args.scheduler,
+                              workers=None if args.scheduler else args.workers) for f in fams]
+    except (TableauError, FamilyError, ValueError, SchedulerError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     for res in results:
@@ -213,7 +215,7 @@ def _design(args) -> int:
         if best.verified.get("mu") is not None and all(mu == 0 for mu in best.verified["mu"]):
             claims["parasitism_free"] = True
         meth = replace(best.certified, name=args.name or best.certified.name, claims=tuple(sorted(claims.items())),
-                       notes=(f"Found by tableau-lab design ({args.maximize or args.minimize}; "
+                       notes=(f"Found by tableau-lab design ({', '.join((args.maximize or []) + (args.minimize or []))}; "
                               f"{', '.join(constraints) or 'no constraints'}) and re-verified exactly.",))
         save(meth, args.save)
         print(f"saved the best certified member to {args.save}", file=sys.stderr)
@@ -653,15 +655,18 @@ def build_parser() -> argparse.ArgumentParser:
                                     "Constraints: order=P, parasitism-free. Exit 0: a certified member; 1: none; "
                                     "2: bad input.")
     _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic)")
-    goal = ds.add_mutually_exclusive_group(required=True)
-    goal.add_argument("--maximize", metavar="OBJECTIVE", help="imaginary-interval or real-interval")
-    goal.add_argument("--minimize", metavar="OBJECTIVE", help="error-norm or mu")
+    ds.add_argument("--maximize", action="append", metavar="OBJECTIVE",
+                    help="imaginary-interval or real-interval; with a --minimize too: the Pareto front of both")
+    ds.add_argument("--minimize", action="append", metavar="OBJECTIVE", help="error-norm or mu")
     ds.add_argument("--constrain", action="append", metavar="CONSTRAINTS",
                     help="comma-separated: order=P, parasitism-free")
     ds.add_argument("--box", default="-2:2", metavar="LO:HI", help="search box of every free parameter (default -2:2)")
     ds.add_argument("--samples", type=_count(8, 100_000), default=256, metavar="N", help="Sobol points (default 256)")
     ds.add_argument("--starts", type=_count(1, 64), default=8, metavar="K", help="local searches (default 8)")
     ds.add_argument("--seed", type=_count(0, 2 ** 31), default=0, metavar="S")
+    ds.add_argument("--workers", type=_count(1, 1024), default=1, metavar="N",
+                    help="processes for the sample and the local searches (default 1: this process)")
+    ds.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://HOST:PORT) instead of local processes")
     ds.add_argument("--json", action="store_true", help="one JSON object per family")
     ds.add_argument("--save", metavar="OUT", help="write the best certified member with its verified claims")
     ds.add_argument("--name", help="name of the saved method")

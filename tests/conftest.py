@@ -13,3 +13,15 @@ import os
 
 os.environ.setdefault("TABLEAU_LAB_KERNEL", "python")
 os.environ.setdefault("TABLEAU_LAB_SPECIALISE", "0")
+
+
+def benchmark_script(name: str):
+    """benchmarks/<name>.py imported as a module (the scripts that write docs/ are tested through
+    their functions)."""
+    import importlib.util
+    from pathlib import Path
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod

@@ -99,7 +99,7 @@ def test_cli_design(tmp_path, capsys):
                  "--constrain", "order=4", "--box=-3:3", "--seed", "1", "--samples", "32", "--starts", "2",
                  "--json", "--save", str(out)]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["candidates"][0]["certified"] and data["objective"] == "imaginary-interval"
+    assert data["candidates"][0]["certified"] and data["objectives"] == ["imaginary-interval"]
     saved = load(out)
     assert dict(saved.claims) == {"g_symplectic": True, "order": 4}
     assert main(["verify", str(out)]) == 0
@@ -122,3 +122,13 @@ def test_documented_design_output_is_current(capsys):
     for cmd, shown in blocks:
         assert main(shlex.split(cmd)[1:]) == 0
         assert capsys.readouterr().out == shown
+
+
+def test_pareto_front(pn):
+    """Two objectives give the non-dominated members: Y* is capped at 20 on u > 0, where P (order 4:
+    no order-4 error term) dominates every other member of the order-3 family."""
+    res = search(pn, maximize="imaginary-interval", minimize="error-norm", box=(-3.0, 3.0), seed=1, certify=False)
+    assert len(res.candidates) == 1
+    assert abs(res.candidates[0].point[0] - (1 + 2 / np.sqrt(3))) < 1e-6
+    with pytest.raises(SearchError):
+        search(pn, maximize=("imaginary-interval", "real-interval"), minimize="mu")

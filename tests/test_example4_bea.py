@@ -4,20 +4,17 @@ principal component follows the underlying one-step method Φ (its modified ener
 magnitude, as μ predicts, and the energy bound breaks.  GLM43 (μ = 0) stays bounded.  Short
 versions of the runs of benchmarks/example4_smooth_part.py (docs/example4_bea.md), whose
 functions are used here."""
-import importlib.util
 from pathlib import Path
 
 import pytest
+from conftest import benchmark_script
 
 ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("example4_smooth_part", ROOT / "benchmarks/example4_smooth_part.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return benchmark_script("example4_smooth_part")
 
 
 def _case(bench, key):

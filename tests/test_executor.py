@@ -80,3 +80,16 @@ def test_cli_on_the_cluster(cluster, tmp_path):
     assert main(args + ["--out", str(tmp_path / "serial"), "--workers", "1"]) == 0
     read = lambda d: json.loads((tmp_path / d / "convergence_harmonic_float64.json").read_text())  # noqa: E731
     assert read("dask") == read("serial")
+
+
+def test_design_search_identical_in_every_executor(cluster):
+    """The design search's sample and local searches give the same candidates in this process, a
+    pool of 2 and the Dask cluster (issue 18)."""
+    from tableau_lab.analysis.family import families_of
+    from tableau_lab.experiments.design_search import search
+    fam = families_of(str(METHODS / "design" / "pn_family.json"), ["g-symplectic"])[0]
+    got = {key: str(search(fam, maximize="imaginary-interval", constraints=("order=4",), box=(-3.0, 3.0), seed=1,
+                           samples=64, starts=2, certify=False, scheduler=s, workers=w))
+           for key, (s, w) in _executors(cluster).items()}
+    assert got["serial"] == got["pool"] == got["dask"]
+    assert "u = 2.154700538" in got["serial"]

@@ -36,6 +36,9 @@ from ..numeric.objectives import YMAX, NumericGLM, growth, imaginary_interval, r
 __all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError"]
 
 PENALTY = 1e3            # weight of a constraint violation in the score
+MAX_CERTIFIED = 8        # candidates certified per search (each costs exact analyses)
+FRONT_POINTS = 12        # a Pareto front is thinned to at most this many members
+ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
 DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # rational snapping, smallest height first
 
@@ -81,14 +84,17 @@ class Candidate:
 class SearchResult(Result):
     family: str
     free: tuple
-    objective: str
+    objectives: tuple             # one name, or two: then ``candidates`` is the Pareto front
     constraints: tuple
     candidates: tuple
     evaluations: int
 
+    def _goal(self) -> str:
+        parts = [f"{'maximise' if OBJECTIVES[o][0] > 0 else 'minimise'} {o}" for o in self.objectives]
+        return " and ".join(parts) if len(parts) == 1 else "the Pareto front of " + " and ".join(parts)
+
     def __str__(self):
-        lines = [f"{self.family}: {'maximise' if OBJECTIVES[self.objective][0] > 0 else 'minimise'} "
-                 f"{self.objective} over {', '.join(map(str, self.free))}"
+        lines = [f"{self.family}: {self._goal()} over {', '.join(map(str, self.free))}"
                  + (f" subject to {', '.join(self.constraints)}" if self.constraints else "")
                  + f" ({self.evaluations} evaluations)"]
         for i, c in enumerate(self.candidates, 1):
@@ -104,7 +110,7 @@ class SearchResult(Result):
         return "\n".join(lines)
 
     def to_json(self):
-        return {"family": self.family, "free": [str(s) for s in self.free], "objective": self.objective,
+        return {"family": self.family, "free": [str(s) for s in self.free], "objectives": list(self.objectives),
                 "constraints": list(self.constraints), "evaluations": self.evaluations,
                 "candidates": [{"point": list(c.point), "values": c.values, "violation": c.violation,
                                 "certified": c.certified is not None,
@@ -126,47 +132,143 @@ def _show(v) -> str:
     return f"{v} ≈ {complex(sp.N(v, 15)).real:.10g}" if sp.N(v).is_real else str(v)
 
 
+@dataclass(frozen=True)
+class _Task:
+    """What a worker needs to score members: picklable (the family's exact matrices travel; each
+    process lambdifies them once)."""
+
+    family: Family
+    objectives: tuple             # names; with two, ``weight`` mixes them (a Pareto scalarisation)
+    constraints: tuple
+    p: int
+    box: tuple
+    scales: tuple = (1.0, 1.0)
+
+    def values(self, x):
+        """(objective values, violation) at x, or None where the member is not usable."""
+        g = _evaluator(self.family)(tuple(x))
+        if g is None:
+            return None
+        with np.errstate(all="ignore"):
+            try:
+                vals = tuple(float(OBJECTIVES[o][1](g, self.p)) for o in self.objectives)
+                viol = float(sum(CONSTRAINTS[c.split("=")[0]](g, self.p) for c in self.constraints))
+            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+                return None
+        if not all(np.isfinite(vals)) or not np.isfinite(viol):
+            return None
+        return vals, viol
+
+    def score(self, x, weight=1.0) -> float:
+        out = self.values(x)
+        if out is None:
+            return np.inf
+        vals, viol = out
+        mix = (weight, 1.0 - weight)
+        return sum(-OBJECTIVES[o][0] * v / s * w for o, v, s, w in zip(self.objectives, vals, self.scales, mix)) \
+            + PENALTY * viol
+
+
+_EVALUATORS: dict = {}
+
+
 def _evaluator(family: Family):
-    """point -> NumericGLM (None where the member is not a method, e.g. a singular I − zA)."""
+    """point -> NumericGLM (None where the member is not a method, e.g. a singular I − zA); one
+    ``lambdify`` per family and process."""
+    key = (family.name, str(family.method.matrices()), family.free)
+    if key in _EVALUATORS:
+        return _EVALUATORS[key]
     g = family.method.as_glm()
     syms = list(family.free)
     fns = [sp.lambdify(syms, M, "numpy") for M in (g.A, g.U, g.B, g.V)]
 
     def at(point):
         try:
-            mats = [np.array(f(*point), dtype=float) for f in fns]
+            with np.errstate(all="ignore"):
+                mats = [np.array(f(*point), dtype=float) for f in fns]
         except (ZeroDivisionError, FloatingPointError, ValueError):
             return None
         if not all(np.all(np.isfinite(M)) for M in mats):
             return None
         return NumericGLM(*mats)
+    _EVALUATORS[key] = at
     return at
 
 
-def _score(g, objective, constraints, p):
-    sense, value = OBJECTIVES[objective]
-    with np.errstate(all="ignore"):
-        try:
-            v = value(g, p)
-            viol = sum(CONSTRAINTS[c.split("=")[0]](g, p) for c in constraints)
-        except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
-            return None
-    if not np.isfinite(v) or not np.isfinite(viol):
-        return None
-    return -sense * v + PENALTY * viol, v, viol
+def _evaluate(item):
+    """A chunk of sample points → [(values, violation) or None] (a module-level task)."""
+    task, points = item
+    return [task.values(x) for x in points]
 
 
-def search(family: Family, maximize: str | None = None, minimize: str | None = None, constraints=(),
-           box=(-2.0, 2.0), samples: int = 256, starts: int = 8, seed: int = 0, certify: bool = True) -> SearchResult:
-    """The best members of ``family`` for one objective under the constraints (see the module docstring)."""
+def _refine(item):
+    """Nelder–Mead within the box from x0 on the (weighted) score → (point, values, violation, evaluations)."""
     from scipy.optimize import minimize as nelder_mead
+    task, x0, weight = item
+    calls = [0]
+
+    def f(x):
+        calls[0] += 1
+        return task.score(x, weight)
+    lo, hi = task.box
+    res = nelder_mead(f, np.array(x0), method="Nelder-Mead", bounds=[(lo, hi)] * len(x0),
+                      options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 2000})
+    x = tuple(float(v) for v in res.x)
+    return x, task.values(x), calls[0]
+
+
+def _generic_order(family: Family, pts) -> int:
+    """The order every probed member reaches (the residual of the order conditions below 1e-9 at
+    three sample points): the order the error norm is taken at when no order is required."""
+    at = _evaluator(family)
+    orders = []
+    for x in pts[:3]:
+        g = at(x)
+        if g is None:
+            continue
+        n = 0
+        with np.errstate(all="ignore"):
+            while n < ORDER_PROBE and series_defects(g, n + 1)[0] < FEASIBLE:
+                n += 1
+        orders.append(n)
+    return max(1, min(orders, default=1))
+
+
+def _objectives(maximize, minimize) -> tuple:
+    names = tuple(maximize or ()) + tuple(minimize or ())
+    if not 1 <= len(names) <= 2:
+        raise SearchError(f"one objective, or two for a Pareto front, from {', '.join(OBJECTIVES)}; got {names}")
+    for n in names:
+        if n not in OBJECTIVES:
+            raise SearchError(f"unknown objective {n!r}: use {', '.join(OBJECTIVES)}")
+    for n in maximize or ():
+        if OBJECTIVES[n][0] < 0:
+            raise SearchError(f"{n} is minimised, not the other way")
+    for n in minimize or ():
+        if OBJECTIVES[n][0] > 0:
+            raise SearchError(f"{n} is maximised, not the other way")
+    return names
+
+
+def _dominates(a, b, senses) -> bool:
+    better = [s * x >= s * y for s, x, y in zip(senses, a, b)]
+    strictly = [s * x > s * y for s, x, y in zip(senses, a, b)]
+    return all(better) and any(strictly)
+
+
+def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2.0, 2.0), samples: int = 256,
+           starts: int = 8, seed: int = 0, certify: bool = True, scheduler=None, workers: int | None = 1,
+           weights: int = 9, progress=None) -> SearchResult:
+    """The best members of ``family`` under the constraints (see the module docstring): one objective,
+    or a Pareto front of two.  ``maximize``/``minimize`` take a name or a tuple of names; the sample
+    and the local searches run through :func:`executor.executor` (``scheduler``: None for a process
+    pool of ``workers``, "serial", or a Dask address), with the same results everywhere."""
     from scipy.stats import qmc
 
-    objective = maximize or minimize
-    if objective not in OBJECTIVES or (maximize and minimize):
-        raise SearchError(f"one objective, from {', '.join(OBJECTIVES)}; got {maximize or minimize!r}")
-    if (maximize and OBJECTIVES[objective][0] < 0) or (minimize and OBJECTIVES[objective][0] > 0):
-        raise SearchError(f"{objective} is {'minimised' if OBJECTIVES[objective][0] < 0 else 'maximised'}, not the other way")
+    from .executor import executor
+
+    as_tuple = lambda v: (v,) if isinstance(v, str) else tuple(v or ())  # noqa: E731
+    names = _objectives(as_tuple(maximize), as_tuple(minimize))
     for c in constraints:
         if c.split("=")[0] not in CONSTRAINTS:
             raise SearchError(f"unknown constraint {c!r}: use {', '.join(CONSTRAINTS)}=P")
@@ -175,40 +277,54 @@ def search(family: Family, maximize: str | None = None, minimize: str | None = N
     lo, hi = box
     if not lo < hi:
         raise SearchError(f"the box {box} is empty")
-    p = _order_of(family, constraints) or 1
-    at = _evaluator(family)
     dim = len(family.free)
-    count = [0]
-
-    def score(x):
-        count[0] += 1
-        g = at(x)
-        out = None if g is None else _score(g, objective, constraints, p)
-        return (np.inf, None, None) if out is None else out
-
-    sampler = qmc.Sobol(dim, seed=seed)
-    pts = qmc.scale(sampler.random(samples), [lo] * dim, [hi] * dim)
-    scored = [(score(x), tuple(x)) for x in pts]
-    by_score = sorted(scored, key=lambda t: t[0][0])[:starts]
-    # and the most nearly feasible points, so that feasible optima with a worse objective are found too
-    by_violation = sorted((t for t in scored if t[0][2] is not None), key=lambda t: t[0][2])[:starts]
+    pts = [tuple(float(v) for v in x) for x in
+           qmc.scale(qmc.Sobol(dim, seed=seed).random(samples), [lo] * dim, [hi] * dim)]
+    p = _order_of(family, constraints) or _generic_order(family, pts)
+    task = _Task(family, names, tuple(constraints), p, (float(lo), float(hi)))
+    with executor(scheduler, workers, progress=progress) as ex:
+        n = max(1, ex.workers)
+        chunks = [pts[i::n] for i in range(n)]
+        outs = ex.map(_evaluate, [(task, c) for c in chunks], desc="sample")
+        found = dict(sorted((x, o) for c, out in zip(chunks, outs) for x, o in zip(c, out) if o is not None))
+        count = len(pts)
+        if len(names) == 2:                 # scale each objective by its spread over the sample
+            spread = [np.ptp([o[0][k] for o in found.values()]) or 1.0 for k in range(2)]
+            task = _Task(family, names, tuple(constraints), p, task.box, tuple(spread))
+        jobs = []
+        per = starts if len(names) == 1 else max(1, starts // 4)
+        for w in (np.linspace(0, 1, weights) if len(names) == 2 else [1.0]):
+            ranked = sorted(found, key=lambda x: task.score(x, w))[:per]
+            # and the most nearly feasible points, so that feasible optima with a worse objective are found too
+            feasible = sorted(found, key=lambda x: found[x][1])[:per] if constraints else []
+            jobs += [(task, x, float(w)) for x in dict.fromkeys(ranked + feasible)]
+        refined = ex.map(_refine, jobs, desc="local searches")
     optima = []
-    for (s0, _, _), x0 in by_score + by_violation:
-        if not np.isfinite(s0):
+    for x, out, calls in refined:
+        count += calls
+        if out is None or any(np.allclose(x, o.point, atol=1e-6) for o in optima):
             continue
-        res = nelder_mead(lambda x: score(x)[0], np.array(x0), method="Nelder-Mead", bounds=[(lo, hi)] * dim,
-                          options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 2000})
-        x = tuple(float(v) for v in res.x)
-        sc, v, viol = score(x)
-        if v is None or any(np.allclose(x, o.point, atol=1e-6) for o in optima):
-            continue
-        optima.append(Candidate(x, {objective: float(v)}, float(viol)))
-    optima.sort(key=lambda c: (c.violation > FEASIBLE, -OBJECTIVES[objective][0] * c.values[objective]))
+        optima.append(Candidate(x, dict(zip(names, out[0])), out[1]))
+    senses = [OBJECTIVES[o][0] for o in names]
+    if len(names) == 2:                     # the front: feasible points no other feasible point dominates
+        pool = [c for c in optima if c.violation <= FEASIBLE] + [
+            Candidate(x, dict(zip(names, o[0])), o[1]) for x, o in found.items() if o[1] <= FEASIBLE]
+        optima = [c for c in pool if not any(_dominates(tuple(d.values.values()), tuple(c.values.values()), senses)
+                                             for d in pool)]
+        uniq = {}                           # one member per distinct pair of objective values
+        for c in sorted(optima, key=lambda c: (-senses[0] * c.values[names[0]], c.point)):
+            uniq.setdefault(tuple(float(f"{v:.9g}") for v in c.values.values()), c)
+        optima = list(uniq.values())
+        if len(optima) > FRONT_POINTS:      # thinned evenly along the front
+            keep = np.unique(np.linspace(0, len(optima) - 1, FRONT_POINTS).round().astype(int))
+            optima = [optima[i] for i in keep]
+    else:
+        optima.sort(key=lambda c: (c.violation > FEASIBLE, -senses[0] * c.values[names[0]]))
     if certify:
-        for c in optima:
+        for c in optima[:MAX_CERTIFIED]:
             if c.violation <= 1e-6:
                 _certify(family, c, constraints, p)
-    return SearchResult(family.name, tuple(family.free), objective, tuple(constraints), tuple(optima), count[0])
+    return SearchResult(family.name, tuple(family.free), names, tuple(constraints), tuple(optima), count)
 
 
 def _verify(m, constraints, p) -> dict | str:

@@ -1,0 +1,42 @@
+"""The Pareto table of docs/design.md (benchmarks/pareto_table.py): its exact columns, and that the
+table in the docs is current.  The timed runs are not repeated here (``rows(measure_runs=False)``)."""
+from pathlib import Path
+
+import pytest
+from conftest import benchmark_script
+import sympy as sp
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def pareto():
+    return benchmark_script("pareto_table")
+
+
+@pytest.fixture(scope="module")
+def table(pareto):
+    rows, skipped = pareto.rows(measure_runs=False)
+    assert not skipped, skipped
+    return {r["method"].split(" (")[0]: r for r in rows}
+
+
+def test_exact_columns(table):
+    for name in ("P", "N", "GLM43", "Gauss2"):
+        assert table[name]["_"]["order"] == 4 and table[name]["order"].startswith("4 /"), name
+    assert table["midpoint"]["_"]["order"] == 2
+    assert all(sp.simplify(mu) == 0 for mu in table["GLM43"]["_"]["mu"]) and table["GLM43"]["mu"] == "0"
+    assert table["P"]["_"]["ystar"] == sp.oo and table["P"]["ystar"] == "∞"
+    assert table["N"]["ystar"] == "2.0604" and abs(float(table["N"]["_"]["ystar"]) - 2.060) < 5e-4   # [BHHN14]
+    assert table["Gauss2"]["mu"] == "—" and table["Gauss2"]["G"].startswith("definite")
+    assert table["GLM43"]["implicit"] == "2 (DIRK)" and table["Gauss2"]["implicit"] == "2"
+
+
+def test_docs_table_is_current(pareto, table):
+    doc = (ROOT / "docs/design.md").read_text()
+    assert doc.count(pareto.START) == 1 and doc.count(pareto.END) == 1
+    inside = doc.split(pareto.START, 1)[1].split(pareto.END, 1)[0]
+    headers, cells = pareto.parse_table(inside)
+    assert [h for _, h in pareto.EXACT] == headers[:len(pareto.EXACT)]
+    want = [[row[k] for k, _ in pareto.EXACT] for row in table.values()]
+    assert [c[:len(pareto.EXACT)] for c in cells] == want, "rerun: " + pareto.COMMAND
