@@ -101,3 +101,51 @@ def families_of(path, requirements) -> list:
         raise FamilyError(f"{path}: {res.status} for {', '.join(map(str, requirements))}")
     good = [s for s in res.solutions if s.real and s.method is not None]
     return [family_from_solution(s, requirements, f"{m.name} #{i + 1}") for i, s in enumerate(good)]
+
+
+def dirk_g_symplectic_family(V, G, s: int, name: str = "DIRK G-symplectic family") -> Family:
+    r"""GLMs that are G-symplectic and diagonally implicit **by construction** (the structure of GLM43,
+    seed §3.2.3): V and G given (VᵀGV = G), D = diag(d₁, …, d_s) with the stage weights as B's first
+    row (d_s = d₁, …: the symmetric weights b = (d₁, ½ − d₁, ½ − d₁, d₁) for s = 4), the other rows of
+    B free, and then
+
+        U = D⁻¹BᵀGV,        A lower triangular with DA + AᵀD = BᵀGB
+
+    (a_ij = (BᵀGB)_ij/d_i for i > j, a_ii = (BᵀGB)_ii/(2d_i)), so that the three G-symplectic
+    conditions hold identically, and U's first column is 1 whenever G's first row is e₁ and V e₁ = e₁.
+    Free parameters: d₁ and the s(r − 1) entries b_ij (i ≥ 2) of B; branch conditions: d_i ≠ 0.
+
+    >>> import sympy as sp
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> g43 = load("methods/glm43.json")
+    >>> fam = dirk_g_symplectic_family(g43.V, sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4)), 4)
+    >>> len(fam.free)
+    9
+    >>> values = {"d1": g43.B[0, 0], **{f"b{i + 1}{j + 1}": g43.B[i, j] for i in (1, 2) for j in range(4)}}
+    >>> m = fam.member(values)
+    >>> sp.simplify(m.A - g43.A) == sp.zeros(4, 4) and sp.simplify(m.U - g43.U) == sp.zeros(4, 3)
+    True
+    """
+    V, G = sp.Matrix(V), sp.Matrix(G)
+    r = V.rows
+    if s != 4:
+        raise FamilyError(f"{name}: the symmetric stage weights are written for s = 4 here, not s = {s}")
+    d1 = sp.Symbol("d1")
+    weights = [d1, sp.Rational(1, 2) - d1, sp.Rational(1, 2) - d1, d1]
+    others = [[sp.Symbol(f"b{i + 1}{j + 1}") for j in range(s)] for i in range(1, r)]
+    B = sp.Matrix([weights] + others)
+    D = sp.diag(*weights)
+    if sp.simplify(V.T * G * V - G) != sp.zeros(r, r):
+        raise FamilyError(f"{name}: VᵀGV ≠ G")
+    U = (D.inv() * B.T * G * V).applyfunc(sp.cancel)
+    M = B.T * G * B
+    A = sp.zeros(s, s)
+    for i in range(s):
+        for j in range(i):
+            A[i, j] = sp.cancel(M[i, j] / D[i, i])
+        A[i, i] = sp.cancel(M[i, i] / (2 * D[i, i]))
+    from ..exact.methods import GeneralLinearMethod
+    m = GeneralLinearMethod(A=sp.ImmutableMatrix(A), U=sp.ImmutableMatrix(U), B=sp.ImmutableMatrix(B),
+                            V=sp.ImmutableMatrix(V), name=name)
+    free = (d1,) + tuple(x for row in others for x in row)
+    return Family(name, m, free, (d1, sp.Rational(1, 2) - d1), ("g-symplectic",))

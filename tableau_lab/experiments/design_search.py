@@ -31,13 +31,15 @@ import sympy as sp
 from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
 from ..exact.grammar import format_entry
-from ..numeric.objectives import YMAX, NumericGLM, growth, imaginary_interval, real_interval, series_defects
+from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
+                                  series_defects)
 
 __all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError"]
 
 PENALTY = 1e3            # weight of a constraint violation in the score
 MAX_CERTIFIED = 8        # candidates certified per search (each costs exact analyses)
 FRONT_POINTS = 12        # a Pareto front is thinned to at most this many members
+EXACT_FREE = 3           # certification solves the constraints exactly on families with at most this many free parameters
 ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
 DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # rational snapping, smallest height first
@@ -62,10 +64,10 @@ OBJECTIVES = {
     "error-norm": (-1, lambda g, p: series_defects(g, p)[1]),
     "mu": (-1, lambda g, p: max((abs(m) for m in growth(g)), default=0.0)),
 }
-#: constraint name -> violation(g, p) (0 when it holds)
+#: constraint name -> its residual vector at a member (all zero when it holds)
 CONSTRAINTS = {
-    "parasitism-free": lambda g, p: max((abs(m) for m in growth(g)), default=0.0),
-    "order": lambda g, p: series_defects(g, p)[0],
+    "parasitism-free": lambda g, p: np.array([v for m in growth(g) for v in (m.real, m.imag)]),
+    "order": lambda g, p: order_residuals(g, p),
 }
 
 
@@ -152,12 +154,28 @@ class _Task:
         with np.errstate(all="ignore"):
             try:
                 vals = tuple(float(OBJECTIVES[o][1](g, self.p)) for o in self.objectives)
-                viol = float(sum(CONSTRAINTS[c.split("=")[0]](g, self.p) for c in self.constraints))
+                viol = float(np.max(np.abs(self._residuals(g)), initial=0.0))
             except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
                 return None
         if not all(np.isfinite(vals)) or not np.isfinite(viol):
             return None
         return vals, viol
+
+    def _residuals(self, g) -> np.ndarray:
+        parts = [CONSTRAINTS[c.split("=")[0]](g, self.p) for c in self.constraints]
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def residuals(self, x, size: int) -> np.ndarray:
+        """The constraints' residual vector at x (``size`` entries; large where x is unusable)."""
+        g = _evaluator(self.family)(tuple(x))
+        with np.errstate(all="ignore"):
+            try:
+                r = None if g is None else self._residuals(g)
+            except (np.linalg.LinAlgError, ValueError, ZeroDivisionError):
+                r = None
+        if r is None or len(r) != size or not np.all(np.isfinite(r)):
+            return np.full(size, 1e6)
+        return r
 
     def score(self, x, weight=1.0) -> float:
         out = self.values(x)
@@ -202,19 +220,56 @@ def _evaluate(item):
 
 
 def _refine(item):
-    """Nelder–Mead within the box from x0 on the (weighted) score → (point, values, violation, evaluations)."""
-    from scipy.optimize import minimize as nelder_mead
+    """A local search from x0 → (point, (values, violation) or None, evaluations).  Without
+    constraints: Nelder–Mead within the box on the (weighted) score.  With constraints: first onto
+    the constraint set (least squares on the residual vector, within the box), then along it
+    (SLSQP with the residuals as equality constraints) for the weighted objectives."""
+    from scipy.optimize import least_squares, minimize
     task, x0, weight = item
     calls = [0]
+    lo, hi = task.box
+    bounds = [(lo, hi)] * len(x0)
 
     def f(x):
         calls[0] += 1
         return task.score(x, weight)
-    lo, hi = task.box
-    res = nelder_mead(f, np.array(x0), method="Nelder-Mead", bounds=[(lo, hi)] * len(x0),
-                      options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 2000})
-    x = tuple(float(v) for v in res.x)
-    return x, task.values(x), calls[0]
+    if not task.constraints:
+        res = minimize(f, np.array(x0), method="Nelder-Mead", bounds=bounds,
+                       options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": 2000})
+        x = tuple(float(v) for v in res.x)
+        return x, task.values(x), calls[0]
+    first = task.values(x0)
+    if first is None:
+        return tuple(x0), None, 1
+    g0 = _evaluator(task.family)(tuple(x0))
+    size = len(task._residuals(g0))
+    proj = least_squares(lambda x: task.residuals(x, size), np.array(x0), bounds=(lo, hi), xtol=1e-15, ftol=1e-15,
+                         gtol=1e-15, max_nfev=200 * len(x0))
+    calls[0] += proj.nfev
+    x = tuple(float(v) for v in proj.x)
+    out = task.values(x)
+    if out is None or out[1] > FEASIBLE or len(x0) <= 1:
+        return x, out, calls[0]
+
+    def objective(z):
+        calls[0] += 1
+        v = task.values(z)
+        if v is None:
+            return 1e6
+        return sum(-OBJECTIVES[o][0] * val / sc * w for o, val, sc, w in
+                   zip(task.objectives, v[0], task.scales, (weight, 1.0 - weight)))
+    try:
+        with np.errstate(all="ignore"):
+            res = minimize(objective, np.array(x), method="SLSQP", bounds=bounds,
+                           constraints=[{"type": "eq", "fun": lambda z: task.residuals(z, size)}],
+                           options={"maxiter": 200, "ftol": 1e-12})
+        y = tuple(float(v) for v in res.x)
+        better = task.values(y)
+        if better is not None and better[1] <= FEASIBLE and objective(y) <= objective(x):
+            x, out = y, better
+    except (ValueError, np.linalg.LinAlgError):
+        pass                                # SLSQP gave up: the projected point stands
+    return x, out, calls[0]
 
 
 def _generic_order(family: Family, pts) -> int:
@@ -362,6 +417,10 @@ def _certify(family: Family, c: Candidate, constraints, p):
             return
     if not constraints:
         c.note = "no rational member near the optimum is a method of the family (a branch condition vanishes there?)"
+        return
+    if len(family.free) > EXACT_FREE:
+        c.note = (f"the constraints are equations on {len(family.free)} free parameters; the exact solve is "
+                  f"attempted for at most EXACT_FREE = {EXACT_FREE} (fix some parameters in the tableau)")
         return
     # the constraints are equations the rationals cannot meet: solve them exactly on the family
     from ..analysis.design import solve
