@@ -72,6 +72,9 @@ def test_rediscovers_p_and_n(pn):
     assert P.verified["order"] == N.verified["order"] == 4
     assert abs(float(N.verified["mu"][0]) + 0.1547) < 1e-4
     assert abs(float(N.verified["imaginary interval"]) - 2.060) < 1e-3
+    assert N.verified["order with θ ≡ 0"] == 4
+    float_norm = series_defects(NumericGLM.of(N.certified), 4)[1]          # the float objective
+    assert abs(float(N.verified["error norm"]) - float_norm) < 1e-12
 
 
 def test_rational_snap_certifies_without_constraints(pn):

@@ -28,7 +28,6 @@ from ..errors import InputError
 from ..exact.field import normal_form
 from ..exact.grammar import parse_entry
 from ..exact.methods import Method, MethodError
-from ..exact.tableau_json import load
 
 __all__ = ["Family", "FamilyError", "families_of", "family_from_solution"]
 
@@ -94,13 +93,12 @@ def family_from_solution(sol, requirements, name: str) -> Family:
 def families_of(path, requirements) -> list:
     """Every real, verified solution family of ``requirements`` for the unknowns of the tableau file
     at ``path`` (families without free parameters are single methods: members with no values)."""
-    from .design import solve
-    m = load(path)
-    res = solve(m, list(requirements))
+    from .design import solve_file
+    res = solve_file(path, list(requirements))          # as `solve` reads it (unknown abscissae dropped)
     if res.status != "solved":
         raise FamilyError(f"{path}: {res.status} for {', '.join(map(str, requirements))}")
     good = [s for s in res.solutions if s.real and s.method is not None]
-    return [family_from_solution(s, requirements, f"{m.name} #{i + 1}") for i, s in enumerate(good)]
+    return [family_from_solution(s, requirements, f"{res.name} #{i + 1}") for i, s in enumerate(good)]
 
 
 def dirk_g_symplectic_family(V, G, s: int, name: str = "DIRK G-symplectic family") -> Family:

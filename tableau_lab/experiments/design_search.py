@@ -43,6 +43,7 @@ EXACT_FREE = 3           # certification solves the constraints exactly on famil
 ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
 DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # rational snapping, smallest height first
+SNAP_TOLERANCE = 1e-6    # a snapped member must keep the objective values to this (relative) tolerance
 
 
 class SearchError(FamilyError):
@@ -387,12 +388,19 @@ def _verify(m, constraints, p) -> dict | str:
     from ..analysis.order import order
     from ..analysis.parasitism import growth_parameters
     from ..analysis.stability import stability
+    from ..analysis.method_series import method_series
+    from ..analysis.trees import density, symmetry, trees_of_order
+    from ..exact.field import normal_form
     out = {}
     if p > 1 or any(c.startswith("order") for c in constraints):
-        o = order(m, max_order=p + 1).order
-        if o < p:
-            return f"order {o} < {p}"
-        out["order"] = o
+        o = order(m, max_order=p + 1)
+        if any(c.startswith("order") for c in constraints) and o.order_identity_start < p:
+            return f"order {o.order_identity_start} < {p} with the identity as principal starting component"
+        out["order"] = o.order
+        out["order with θ ≡ 0"] = o.order_identity_start
+    phi = method_series(m, p + 1).phi
+    out["error norm"] = sp.sqrt(normal_form(sum(((phi[t] - sp.Rational(1, density(t))) / symmetry(t)) ** 2
+                                                for t in trees_of_order(p + 1))))
     if m.kind == "glm":
         mus = [x.mu for x in growth_parameters(m).items]
         if "parasitism-free" in constraints and any(sp.simplify(mu) != 0 for mu in mus):
@@ -403,10 +411,20 @@ def _verify(m, constraints, p) -> dict | str:
     return out
 
 
+def _close(task, point, c: Candidate) -> bool:
+    """The snapped point keeps the candidate's objective values (within SNAP_TOLERANCE, relative)."""
+    out = task.values(point)
+    return out is not None and all(abs(v - c.values[o]) <= SNAP_TOLERANCE * max(1.0, abs(c.values[o]))
+                                   for o, v in zip(task.objectives, out[0]))
+
+
 def _certify(family: Family, c: Candidate, constraints, p):
     names = [str(s) for s in family.free]
+    task = _Task(family, tuple(c.values), tuple(constraints), p, (-np.inf, np.inf))
     for den in DENOMINATORS:
         exact = {n: sp.Rational(Fraction(v).limit_denominator(den)) for n, v in zip(names, c.point)}
+        if not _close(task, tuple(float(exact[n]) for n in names), c):
+            continue
         try:
             m = family.member(exact)
         except FamilyError:
@@ -416,7 +434,8 @@ def _certify(family: Family, c: Candidate, constraints, p):
             c.certified, c.exact, c.verified = m, exact, ver
             return
     if not constraints:
-        c.note = "no rational member near the optimum is a method of the family (a branch condition vanishes there?)"
+        c.note = (f"no rational of denominator ≤ {DENOMINATORS[-1]} keeps the objective within {SNAP_TOLERANCE:g} "
+                  "(the optimum may be where an exact condition holds: require it with --constrain)")
         return
     if len(family.free) > EXACT_FREE:
         c.note = (f"the constraints are equations on {len(family.free)} free parameters; the exact solve is "
