@@ -197,7 +197,10 @@ def _design(args) -> int:
                 raise FamilyError(f"{args.file}: no family with free parameters for {', '.join(requirements)}")
             results = [search(f, maximize=args.maximize, minimize=args.minimize, constraints=constraints, box=box,
                               samples=args.samples, starts=args.starts, seed=args.seed, scheduler=args.scheduler,
-                              workers=None if args.scheduler else args.workers) for f in fams]
+                              workers=None if args.scheduler else args.workers,
+                              checkpoint=None if not args.checkpoint else
+                              (args.checkpoint if len(fams) == 1 else f"{args.checkpoint}.{i + 1}"))
+                       for i, f in enumerate(fams)]
     except (TableauError, FamilyError, ValueError, SchedulerError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -667,6 +670,8 @@ def build_parser() -> argparse.ArgumentParser:
     ds.add_argument("--workers", type=_count(1, 1024), default=1, metavar="N",
                     help="processes for the sample and the local searches (default 1: this process)")
     ds.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://HOST:PORT) instead of local processes")
+    ds.add_argument("--checkpoint", metavar="FILE",
+                    help="keep the finished tasks in FILE (JSON); a rerun of the same request resumes from it")
     ds.add_argument("--json", action="store_true", help="one JSON object per family")
     ds.add_argument("--save", metavar="OUT", help="write the best certified member with its verified claims")
     ds.add_argument("--name", help="name of the saved method")

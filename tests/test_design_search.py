@@ -135,3 +135,26 @@ def test_pareto_front(pn):
     assert abs(res.candidates[0].point[0] - (1 + 2 / np.sqrt(3))) < 1e-6
     with pytest.raises(SearchError):
         search(pn, maximize=("imaginary-interval", "real-interval"), minimize="mu")
+
+
+def test_checkpoint_resumes_the_same_search(pn, tmp_path, monkeypatch):
+    """An interrupted search (here: half of its finished tasks dropped from the checkpoint) resumes
+    to the same result; with every task kept, a rerun computes no sample point again; another request
+    ignores the file."""
+    import tableau_lab.experiments.design_search as ds
+    path = tmp_path / "search.json"
+    kw = dict(maximize="imaginary-interval", constraints=("order=4",), box=(-3.0, 3.0), seed=1, samples=32, starts=2,
+              certify=False)
+    first = str(search(pn, checkpoint=path, **kw))
+    data = json.loads(path.read_text())
+    assert len(data["sample"]) == 32 and data["refine"]
+    for stage in ("sample", "refine"):
+        for k in list(data[stage])[::2]:
+            del data[stage][k]
+    path.write_text(json.dumps(data))
+    assert str(search(pn, checkpoint=path, **kw)) == first
+    monkeypatch.setattr(ds, "_evaluate", lambda item: 1 / 0)        # nothing left to evaluate
+    monkeypatch.setattr(ds, "_refine", lambda item: 1 / 0)
+    assert str(search(pn, checkpoint=path, **kw)) == first
+    with pytest.raises(ZeroDivisionError):
+        search(pn, checkpoint=path, **{**kw, "seed": 2})            # a different request starts afresh

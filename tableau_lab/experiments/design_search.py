@@ -21,9 +21,12 @@ exactly (issue 18).
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import re
 from dataclasses import dataclass, field
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import sympy as sp
@@ -31,6 +34,7 @@ import sympy as sp
 from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
 from ..exact.grammar import format_entry
+from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
                                   series_defects)
 
@@ -312,13 +316,49 @@ def _dominates(a, b, senses) -> bool:
     return all(better) and any(strictly)
 
 
+class _Checkpoint:
+    """The finished tasks of a search, kept in a JSON file (rewritten atomically as tasks finish) so
+    that a rerun of the same request continues where the last one stopped; another request's file
+    is ignored and replaced."""
+
+    def __init__(self, path, key: str):
+        self.path = None if path is None else Path(path)
+        self.data = {"key": key, "sample": {}, "refine": {}}
+        if self.path is not None and self.path.is_file():
+            try:
+                old = json.loads(self.path.read_text(encoding="utf-8"))
+            except (OSError, ValueError):
+                old = None
+            if isinstance(old, dict) and old.get("key") == key:
+                self.data["sample"] = dict(old.get("sample") or {})
+                self.data["refine"] = dict(old.get("refine") or {})
+
+    def has(self, stage: str, item) -> bool:
+        return repr(item) in self.data[stage]
+
+    def get(self, stage: str, item):
+        return self.data[stage][repr(item)]
+
+    def put(self, stage: str, pairs):
+        for item, value in pairs:
+            self.data[stage][repr(item)] = value
+        if self.path is not None:
+            atomic_write_text(self.path, json.dumps(self.data))
+
+
+def _tuples(v):
+    """JSON lists back to the tuples the search uses."""
+    return tuple(_tuples(x) for x in v) if isinstance(v, list) else v
+
+
 def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2.0, 2.0), samples: int = 256,
            starts: int = 8, seed: int = 0, certify: bool = True, scheduler=None, workers: int | None = 1,
-           weights: int = 9, progress=None) -> SearchResult:
+           weights: int = 9, progress=None, checkpoint=None) -> SearchResult:
     """The best members of ``family`` under the constraints (see the module docstring): one objective,
     or a Pareto front of two.  ``maximize``/``minimize`` take a name or a tuple of names; the sample
     and the local searches run through :func:`executor.executor` (``scheduler``: None for a process
-    pool of ``workers``, "serial", or a Dask address), with the same results everywhere."""
+    pool of ``workers``, "serial", or a Dask address), with the same results everywhere.
+    ``checkpoint``: a file that keeps the finished tasks, so that an interrupted search resumes."""
     from scipy.stats import qmc
 
     from .executor import executor
@@ -338,11 +378,16 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
            qmc.scale(qmc.Sobol(dim, seed=seed).random(samples), [lo] * dim, [hi] * dim)]
     p = _order_of(family, constraints) or _generic_order(family, pts)
     task = _Task(family, names, tuple(constraints), p, (float(lo), float(hi)))
+    request = json.dumps([family.name, str(family.method.matrices()), [str(x) for x in family.free], names,
+                          list(constraints), [lo, hi], samples, starts, seed, weights, p])
+    cp = _Checkpoint(checkpoint, hashlib.sha256(request.encode()).hexdigest())
     with executor(scheduler, workers, progress=progress) as ex:
         n = max(1, ex.workers)
-        chunks = [pts[i::n] for i in range(n)]
-        outs = ex.map(_evaluate, [(task, c) for c in chunks], desc="sample")
-        found = dict(sorted((x, o) for c, out in zip(chunks, outs) for x, o in zip(c, out) if o is not None))
+        todo = [x for x in pts if not cp.has("sample", x)]
+        chunks = [todo[i::n] for i in range(n) if todo[i::n]]
+        ex.map(_evaluate, [(task, c) for c in chunks], desc="sample",
+               on_result=lambda i, out: cp.put("sample", zip(chunks[i], out)))
+        found = dict(sorted((x, _tuples(cp.get("sample", x))) for x in pts if cp.get("sample", x) is not None))
         count = len(pts)
         if len(names) == 2:                 # scale each objective by its spread over the sample
             spread = [np.ptp([o[0][k] for o in found.values()]) or 1.0 for k in range(2)]
@@ -354,7 +399,11 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
             # and the most nearly feasible points, so that feasible optima with a worse objective are found too
             feasible = sorted(found, key=lambda x: found[x][1])[:per] if constraints else []
             jobs += [(task, x, float(w)) for x in dict.fromkeys(ranked + feasible)]
-        refined = ex.map(_refine, jobs, desc="local searches")
+        keys = [(x, w) for _, x, w in jobs]
+        todo = [j for j, k in zip(jobs, keys) if not cp.has("refine", k)]
+        ex.map(_refine, todo, desc="local searches",
+               on_result=lambda i, out: cp.put("refine", [((todo[i][1], todo[i][2]), out)]))
+        refined = [_tuples(cp.get("refine", k)) for k in keys]
     optima = []
     for x, out, calls in refined:
         count += calls
