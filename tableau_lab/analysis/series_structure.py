@@ -57,7 +57,7 @@ def tree_pairs(n: int) -> tuple:
     return tuple(out)
 
 
-def _symplectic_defects(vals, n, F, field: bool):
+def _symplectic_defects(vals, n, field: bool):
     for u, v in tree_pairs(n):
         d = vals[butcher_product(u, v)] + vals[butcher_product(v, u)]
         if not field:
@@ -68,7 +68,7 @@ def _symplectic_defects(vals, n, F, field: bool):
 def _first_failure(a: BSeries, field: bool):
     F = a.field
     for n in range(2, a.max_order + 1):
-        for pair, d in _symplectic_defects(a.values, n, F, field):
+        for pair, d in _symplectic_defects(a.values, n, field):
             if not F.is_zero(d):
                 return n - 1, pair, F.to_sympy(d)
     return a.max_order, None, None
@@ -134,7 +134,7 @@ def conjugate_symplectic(a: BSeries):
                "χ")
     for n in range(2, N + 1):
         psi = _conjugated(a, chi)
-        defects = [d for _, d in _symplectic_defects(psi.values, n, F, False)]
+        defects = [d for _, d in _symplectic_defects(psi.values, n, False)]
         if all(F.is_zero(d) for d in defects):
             continue
         if n == 2:                      # L₂ = 0: c(τ) never changes order 2
@@ -153,7 +153,7 @@ def conjugate_symplectic(a: BSeries):
             for s, xs in zip(prev, x):
                 vals[s] = vals[s] + F.lift(xs) * F.rational(sign)
             trial = _new(chi, vals, "χ")
-            if all(F.is_zero(d) for _, d in _symplectic_defects(_conjugated(a, trial).values, n, F, False)):
+            if all(F.is_zero(d) for _, d in _symplectic_defects(_conjugated(a, trial).values, n, False)):
                 chi = trial
                 break
         else:   # pragma: no cover - the linear model of the conjugation is exact; this would be a bug
@@ -213,14 +213,15 @@ class SeriesStructure(Result):
                 r"\end{tabular}")
 
 
-def structure(a: BSeries) -> SeriesStructure:
-    """Every property above, for the map ``a`` to its ``max_order``."""
+def structure(a: BSeries, field: BSeries | None = None) -> SeriesStructure:
+    """Every property above, for the map ``a`` to its ``max_order`` (``field``: its modified field,
+    when the caller has it already)."""
     from .bseries import series_order
     if a.kind.coloured:
         raise ValueError(f"{a.label}: the structure checks are written for B-series (plain trees); "
                          "a P-series (partitioned method) has its modified equation and modified energy only")
     n, pair, d = _first_failure(a, False)
-    b = modified_field(a)
+    b = field if field is not None else modified_field(a)
     conj, chi = conjugate_symplectic(a)
     return SeriesStructure(a.label, a.max_order, series_order(a), n, conj, symmetric_order(a),
                            hamiltonian_order(b), energy_order(b), None if pair is None else (pair[0], pair[1], d),

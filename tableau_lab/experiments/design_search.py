@@ -33,6 +33,7 @@ import sympy as sp
 
 from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
+from ..analysis.trees import density, symmetry, trees_of_order
 from ..exact.grammar import format_entry
 from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
@@ -150,10 +151,14 @@ class _Task:
     p: int
     box: tuple
     scales: tuple = (1.0, 1.0)
+    key: str = ""                 # names the family's evaluator in each process (computed once)
+
+    def at(self, x):
+        return _evaluator(self.family, self.key)(tuple(x))
 
     def values(self, x):
         """(objective values, violation) at x, or None where the member is not usable."""
-        g = _evaluator(self.family)(tuple(x))
+        g = self.at(x)
         if g is None:
             return None
         with np.errstate(all="ignore"):
@@ -172,7 +177,7 @@ class _Task:
 
     def residuals(self, x, size: int) -> np.ndarray:
         """The constraints' residual vector at x (``size`` entries; large where x is unusable)."""
-        g = _evaluator(self.family)(tuple(x))
+        g = self.at(x)
         with np.errstate(all="ignore"):
             try:
                 r = None if g is None else self._residuals(g)
@@ -182,23 +187,25 @@ class _Task:
             return np.full(size, 1e6)
         return r
 
+    def mix(self, vals, weight=1.0) -> float:
+        """The objectives to minimise, scaled and weighted (weight, 1 − weight)."""
+        return sum(-OBJECTIVES[o][0] * v / s * w
+                   for o, v, s, w in zip(self.objectives, vals, self.scales, (weight, 1.0 - weight)))
+
+    def rank(self, out, weight=1.0) -> float:
+        """The penalised score of (values, violation) as :meth:`values` gives them."""
+        return np.inf if out is None else self.mix(out[0], weight) + PENALTY * out[1]
+
     def score(self, x, weight=1.0) -> float:
-        out = self.values(x)
-        if out is None:
-            return np.inf
-        vals, viol = out
-        mix = (weight, 1.0 - weight)
-        return sum(-OBJECTIVES[o][0] * v / s * w for o, v, s, w in zip(self.objectives, vals, self.scales, mix)) \
-            + PENALTY * viol
+        return self.rank(self.values(x), weight)
 
 
 _EVALUATORS: dict = {}
 
 
-def _evaluator(family: Family):
+def _evaluator(family: Family, key: str):
     """point -> NumericGLM (None where the member is not a method, e.g. a singular I − zA); one
-    ``lambdify`` per family and process."""
-    key = (family.name, str(family.method.matrices()), family.free)
+    ``lambdify`` per family and process, found by ``key`` (:func:`_key`)."""
     if key in _EVALUATORS:
         return _EVALUATORS[key]
     g = family.method.as_glm()
@@ -246,8 +253,7 @@ def _refine(item):
     first = task.values(x0)
     if first is None:
         return tuple(x0), None, 1
-    g0 = _evaluator(task.family)(tuple(x0))
-    size = len(task._residuals(g0))
+    size = len(task._residuals(task.at(x0)))
     proj = least_squares(lambda x: task.residuals(x, size), np.array(x0), bounds=(lo, hi), xtol=1e-15, ftol=1e-15,
                          gtol=1e-15, max_nfev=200 * len(x0))
     calls[0] += proj.nfev
@@ -259,10 +265,7 @@ def _refine(item):
     def objective(z):
         calls[0] += 1
         v = task.values(z)
-        if v is None:
-            return 1e6
-        return sum(-OBJECTIVES[o][0] * val / sc * w for o, val, sc, w in
-                   zip(task.objectives, v[0], task.scales, (weight, 1.0 - weight)))
+        return 1e6 if v is None else task.mix(v[0], weight)
     try:
         with np.errstate(all="ignore"):
             res = minimize(objective, np.array(x), method="SLSQP", bounds=bounds,
@@ -277,20 +280,25 @@ def _refine(item):
     return x, out, calls[0]
 
 
-def _generic_order(family: Family, pts) -> int:
-    """The order every probed member reaches (the residual of the order conditions below 1e-9 at
+def _key(family: Family) -> str:
+    """A name for the family's exact matrices and free parameters (the evaluators' cache key)."""
+    text = json.dumps([family.name, str(family.method.matrices()), [str(x) for x in family.free]])
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _generic_order(family: Family, key: str, pts) -> int:
+    """The order every probed member reaches (the residuals of the order conditions below 1e-9 at
     three sample points): the order the error norm is taken at when no order is required."""
-    at = _evaluator(family)
+    at = _evaluator(family, key)
+    sizes = np.cumsum([len(trees_of_order(n)) for n in range(1, ORDER_PROBE + 1)])
     orders = []
     for x in pts[:3]:
         g = at(x)
         if g is None:
             continue
-        n = 0
         with np.errstate(all="ignore"):
-            while n < ORDER_PROBE and series_defects(g, n + 1)[0] < FEASIBLE:
-                n += 1
-        orders.append(n)
+            bad = np.flatnonzero(~(np.abs(order_residuals(g, ORDER_PROBE)) < FEASIBLE))
+        orders.append(ORDER_PROBE if not len(bad) else int(np.searchsorted(sizes, bad[0], side="right")))
     return max(1, min(orders, default=1))
 
 
@@ -376,9 +384,10 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
     dim = len(family.free)
     pts = [tuple(float(v) for v in x) for x in
            qmc.scale(qmc.Sobol(dim, seed=seed).random(samples), [lo] * dim, [hi] * dim)]
-    p = _order_of(family, constraints) or _generic_order(family, pts)
-    task = _Task(family, names, tuple(constraints), p, (float(lo), float(hi)))
-    request = json.dumps([family.name, str(family.method.matrices()), [str(x) for x in family.free], names,
+    key = _key(family)
+    p = _order_of(family, constraints) or _generic_order(family, key, pts)
+    task = _Task(family, names, tuple(constraints), p, (float(lo), float(hi)), key=key)
+    request = json.dumps([key, names,
                           list(constraints), [lo, hi], samples, starts, seed, weights, p])
     cp = _Checkpoint(checkpoint, hashlib.sha256(request.encode()).hexdigest())
     with executor(scheduler, workers, progress=progress) as ex:
@@ -391,11 +400,11 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
         count = len(pts)
         if len(names) == 2:                 # scale each objective by its spread over the sample
             spread = [np.ptp([o[0][k] for o in found.values()]) or 1.0 for k in range(2)]
-            task = _Task(family, names, tuple(constraints), p, task.box, tuple(spread))
+            task = _Task(family, names, tuple(constraints), p, task.box, tuple(spread), key)
         jobs = []
         per = starts if len(names) == 1 else max(1, starts // 4)
         for w in (np.linspace(0, 1, weights) if len(names) == 2 else [1.0]):
-            ranked = sorted(found, key=lambda x: task.score(x, w))[:per]
+            ranked = sorted(found, key=lambda x: task.rank(found[x], w))[:per]
             # and the most nearly feasible points, so that feasible optima with a worse objective are found too
             feasible = sorted(found, key=lambda x: found[x][1])[:per] if constraints else []
             jobs += [(task, x, float(w)) for x in dict.fromkeys(ranked + feasible)]
@@ -428,7 +437,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
     if certify:
         for c in optima[:MAX_CERTIFIED]:
             if c.violation <= 1e-6:
-                _certify(family, c, constraints, p)
+                _certify(family, c, constraints, p, key)
     return SearchResult(family.name, tuple(family.free), names, tuple(constraints), tuple(optima), count)
 
 
@@ -438,7 +447,6 @@ def _verify(m, constraints, p) -> dict | str:
     from ..analysis.parasitism import growth_parameters
     from ..analysis.stability import stability
     from ..analysis.method_series import method_series
-    from ..analysis.trees import density, symmetry, trees_of_order
     from ..exact.field import is_zero, normal_form
     out = {}
     if p > 1 or any(c.startswith("order") for c in constraints):
@@ -467,9 +475,9 @@ def _close(task, point, c: Candidate) -> bool:
                                    for o, v in zip(task.objectives, out[0]))
 
 
-def _certify(family: Family, c: Candidate, constraints, p):
+def _certify(family: Family, c: Candidate, constraints, p, key: str):
     names = [str(s) for s in family.free]
-    task = _Task(family, tuple(c.values), tuple(constraints), p, (-np.inf, np.inf))
+    task = _Task(family, tuple(c.values), tuple(constraints), p, (-np.inf, np.inf), key=key)
     for den in DENOMINATORS:
         exact = {n: sp.Rational(Fraction(v).limit_denominator(den)) for n, v in zip(names, c.point)}
         if not _close(task, tuple(float(exact[n]) for n in names), c):

@@ -62,7 +62,7 @@ def modified_section(m: Method, C, facts: dict) -> str:
     if kind.coloured:
         conserves = bool(facts.get("symplectic"))
     else:
-        st = structure(phi)
+        st = structure(phi, b)
         facts.update({"symplectic_series_order": st.symplectic, "conjugate_symplectic_order": st.conjugate_symplectic,
                       "series_budget": N})
 
