@@ -632,7 +632,8 @@ def build_parser() -> argparse.ArgumentParser:
     sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
                         description="Treat the named unknowns of a tableau as parameters and find every solution "
                                     "family (exactly: Gröbner bases, radicals) of the required conditions; each "
-                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, effective-order=P, "
+                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, identity-start-order=P "
+                                    "(GLM: θ ≡ 0), effective-order=P, "
                                     "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
                                     "Exit 0: solved; 1: no (real, radical) solution; 2: bad input.")
     _family_options(sv, "comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")

@@ -197,3 +197,26 @@ def test_symmetric_glm_design_recovers_example4():
     assert res.status == "solved" and len(res.solutions) == 1
     e4 = load(ROOT / "methods" / "example4_glm.json")
     assert _same(res.solutions[0].method.A, e4.A) and _same(res.solutions[0].method.U, e4.U)
+
+
+def _effective5_as_glm(unknown: str) -> dict:
+    """[B21] (5.7d) written as a GLM with r = 1 (U = 1, B = bᵀ, V = 1), A[5,4] the unknown."""
+    d = json.loads((ROOT / "methods" / "butcher_effective5.json").read_text())
+    A = d["A"]
+    A[4][3] = unknown
+    return {"format": d["format"], "name": "effective order 5 as a GLM", "kind": "glm", "A": A,
+            "U": [[1]] * 5, "B": [d["b"]], "V": [[1]]}
+
+
+def test_identity_start_order_is_the_order_with_theta_zero():
+    """For a GLM, ``order=P`` is relative to the best starting method and ``identity-start-order=P``
+    fixes θ ≡ 0.  Butcher's explicit 5-stage method (as a GLM with r = 1) has order 5 with its starter
+    but no explicit 5-stage method has classical order 5 (the Butcher barrier, [B21] Sec. 3.5), so with
+    a₅₄ unknown: order=5 gives back the book's a₅₄ = 2 and identity-start-order=5 has no solution,
+    while identity-start-order=4 does."""
+    text = json.dumps(_effective5_as_glm("x"))
+    best = solve_text(text, ["order=5"])
+    assert best.status == "solved" and [s.parameters["x"] for s in best.solutions] == [2]
+    assert solve_text(text, ["identity-start-order=5"]).status == "no solution"
+    ident = solve_text(text, ["identity-start-order=4"])
+    assert ident.status == "solved" and [s.parameters["x"] for s in ident.solutions] == [2]

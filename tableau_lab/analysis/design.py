@@ -7,6 +7,8 @@ over the tableau's number field):
 * ``order=P``: RK: Φ(t) = 1/γ(t) for |t| ≤ P (elementary weights); partitioned RK: the
   bicoloured-tree conditions; GLM: the order conditions relative to the best starting method
   (θ eliminated order by order, see :mod:`glm_order`);
+* ``identity-start-order=P`` (GLM): the same with θ ≡ 0, i.e. the identity as first starting
+  component ([B16] Sec. 53; for RK methods it is ``order=P``);
 * ``effective-order=P`` (RK): the GLM conditions with r = 1 (a free starting method);
 * ``stage-order=Q`` (RK): C(Q), Σⱼ aᵢⱼcⱼ^{k−1} = cᵢ^k/k;
 * ``symplectic`` (RK, PRK): diag(b)A + Aᵀdiag(b) − bbᵀ = 0 ([HLW06] VI.4);
@@ -56,7 +58,8 @@ from .trees import bracket, density, order as tree_order, trees_up_to
 __all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
            "Solution", "DesignError"]
 
-KEYWORDS = ("g-symplectic", "symplectic", "order", "effective-order", "stage-order", "parasitism-free", "symmetric")
+ORDER_KEYWORDS = ("order", "identity-start-order", "effective-order", "stage-order")     # take a value =P
+KEYWORDS = ("g-symplectic", "symplectic", "order", "identity-start-order", "effective-order", "stage-order", "parasitism-free", "symmetric")
 
 
 class DesignError(InputError):
@@ -85,7 +88,7 @@ def parse_requirements(items) -> tuple[Requirement, ...]:
                 continue
             key, _, val = part.partition("=")
             key = key.strip().lower()
-            if key in ("order", "effective-order", "stage-order"):
+            if key in ORDER_KEYWORDS:
                 try:
                     n = int(val)
                 except ValueError:
@@ -249,7 +252,7 @@ class _Problem:
         except SystemError_ as exc:
             raise DesignError(str(exc)) from None
         self.labelled = [(lab, self.sys.frac(e)) for lab, e in extra_eqs]
-        if not any(r.name == "order" for r in reqs):     # a method must at least be consistent
+        if not any(r.name in ("order", "identity-start-order") for r in reqs):     # a method must at least be consistent
             self.labelled += [(f"consistency ({lab})", e) for lab, e in self._order(1)]
         for r in reqs:
             self.labelled += self._equations(r)
@@ -316,6 +319,8 @@ class _Problem:
                      - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
         if r.name == "order":
             return self._order(r.value)
+        if r.name == "identity-start-order":
+            return self._order(r.value, free_theta=False)
         if r.name == "effective-order":
             if m.kind != "rk":
                 raise DesignError("effective-order applies to RK methods; a GLM's order=P is already relative "
@@ -346,7 +351,7 @@ class _Problem:
             return out
         raise DesignError(f"requirement {r} is not implemented")  # pragma: no cover
 
-    def _order(self, P, glm=False):
+    def _order(self, P, glm=False, free_theta=True):
         m, F = self.m, self.sys.F
         if m.kind == "rk" and not glm:
             return _rk_weights(self._mat(m.A), self._vec(m.b), P, F, self.sys.frac)
@@ -355,7 +360,7 @@ class _Problem:
             return [(lab, self.sys.frac(e)) for lab, e in prk_conditions(m, P)]
         from .glm_order import order_conditions
         K = self.sys.K.frac_field(*self.params) if self.params else self.sys.K
-        return [(lab, self.sys.frac(K.to_sympy(x))) for lab, x in order_conditions(m, P, K)]
+        return [(lab, self.sys.frac(K.to_sympy(x))) for lab, x in order_conditions(m, P, K, free_theta)]
 
 
 def _radicals(exprs):
@@ -406,7 +411,7 @@ def _verify(meth: Method, reqs, values) -> dict:
     from .rk_order import rk_order
     from .symmetry import symmetric
     from .symplectic import g_symplectic, rk_symplectic
-    orders = [r.value for r in reqs if r.name in ("order", "effective-order", "stage-order")]
+    orders = [r.value for r in reqs if r.name in ORDER_KEYWORDS]
     o = None
     if orders:
         if meth.kind == "rk":
@@ -417,6 +422,7 @@ def _verify(meth: Method, reqs, values) -> dict:
         "symplectic": lambda r: rk_symplectic(meth).holds,
         "g-symplectic": lambda r: g_symplectic(meth).holds,
         "order": lambda r: o.order >= r.value,
+        "identity-start-order": lambda r: getattr(o, "order_identity_start", o.order) >= r.value,     # PRK: classical
         "effective-order": lambda r: o.effective_order >= r.value,
         "stage-order": lambda r: o.stage_order >= r.value,
         "parasitism-free": lambda r: growth_parameters(meth).free,

@@ -133,18 +133,73 @@ def dirk_g_symplectic_family(V, G, s: int, name: str = "DIRK G-symplectic family
     weights = [d1, sp.Rational(1, 2) - d1, sp.Rational(1, 2) - d1, d1]
     others = [[sp.Symbol(f"b{i + 1}{j + 1}") for j in range(s)] for i in range(1, r)]
     B = sp.Matrix([weights] + others)
-    D = sp.diag(*weights)
     if not all(is_zero(e) for e in V.T * G * V - G):
         raise FamilyError(f"{name}: VᵀGV ≠ G")
-    U = (D.inv() * B.T * G * V).applyfunc(sp.cancel)
-    M = B.T * G * B
-    A = sp.zeros(s, s)
-    for i in range(s):
-        for j in range(i):
-            A[i, j] = sp.cancel(M[i, j] / D[i, i])
-        A[i, i] = sp.cancel(M[i, i] / (2 * D[i, i]))
+    A, U = dirk_stages(B, G, V, sp.zeros)
+    A, U = A.applyfunc(sp.cancel), U.applyfunc(sp.cancel)
     from ..exact.methods import GeneralLinearMethod
     m = GeneralLinearMethod(A=sp.ImmutableMatrix(A), U=sp.ImmutableMatrix(U), B=sp.ImmutableMatrix(B),
                             V=sp.ImmutableMatrix(V), name=name)
     free = (d1,) + tuple(x for row in others for x in row)
     return Family(name, m, free, (d1, sp.Rational(1, 2) - d1), ("g-symplectic",))
+
+
+def dirk_stages(B, G, V, zeros):
+    r"""A and U of the G-symplectic, diagonally implicit GLM with output matrix B (first row: the
+    stage weights d = diag D), any arithmetic (sympy matrices, numpy arrays; ``zeros(rows, cols)`` makes a zero matrix of it):
+
+        U = D⁻¹BᵀGV,    a_ij = (BᵀGB)_ij/d_i (i > j),    a_ii = (BᵀGB)_ii/(2d_i),    a_ij = 0 (i < j),
+
+    so that DU = BᵀGV and DA + AᵀD = BᵀGB hold identically (seed §3.2.3)."""
+    r, s = B.shape
+    d = [B[0, j] for j in range(s)]
+    M = B.T @ G @ B
+    BtGV = B.T @ G @ V
+    U, A = zeros(s, r), zeros(s, s)
+    for i in range(s):
+        for j in range(U.shape[1]):
+            U[i, j] = BtGV[i, j] / d[i]
+        for j in range(i):
+            A[i, j] = M[i, j] / d[i]
+        A[i, i] = M[i, i] / (2 * d[i])
+    return A, U
+
+
+def _qmul(a, b):
+    """The quaternion product of (a1, a2, a3, a4) and (b1, b2, b3, b4), any arithmetic."""
+    a1, a2, a3, a4 = a
+    b1, b2, b3, b4 = b
+    return (a1 * b1 - a2 * b2 - a3 * b3 - a4 * b4, a1 * b2 + a2 * b1 + a3 * b4 - a4 * b3,
+            a1 * b3 - a2 * b4 + a3 * b1 + a4 * b2, a1 * b4 + a2 * b3 - a3 * b2 + a4 * b1)
+
+
+def parasitism_free_rows(h, q, half=sp.Rational(1, 2)):
+    r"""The output matrix B of a member of :func:`dirk_g_symplectic_family` (s = 4, r = 3, V the
+    rotation by 2π/3 or any rotation on the last two values, G = diag(1, −γ, −γ)) on which the
+    parasitic growth parameters vanish **identically**, from two quaternions h, q (any arithmetic).
+
+    Why: for ζ = e^{iφ} the eigenvectors are x = (0, 1, −i)ᵀ (right) and y = (0, 1, i) (left), so
+    with BU = BD⁻¹BᵀGV the growth parameter ([BHHN14]) μ = ζ⁻¹yBUx/(yx) = −(γ/2) Σⱼ |βⱼ|²/dⱼ,
+    βⱼ = b₂ⱼ + i b₃ⱼ.  With d = (d₁, ½ − d₁, ½ − d₁, d₁), μ = 0 iff |P|² = κ|Q|², κ = −d₁/(½ − d₁),
+    for the quaternions P = (β₁, β₄) and Q = (β₂, β₃); every such pair is P = hQ with |h|² = κ,
+    i.e. d₁ = −κ/(2(1 − κ)), Q = q.  So every μ-free member (κ ≠ 1) is B(h, q), and every B(h, q)
+    is μ-free: a rational (h, q) gives an exact μ-free method with rational B.
+
+    >>> import sympy as sp
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> from tableau_lab.analysis.parasitism import growth_parameters
+    >>> V, G = load("methods/glm43.json").V, sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4))
+    >>> B = parasitism_free_rows([sp.Rational(1, 2), 1, 0, sp.Rational(-1, 3)], [1, 2, sp.Rational(1, 5), -1])
+    >>> A, U = dirk_stages(B, G, V, sp.zeros)
+    >>> from tableau_lab.exact.methods import GeneralLinearMethod
+    >>> [x.mu for x in growth_parameters(GeneralLinearMethod(A=A, U=U, B=B, V=V)).items]
+    [0, 0]
+    """
+    kappa = sum(x * x for x in h)
+    d1 = -kappa / (2 * (1 - kappa))
+    p = _qmul(h, q)
+    rows = [[d1, half - d1, half - d1, d1], [p[0], q[0], q[2], p[2]], [p[1], q[1], q[3], p[3]]]
+    if isinstance(kappa, float) or type(kappa).__module__.startswith("numpy"):
+        import numpy as np
+        return np.array(rows, dtype=float)
+    return sp.Matrix(rows)

@@ -500,7 +500,9 @@ def _certify(family: Family, c: Candidate, constraints, p, key: str):
         return
     # the constraints are equations the rationals cannot meet: solve them exactly on the family
     from ..analysis.design import solve
-    reqs = [x for x in constraints]
+    # the numeric order constraint is the order with θ ≡ 0 (numeric.objectives.order_residuals)
+    reqs = [c.replace("order=", "identity-start-order=") if c.startswith("order=") and family.method.kind == "glm"
+            else c for c in constraints]
     try:
         res = solve(family.method, reqs)
     except (ValueError, FamilyError) as exc:
