@@ -434,7 +434,7 @@ def run_numba(method_path, problem, h, steps, reps=5, *, solver="auto", start="e
     if steps < 1:
         raise ValueError("steps must be positive")
     pr = prepare(method_path, problem, h, solver, start, compensated, mode)
-    pk, (s, r, d) = pr.pk, pr.shape
+    pk = pr.pk
     loop = compiled_loop(pr.cp.problem, "f64", run_shape(pk))
 
     def call(n1):
