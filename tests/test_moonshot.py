@@ -60,3 +60,23 @@ def test_the_order_conditions_are_projected_not_assumed(moon):
     assert np.max(np.abs(moon.order_residuals(moon.member(x), 4))) > 1e-3
     y = moon.project(x)
     assert y is not None and np.max(np.abs(moon.order_residuals(moon.member(y), 4))) < 1e-9
+
+
+def test_symmetric_candidate_is_certified_and_beats_glm43(moon, capsys, monkeypatch):
+    """methods/candidates/glm4_symmetric.json (benchmarks/symmetric_member.py -- -3/20 2/5): the claims
+    (G-symplectic, order 4 with θ ≡ 0, μ = 0) hold exactly through `tableau-lab verify`, and in float64 it
+    has a larger Y* and real interval and a smaller error norm than GLM43 (docs/design.md)."""
+    from tableau_lab.cli import main
+    from tableau_lab.exact import field
+    from tableau_lab.exact.tableau_json import load
+    path = ROOT / "methods" / "candidates" / "glm4_symmetric.json"
+    monkeypatch.setattr(field, "FIELD_DEGREE_LIMIT", field.FIELD_DEGREE_LIMIT)       # restored afterwards
+    assert main(["verify", str(path), "--max-field-degree", "512"]) == 0
+    out = capsys.readouterr().out
+    assert "(4 with θ ≡ 0)" in out and "all μ = 0" in out and "DA + AᵀD − BᵀGB = 0 exactly" in out
+    new = moon.describe(moon.NumericGLM.of(load(path)))
+    old = moon.describe(moon.NumericGLM.of(moon.GLM43))
+    assert new["Y*"] > old["Y*"] + 0.1 and new["X*"] > old["X*"] and new["error"] < old["error"] / 2
+    assert np.all(new["diag"] > 0)
+    doc = (ROOT / "docs" / "design.md").read_text()
+    assert f"Y* = {new['Y*']:.6f}, X* = {new['X*']:.4g}, error norm = {new['error']:.6g}" in doc
