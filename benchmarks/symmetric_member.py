@@ -21,24 +21,23 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from tableau_lab.analysis.design import solve  # noqa: E402
-from tableau_lab.analysis.family import dirk_stages  # noqa: E402
+from tableau_lab.analysis.family import dirk_stages, glm43_structure  # noqa: E402
 from tableau_lab.exact import field  # noqa: E402
 from tableau_lab.exact.grammar import parse_entry  # noqa: E402
 from tableau_lab.exact.methods import GeneralLinearMethod  # noqa: E402
-from tableau_lab.exact.tableau_json import load, save  # noqa: E402
+from tableau_lab.exact.tableau_json import save  # noqa: E402
 
 FIELD_DEGREE = 512        # nested radicals: the field's degree bound counts each radical separately
 REQUIREMENTS = ("identity-start-order=4", "parasitism-free")
 
 
 def structure(d1, b21, x, y) -> GeneralLinearMethod:
-    g43 = load(ROOT / "methods" / "glm43.json")
-    G = sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4))
+    V, G = glm43_structure()
     half = sp.Rational(1, 2)
     B = sp.Matrix([[d1, half - d1, half - d1, d1], [b21, x, -x, -b21], [0, y, -y, 0]])
-    A, U = dirk_stages(B, G, g43.V, sp.zeros)
+    A, U = dirk_stages(B, G, V, sp.zeros)
     return GeneralLinearMethod(A=sp.ImmutableMatrix(A.applyfunc(sp.cancel)), U=sp.ImmutableMatrix(U.applyfunc(sp.cancel)),
-                               B=sp.ImmutableMatrix(B), V=g43.V, name="symmetric member")
+                               B=sp.ImmutableMatrix(B), V=V, name="symmetric member")
 
 
 def member(d1, b21):

@@ -165,12 +165,13 @@ def test_parasitism_free_rows_contain_glm43():
     GLM43 (μ = 0, checked by analysis.parasitism) must come back exactly from q = Q = (β₂, β₃) and
     h = P Q⁻¹, P = (β₁, β₄) as quaternions, and its A and U from dirk_stages; a rational member is
     G-symplectic with G = diag(1, −1/4, −1/4) and μ = 0 (the ordinary analyses)."""
-    from tableau_lab.analysis.family import _qmul, dirk_stages, parasitism_free_rows
+    from tableau_lab.analysis.family import _qmul, dirk_stages, glm43_structure, parasitism_free_rows
     from tableau_lab.analysis.symplectic import g_symplectic
     from tableau_lab.exact.field import is_zero
     from tableau_lab.exact.methods import GeneralLinearMethod
     g43 = load("methods/glm43.json")
-    G = sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4))
+    V, G = glm43_structure()
+    assert all(is_zero(e) for e in V - g43.V)
     assert growth_parameters(g43).free
     B = g43.B
     P = (B[1, 0], B[2, 0], B[1, 3], B[2, 3])
@@ -179,10 +180,10 @@ def test_parasitism_free_rows_contain_glm43():
     h = _qmul(P, (Q[0] / norm, -Q[1] / norm, -Q[2] / norm, -Q[3] / norm))
     B2 = parasitism_free_rows(h, Q)
     assert all(is_zero(e) for e in B2 - B)
-    A, U = dirk_stages(B2, G, g43.V, sp.zeros)
+    A, U = dirk_stages(B2, G, V, sp.zeros)
     assert all(is_zero(e) for e in A - g43.A) and all(is_zero(e) for e in U - g43.U)
     R = sp.Rational
     B3 = parasitism_free_rows([R(1, 3), R(-1, 2), R(2, 5), 0], [1, R(-3, 4), R(1, 7), 2])
-    A3, U3 = dirk_stages(B3, G, g43.V, sp.zeros)
-    m = GeneralLinearMethod(A=A3, U=U3, B=B3, V=g43.V)
+    A3, U3 = dirk_stages(B3, G, V, sp.zeros)
+    m = GeneralLinearMethod(A=A3, U=U3, B=B3, V=V)
     assert g_symplectic(m).holds and growth_parameters(m).free

@@ -46,7 +46,7 @@ def test_quoted_members_meet_the_conditions(moon, block):
         row = _row(block, goal)
         assert abs(v["Y*"] - float(row[1])) < 1e-3 and abs(v["error"] / float(row[3]) - 1) < 1e-3, goal
         ok, _ = moon.GOALS[goal]
-        assert ok(v), goal
+        assert ok(g), goal
     nonneg = moon.describe(moon.member(pts["largest Y*, diagonal ≥ 0"]))
     assert nonneg["Y*"] > glm43["Y*"] and np.all(nonneg["diag"] >= 0)
     wide = moon.describe(moon.member(pts[f"smallest error, Y* ≥ {moon.Y_GOAL:g}"]))

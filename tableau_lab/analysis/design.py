@@ -58,8 +58,9 @@ from .trees import bracket, density, order as tree_order, trees_up_to
 __all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
            "Solution", "DesignError"]
 
-ORDER_KEYWORDS = ("order", "identity-start-order", "effective-order", "stage-order")     # take a value =P
-KEYWORDS = ("g-symplectic", "symplectic", "order", "identity-start-order", "effective-order", "stage-order", "parasitism-free", "symmetric")
+CLASSICAL_ORDERS = ("order", "identity-start-order")      # imply consistency (the order-1 conditions)
+ORDER_KEYWORDS = CLASSICAL_ORDERS + ("effective-order", "stage-order")     # take a value =P
+KEYWORDS = ("g-symplectic", "symplectic") + ORDER_KEYWORDS + ("parasitism-free", "symmetric")
 
 
 class DesignError(InputError):
@@ -252,7 +253,7 @@ class _Problem:
         except SystemError_ as exc:
             raise DesignError(str(exc)) from None
         self.labelled = [(lab, self.sys.frac(e)) for lab, e in extra_eqs]
-        if not any(r.name in ("order", "identity-start-order") for r in reqs):     # a method must at least be consistent
+        if not any(r.name in CLASSICAL_ORDERS for r in reqs):     # a method must at least be consistent
             self.labelled += [(f"consistency ({lab})", e) for lab, e in self._order(1)]
         for r in reqs:
             self.labelled += self._equations(r)

@@ -27,7 +27,7 @@ import sympy as sp
 from ..errors import InputError
 from ..exact.field import is_zero, normal_form
 from ..exact.grammar import parse_entry
-from ..exact.methods import Method, MethodError
+from ..exact.methods import GeneralLinearMethod, Method, MethodError
 
 __all__ = ["Family", "FamilyError", "families_of", "family_from_solution"]
 
@@ -116,7 +116,7 @@ def dirk_g_symplectic_family(V, G, s: int, name: str = "DIRK G-symplectic family
     >>> import sympy as sp
     >>> from tableau_lab.exact.tableau_json import load
     >>> g43 = load("methods/glm43.json")
-    >>> fam = dirk_g_symplectic_family(g43.V, sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4)), 4)
+    >>> fam = dirk_g_symplectic_family(*glm43_structure(), 4)
     >>> len(fam.free)
     9
     >>> values = {"d1": g43.B[0, 0], **{f"b{i + 1}{j + 1}": g43.B[i, j] for i in (1, 2) for j in range(4)}}
@@ -137,7 +137,6 @@ def dirk_g_symplectic_family(V, G, s: int, name: str = "DIRK G-symplectic family
         raise FamilyError(f"{name}: VᵀGV ≠ G")
     A, U = dirk_stages(B, G, V, sp.zeros)
     A, U = A.applyfunc(sp.cancel), U.applyfunc(sp.cancel)
-    from ..exact.methods import GeneralLinearMethod
     m = GeneralLinearMethod(A=sp.ImmutableMatrix(A), U=sp.ImmutableMatrix(U), B=sp.ImmutableMatrix(B),
                             V=sp.ImmutableMatrix(V), name=name)
     free = (d1,) + tuple(x for row in others for x in row)
@@ -157,7 +156,7 @@ def dirk_stages(B, G, V, zeros):
     BtGV = B.T @ G @ V
     U, A = zeros(s, r), zeros(s, s)
     for i in range(s):
-        for j in range(U.shape[1]):
+        for j in range(r):
             U[i, j] = BtGV[i, j] / d[i]
         for j in range(i):
             A[i, j] = M[i, j] / d[i]
@@ -173,10 +172,19 @@ def _qmul(a, b):
             a1 * b3 - a2 * b4 + a3 * b1 + a4 * b2, a1 * b4 + a2 * b3 - a3 * b2 + a4 * b1)
 
 
-def parasitism_free_rows(h, q, half=sp.Rational(1, 2)):
+def glm43_structure() -> tuple:
+    """(V, G) of GLM43 (seed §3.2.3), exactly: V the rotation by 2π/3 on the last two values and
+    G = diag(1, −1/4, −1/4), the structure the moonshot families share."""
+    half, root = sp.Rational(1, 2), sp.sqrt(3) / 2
+    return (sp.ImmutableMatrix([[1, 0, 0], [0, -half, -root], [0, root, -half]]),
+            sp.ImmutableMatrix(sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4))))
+
+
+def parasitism_free_rows(h, q, matrix=sp.Matrix):
     r"""The output matrix B of a member of :func:`dirk_g_symplectic_family` (s = 4, r = 3, V the
     rotation by 2π/3 or any rotation on the last two values, G = diag(1, −γ, −γ)) on which the
-    parasitic growth parameters vanish **identically**, from two quaternions h, q (any arithmetic).
+    parasitic growth parameters vanish **identically**, from two quaternions h, q (``matrix``: sp.Matrix,
+    exact, the default; or a float constructor such as ``np.array``).
 
     Why: for ζ = e^{iφ} the eigenvectors are x = (0, 1, −i)ᵀ (right) and y = (0, 1, i) (left), so
     with BU = BD⁻¹BᵀGV the growth parameter ([BHHN14]) μ = ζ⁻¹yBUx/(yx) = −(γ/2) Σⱼ |βⱼ|²/dⱼ,
@@ -186,20 +194,17 @@ def parasitism_free_rows(h, q, half=sp.Rational(1, 2)):
     is μ-free: a rational (h, q) gives an exact μ-free method with rational B.
 
     >>> import sympy as sp
-    >>> from tableau_lab.exact.tableau_json import load
     >>> from tableau_lab.analysis.parasitism import growth_parameters
-    >>> V, G = load("methods/glm43.json").V, sp.diag(1, -sp.Rational(1, 4), -sp.Rational(1, 4))
+    >>> V, G = glm43_structure()
     >>> B = parasitism_free_rows([sp.Rational(1, 2), 1, 0, sp.Rational(-1, 3)], [1, 2, sp.Rational(1, 5), -1])
     >>> A, U = dirk_stages(B, G, V, sp.zeros)
-    >>> from tableau_lab.exact.methods import GeneralLinearMethod
     >>> [x.mu for x in growth_parameters(GeneralLinearMethod(A=A, U=U, B=B, V=V)).items]
     [0, 0]
     """
+    if matrix is sp.Matrix:                 # exact: plain ints must not divide into floats
+        h, q = ([sp.Integer(x) if isinstance(x, int) else x for x in v] for v in (h, q))
     kappa = sum(x * x for x in h)
     d1 = -kappa / (2 * (1 - kappa))
+    d2 = (1 - 2 * d1) / 2
     p = _qmul(h, q)
-    rows = [[d1, half - d1, half - d1, d1], [p[0], q[0], q[2], p[2]], [p[1], q[1], q[3], p[3]]]
-    if isinstance(kappa, float) or type(kappa).__module__.startswith("numpy"):
-        import numpy as np
-        return np.array(rows, dtype=float)
-    return sp.Matrix(rows)
+    return matrix([[d1, d2, d2, d1], [p[0], q[0], q[2], p[2]], [p[1], q[1], q[3], p[3]]])

@@ -41,9 +41,9 @@ from .prk_order import weight_function as prk_weights
 from .rk_order import weight_function
 from .tree_kinds import BICOLOURED
 from .results import Result
-from .trees import bracket, trees_up_to
+from .trees import bracket, density, symmetry, trees_of_order, trees_up_to
 
-__all__ = ["method_series", "MethodSeries"]
+__all__ = ["method_series", "MethodSeries", "error_terms"]
 
 
 @dataclass(frozen=True)
@@ -110,6 +110,13 @@ def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:
         xi[t] = x
         eta[t] = [a + b for a, b in zip(mat(A, d), mat(U, x))]
     return phi, xi
+
+
+def error_terms(phi: dict, n: int) -> list:
+    """The principal error terms (Φ(t) − 1/γ(t))/σ(t) over the trees of order n, in the arithmetic of
+    ``phi`` (exact or float: written with integers only); their 2-norm is the error norm the design
+    search optimises ([HLW06] III.1; [B16] Sec. 31)."""
+    return [(phi[t] * density(t) - 1) / (density(t) * symmetry(t)) for t in trees_of_order(n)]
 
 
 def method_series(m: Method, max_order: int) -> MethodSeries:

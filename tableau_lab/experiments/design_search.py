@@ -33,7 +33,7 @@ import sympy as sp
 
 from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
-from ..analysis.trees import density, symmetry, trees_of_order
+from ..analysis.trees import trees_of_order
 from ..exact.grammar import format_entry
 from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
@@ -446,7 +446,7 @@ def _verify(m, constraints, p) -> dict | str:
     from ..analysis.order import order
     from ..analysis.parasitism import growth_parameters
     from ..analysis.stability import stability
-    from ..analysis.method_series import method_series
+    from ..analysis.method_series import error_terms, method_series
     from ..exact.field import is_zero, normal_form
     out = {}
     if p > 1 or any(c.startswith("order") for c in constraints):
@@ -455,9 +455,7 @@ def _verify(m, constraints, p) -> dict | str:
             return f"order {o.order_identity_start} < {p} with the identity as principal starting component"
         out["order"] = o.order
         out["order with θ ≡ 0"] = o.order_identity_start
-    phi = method_series(m, p + 1).phi
-    out["error norm"] = sp.sqrt(normal_form(sum(((phi[t] - sp.Rational(1, density(t))) / symmetry(t)) ** 2
-                                                for t in trees_of_order(p + 1))))
+    out["error norm"] = sp.sqrt(normal_form(sum(e ** 2 for e in error_terms(method_series(m, p + 1).phi, p + 1))))
     if m.kind == "glm":
         mus = [x.mu for x in growth_parameters(m).items]
         if "parasitism-free" in constraints and not all(is_zero(mu) for mu in mus):
@@ -501,8 +499,8 @@ def _certify(family: Family, c: Candidate, constraints, p, key: str):
     # the constraints are equations the rationals cannot meet: solve them exactly on the family
     from ..analysis.design import solve
     # the numeric order constraint is the order with θ ≡ 0 (numeric.objectives.order_residuals)
-    reqs = [c.replace("order=", "identity-start-order=") if c.startswith("order=") and family.method.kind == "glm"
-            else c for c in constraints]
+    reqs = [k.replace("order=", "identity-start-order=") if k.startswith("order=") and family.method.kind == "glm"
+            else k for k in constraints]
     try:
         res = solve(family.method, reqs)
     except (ValueError, FamilyError) as exc:

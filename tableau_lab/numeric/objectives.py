@@ -26,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..analysis.method_series import glm_series
-from ..analysis.trees import density, symmetry, trees_of_order
+from ..analysis.method_series import error_terms, glm_series
+from ..analysis.trees import density, trees_of_order
 
 __all__ = ["NumericGLM", "imaginary_interval", "real_interval", "growth", "series_defects", "order_residuals", "YMAX",
            "STABLE_SLACK", "UNIT_CIRCLE"]
@@ -125,19 +125,23 @@ def growth(g: NumericGLM) -> list:
     return out
 
 
-def order_residuals(g: NumericGLM, p: int, extra: int = 0) -> np.ndarray:
-    """Φ(t) − 1/γ(t) for every tree with |t| ≤ p + extra (by order), Φ the underlying one-step method
+def _underlying(g: NumericGLM, n: int) -> dict:
+    """Φ(t) for |t| ≤ n: the underlying one-step method normalised by wᵀξ = 0."""
+    u, w, Pinv = g.vectors()
+    return glm_series(g.A.tolist(), g.U.tolist(), g.B.tolist(), list(u), list(w), Pinv.tolist(), n, 0.0, 1.0)[0]
+
+
+def order_residuals(g: NumericGLM, p: int) -> np.ndarray:
+    """Φ(t) − 1/γ(t) for every tree with |t| ≤ p (by order), Φ the underlying one-step method
     normalised by wᵀξ = 0: all vanish up to p when the method has order p with the identity as its
     principal starting component (θ ≡ 0)."""
-    u, w, Pinv = g.vectors()
-    phi, _ = glm_series(g.A.tolist(), g.U.tolist(), g.B.tolist(), list(u), list(w), Pinv.tolist(), p + extra, 0.0, 1.0)
-    return np.array([phi[t] - 1 / density(t) for n in range(1, p + extra + 1) for t in trees_of_order(n)])
+    phi = _underlying(g, p)
+    return np.array([phi[t] - 1 / density(t) for n in range(1, p + 1) for t in trees_of_order(n)])
 
 
 def series_defects(g: NumericGLM, p: int) -> tuple:
     """(max |Φ(t) − 1/γ(t)| over |t| ≤ p, ‖(Φ(t) − 1/γ(t))/σ(t)‖₂ over |t| = p + 1) for the
-    underlying one-step method Φ normalised by wᵀξ = 0."""
-    res = order_residuals(g, p, 1)
-    k = sum(len(trees_of_order(n)) for n in range(1, p + 1))
-    sig = np.array([symmetry(t) for t in trees_of_order(p + 1)], dtype=float)
-    return float(np.max(np.abs(res[:k]), initial=0.0)), float(np.sqrt(np.sum((res[k:] / sig) ** 2)))
+    underlying one-step method Φ normalised by wᵀξ = 0 (:func:`..analysis.method_series.error_terms`)."""
+    phi = _underlying(g, p + 1)
+    residual = max((abs(phi[t] - 1 / density(t)) for n in range(1, p + 1) for t in trees_of_order(n)), default=0.0)
+    return float(residual), float(np.sqrt(sum(e * e for e in error_terms(phi, p + 1))))
