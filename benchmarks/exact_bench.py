@@ -22,6 +22,8 @@ def timed(fn):
 def main():
     from tableau_lab.analysis.glm_order import glm_order
     from tableau_lab.analysis.rk_order import rk_order
+    from tableau_lab.analysis.stability import stability
+    from tableau_lab.analysis.verify import verify
     from tableau_lab.exact.families import gauss
     from tableau_lab.exact.tableau_json import load
 
@@ -36,6 +38,15 @@ def main():
     rows.append(("Gauss 5: the same by GLM theory (starting-method solve, r = 1)", t, 10.0))
     t, r = timed(lambda: glm_order(load(ROOT / "methods/example4_glm.json")))
     rows.append(("Example 4 GLM order (starting method, theta free and theta = 0)", t, 5.0))
+    glm4s = ROOT / "methods/glm4_symmetric.json"          # seven square roots, a degree-16 field (docs/design.md)
+    t, m = timed(lambda: load(glm4s))
+    rows.append(("GLM4S: load (square roots over a basis, degree 16)", t, None))
+    t, v = timed(lambda: verify(m))
+    assert v.ok
+    rows.append(("GLM4S: verify (G-symplecticity, order, parasitism)", t, None))
+    t, st = timed(lambda: stability(m))
+    assert abs(float(st.bounded_radius) - 1.72571401762551) < 1e-12
+    rows.append(("GLM4S: exact Y* (axis analysis in the coefficient subfield Q(sqrt(265551)))", t, None))
     files = sorted(glob.glob(str(ROOT / "methods/*.json")))
     t, p = timed(lambda: subprocess.run([sys.executable, "-m", "tableau_lab", "verify", *files], capture_output=True))
     assert p.returncode == 0

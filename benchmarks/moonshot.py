@@ -28,16 +28,16 @@ from scipy.optimize import least_squares
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from doc_blocks import write_block  # noqa: E402
 from tableau_lab.analysis.family import dirk_stages, glm43_structure, parasitism_free_rows  # noqa: E402
 from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.files import atomic_write_text  # noqa: E402
 from tableau_lab.numeric.arith import arith  # noqa: E402
 from tableau_lab.numeric.objectives import (NumericGLM, growth, imaginary_interval, order_residuals,  # noqa: E402
                                             real_interval, series_defects)
 
-MARK = "<!-- moonshot-table -->"
-END = "<!-- /moonshot-table -->"
+BLOCK = "moonshot-table"
 ORDER = 4
 FEASIBLE = 1e-10          # max |order residual| of a feasible member
 Y_GOAL = 2.0
@@ -148,11 +148,7 @@ def main(argv=None):
     text = table(pool, rows, seconds, args.starts, args.iterations)
     print(text)
     if args.write:
-        doc = Path(args.write).read_text()
-        if MARK not in doc or END not in doc:
-            sys.exit(f"{args.write}: no {MARK} … {END} markers")
-        head, rest = doc.split(MARK, 1)
-        atomic_write_text(args.write, head + MARK + "\n" + text + "\n" + END + rest.split(END, 1)[1])
+        write_block(args.write, BLOCK, text)
 
 
 if __name__ == "__main__":

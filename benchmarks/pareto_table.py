@@ -44,7 +44,9 @@ import sympy as sp
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from doc_blocks import write_block  # noqa: E402
 from tableau_lab.analysis.order import order  # noqa: E402
 from tableau_lab.analysis.parasitism import growth_parameters  # noqa: E402
 from tableau_lab.analysis.stability import stability  # noqa: E402
@@ -53,9 +55,9 @@ from tableau_lab.exact.tableau_json import load  # noqa: E402
 from tableau_lab.numeric.objectives import NumericGLM, series_defects  # noqa: E402
 
 COMMAND = "python benchmarks/pareto_table.py --write docs/design.md"
-START, END = "<!-- pareto-table -->", "<!-- /pareto-table -->"
-METHODS = [("example4_glm.json", "P"), ("glm_n.json", "N"), ("glm43.json", "GLM43"), ("gauss2.json", "Gauss2"),
-           ("implicit_midpoint.json", "midpoint")]
+BLOCK = "pareto-table"         # docs/design.md: <!-- pareto-table --> … <!-- /pareto-table -->
+METHODS = [("example4_glm.json", "P"), ("glm_n.json", "N"), ("glm43.json", "GLM43"), ("glm4_symmetric.json", "GLM4S"),
+           ("gauss2.json", "Gauss2"), ("implicit_midpoint.json", "midpoint")]
 PROBLEMS = [("Kepler", "kepler", {"e": sp.Rational(3, 5), "delta": 0}),
             ("pendulum", "pendulum", {"q0": sp.Rational(23, 10), "p0": 0})]
 H = sp.Rational(1, 100)
@@ -240,15 +242,6 @@ def block(table: list, skipped: list, seconds: float | None) -> str:
                      for ln in "\n".join(out).split("\n"))
 
 
-def write_between_markers(path: Path, text: str) -> None:
-    doc = path.read_text()
-    if doc.count(START) != 1 or doc.count(END) != 1 or doc.index(START) > doc.index(END):
-        raise SystemExit(f"{path}: markers {START} … {END} missing (or repeated)")
-    head, rest = doc.split(START, 1)
-    _, tail = rest.split(END, 1)
-    path.write_text(head + START + "\n" + text + "\n" + END + tail)
-
-
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--write", metavar="MD", help="the markdown file to update between the markers")
@@ -262,7 +255,7 @@ def main() -> int:
         print(text)
         return 0
     path = Path(args.write)
-    write_between_markers(path, text)
+    write_block(path, BLOCK, text)
     print(f"wrote {path} ({time.perf_counter() - t0:.1f} s)")
     return 0
 

@@ -14,14 +14,16 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
+from doc_blocks import write_block  # noqa: E402
 from tableau_lab.analysis.method_series import method_series  # noqa: E402
 from tableau_lab.analysis.modified import modified_equation  # noqa: E402
 from tableau_lab.analysis.series_structure import structure  # noqa: E402
 from tableau_lab.exact.tableau_json import load  # noqa: E402
 
 ORDER = 9
-START, END = "<!-- series-table -->", "<!-- /series-table -->"
+BLOCK = "series-table"
 
 
 def table() -> str:
@@ -64,13 +66,7 @@ def main() -> int:
         print(text)
         return 0
     path = Path(args.write)
-    doc = path.read_text()
-    if START not in doc or END not in doc:
-        print(f"{path}: markers {START} … {END} missing", file=sys.stderr)
-        return 2
-    head, rest = doc.split(START, 1)
-    _, tail = rest.split(END, 1)
-    path.write_text(head + START + "\n" + text + "\n" + END + tail)
+    write_block(path, BLOCK, text)
     print(f"wrote {path}")
     return 0
 

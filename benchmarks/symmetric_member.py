@@ -6,7 +6,8 @@ gauge puts b₃₁ = 0), A and U from ``analysis.family.dirk_stages``.  For rati
 conditions with θ ≡ 0 and μ = 0 leave x and y: ``analysis.design.solve`` finds them exactly (in
 nested square roots), and the member is then verified by the ordinary analyses and saved.
 
-    python benchmarks/symmetric_member.py D1 B21 [--save OUT] [--name NAME]
+    python benchmarks/symmetric_member.py [--save OUT] [--name LABEL] -- D1 B21
+    python benchmarks/symmetric_member.py --family methods/design/glm4_symmetric_family.json
 """
 from __future__ import annotations
 
@@ -22,13 +23,16 @@ sys.path.insert(0, str(ROOT))
 
 from tableau_lab.analysis.design import solve  # noqa: E402
 from tableau_lab.analysis.family import dirk_stages, glm43_structure  # noqa: E402
-from tableau_lab.exact import field  # noqa: E402
 from tableau_lab.exact.grammar import parse_entry  # noqa: E402
 from tableau_lab.exact.methods import GeneralLinearMethod  # noqa: E402
 from tableau_lab.exact.tableau_json import save  # noqa: E402
 
-FIELD_DEGREE = 512        # nested radicals: the field's degree bound counts each radical separately
 REQUIREMENTS = ("identity-start-order=4", "parasitism-free")
+FAMILY_NOTE = ("G-symplectic for every d1, b21, x, y (D = diag(B[0]), A and U from analysis.family.dirk_stages); "
+               "GLM43 is the member d1 = -169/3360, b21 = 2*d1, x = -84839/283920, y = -43*sqrt(14595)/35490. "
+               "Search it with tableau-lab design (no --require) under --constrain order=4,parasitism-free,...")
+SOURCE = ("tableau_lab, issue 18 (docs/design.md, \"The moonshot\"): GLM43's G-symplectic DIRK structure "
+          "(the seed thesis §3.2.3) with symmetric output rows, solved exactly by benchmarks/symmetric_member.py")
 
 
 def structure(d1, b21, x, y) -> GeneralLinearMethod:
@@ -60,12 +64,20 @@ def main(argv=None):
     from tableau_lab.analysis.symplectic import g_symplectic
     from tableau_lab.numeric.objectives import NumericGLM, imaginary_interval, real_interval, series_defects
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("d1")
-    ap.add_argument("b21")
+    ap.add_argument("d1", nargs="?")
+    ap.add_argument("b21", nargs="?")
     ap.add_argument("--save", metavar="OUT")
-    ap.add_argument("--name", default=None)
+    ap.add_argument("--name", default=None, metavar="LABEL", help="a short label put before the descriptive name")
+    ap.add_argument("--family", metavar="OUT", help="write the family (d1, b21, x, y unknown) as a design tableau and stop")
     args = ap.parse_args(argv)
-    field.FIELD_DEGREE_LIMIT = FIELD_DEGREE
+    if args.family:
+        d1, b21, x, y = sp.symbols("d1 b21 x y")
+        save(replace(structure(d1, b21, x, y), name="GLM43's G-symplectic DIRK structure with symmetric output rows",
+                     source=SOURCE, notes=(FAMILY_NOTE,)), args.family)
+        print(f"saved {args.family}")
+        return
+    if args.d1 is None or args.b21 is None:
+        ap.error("D1 and B21 are required (or --family OUT)")
     d1, b21 = parse_entry(args.d1), parse_entry(args.b21)
     t0 = time.perf_counter()
     found = member(d1, b21)
@@ -80,9 +92,11 @@ def main(argv=None):
         print(f"numeric: Y* = {imaginary_interval(g):.6f}, X* = {real_interval(g):.4g}, "
               f"error norm = {series_defects(g, 4)[1]:.6g}  ({time.perf_counter() - t0:.1f} s)")
         if args.save and o.order_identity_start >= 4 and gs.holds and mu.free:
-            claims = {"g_symplectic": True, "order": o.order, "parasitism_free": True}
-            save(replace(m, name=args.name or f"symmetric G-symplectic DIRK GLM, d1 = {d1}, b21 = {b21}",
-                         claims=tuple(sorted(claims.items())),
+            claims = {"g_symplectic": True, "order": o.order, "identity_start_order": o.order_identity_start,
+                      "parasitism_free": True}
+            title = f"G-symplectic, parasitism-free DIRK GLM, symmetric output rows (d1 = {d1}, b21 = {b21})"
+            save(replace(m, name=f"{args.name}: {title}" if args.name else title,
+                         claims=tuple(sorted(claims.items())), source=SOURCE,
                          notes=(f"benchmarks/symmetric_member.py {args.d1} {args.b21}: GLM43's structure with "
                                 f"symmetric output rows; x, y solved exactly for {', '.join(REQUIREMENTS)}.",)),
                  args.save)

@@ -213,8 +213,10 @@ def _design(args) -> int:
     if args.save:
         from dataclasses import replace
         claims = {"order": best.verified["order"]} if "order" in best.verified else {}
-        if "g-symplectic" in requirements:
+        if "g-symplectic" in requirements or best.verified.get("G-symplectic"):
             claims["g_symplectic"] = True
+        if "order with θ ≡ 0" in best.verified and best.certified.kind == "glm":
+            claims["identity_start_order"] = best.verified["order with θ ≡ 0"]
         if best.verified.get("mu") is not None and all(mu == 0 for mu in best.verified["mu"]):
             claims["parasitism_free"] = True
         meth = replace(best.certified, name=args.name or best.certified.name, claims=tuple(sorted(claims.items())),
@@ -225,10 +227,10 @@ def _design(args) -> int:
     return EXIT_OK
 
 
-def _family_options(parser, require_help: str):
+def _family_options(parser, require_help: str, required: bool = True):
     """FILE and --require, shared by solve and design."""
     parser.add_argument("file", metavar="FILE", help="JSON tableau with unknowns (names) in its entries")
-    parser.add_argument("--require", action="append", required=True, metavar="CONDITIONS", help=require_help)
+    parser.add_argument("--require", action="append", required=required, metavar="CONDITIONS", help=require_help)
 
 
 def _split(items):
@@ -656,14 +658,16 @@ def build_parser() -> argparse.ArgumentParser:
                                     "snapped to exact values (small rationals, or the exact solutions of the "
                                     "constraints on the family) and re-verified by the ordinary analyses. Objectives: "
                                     "imaginary-interval, real-interval (maximise); error-norm, mu (minimise). "
-                                    "Constraints: order=P, parasitism-free. Exit 0: a certified member; 1: none; "
+                                    "Constraints: order=P, parasitism-free, explicit-first-stage. Without --require, "
+                                    "the tableau's unknowns are the free parameters. Exit 0: a certified member; 1: none; "
                                     "2: bad input.")
-    _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic)")
+    _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic); none: the tableau's "
+                        "unknowns are the free parameters", required=False)
     ds.add_argument("--maximize", action="append", metavar="OBJECTIVE",
                     help="imaginary-interval or real-interval; with a --minimize too: the Pareto front of both")
     ds.add_argument("--minimize", action="append", metavar="OBJECTIVE", help="error-norm or mu")
     ds.add_argument("--constrain", action="append", metavar="CONSTRAINTS",
-                    help="comma-separated: order=P, parasitism-free")
+                    help="comma-separated: order=P, parasitism-free, explicit-first-stage")
     ds.add_argument("--box", default="-2:2", metavar="LO:HI", help="search box of every free parameter (default -2:2)")
     ds.add_argument("--samples", type=_count(8, 100_000), default=256, metavar="N", help="Sobol points (default 256)")
     ds.add_argument("--starts", type=_count(1, 64), default=8, metavar="K", help="local searches (default 8)")

@@ -2,13 +2,14 @@
 analyses and known values, and the rediscovery of Butcher, Habib, Hill & Norton's methods P and N
 from the G-symplectic family of their structure, with their published μ and imaginary intervals."""
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy as sp
 
 from tableau_lab.analysis.family import FamilyError, families_of
-from tableau_lab.analysis.method_series import method_series
+from tableau_lab.analysis.method_series import error_terms, method_series
 from tableau_lab.analysis.parasitism import growth_parameters
 from tableau_lab.analysis.stability import stability
 from tableau_lab.analysis.trees import density, symmetry, trees_of_order
@@ -104,7 +105,7 @@ def test_cli_design(tmp_path, capsys):
     data = json.loads(capsys.readouterr().out)
     assert data["candidates"][0]["certified"] and data["objectives"] == ["imaginary-interval"]
     saved = load(out)
-    assert dict(saved.claims) == {"g_symplectic": True, "order": 4}
+    assert dict(saved.claims) == {"g_symplectic": True, "order": 4, "identity_start_order": 4}
     assert main(["verify", str(out)]) == 0
     capsys.readouterr()
     assert main(["design", FAMILY, "--require", "g-symplectic", "--maximize", "imaginary-interval",
@@ -187,3 +188,34 @@ def test_parasitism_free_rows_contain_glm43():
     A3, U3 = dirk_stages(B3, G, V, sp.zeros)
     m = GeneralLinearMethod(A=A3, U=U3, B=B3, V=V)
     assert g_symplectic(m).holds and growth_parameters(m).free
+
+
+def test_rediscovers_glm43_or_better_in_its_family():
+    """Issue 18: started from the family that contains GLM43 (its G-symplectic DIRK structure with
+    symmetric output rows, unknowns d1, b21, x, y; methods/design/glm4_symmetric_family.json, no values
+    given), the search under order 4 (θ ≡ 0), μ = 0 and an explicit first stage certifies a member at least
+    as good as GLM43 on every column of the Pareto table: same stages and implicit stages, order 4 / 4,
+    μ = 0, G indefinite, and a larger exact Y* and smaller exact error norm than GLM43's, both computed by
+    the ordinary analyses on methods/glm43.json.  The constraints determine three of the four parameters,
+    so the certification snaps one to a rational and solves for the others exactly (a partial snap)."""
+    from tableau_lab.analysis.symplectic import g_symplectic
+    from tableau_lab.exact.field import normal_form
+    fam = families_of("methods/design/glm4_symmetric_family.json", [])[0]
+    assert [str(s) for s in fam.free] == ["b21", "d1", "x", "y"]
+    res = search(fam, minimize="error-norm", constraints=("order=4", "parasitism-free", "explicit-first-stage"),
+                 box=(-1.0, 1.0), samples=64, starts=4, seed=0)
+    best = next(c for c in res.candidates if c.certified is not None)
+    assert "snapped to rationals" in best.note and "solved exactly" in best.note
+    m, v = best.certified, best.verified
+    g43 = load("methods/glm43.json")
+    err43 = sp.sqrt(normal_form(sum(e ** 2 for e in error_terms(method_series(g43, 5).phi, 5))))
+    y43 = stability(g43).bounded_radius
+    assert v["order"] == 4 and v["order with θ ≡ 0"] == 4 and v["G-symplectic"] and all(mu == 0 for mu in v["mu"])
+    assert float(v["imaginary interval"]) > float(y43) and float(v["error norm"]) < float(err43)
+    A = m.A
+    assert [A[i, i] == 0 for i in range(4)] == [True, False, False, True]             # 2 implicit stages, as GLM43
+    assert all(A[i, j] == 0 for i in range(4) for j in range(i + 1, 4))                # DIRK
+    assert g_symplectic(m).definite is False and g_symplectic(g43).definite is False
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "design.md").read_text()       # the quoted values
+    assert f"<!-- g43r-ystar -->{float(v['imaginary interval']):.6f}<!--" in doc and f"(GLM43: {float(y43):.6f})" in doc
+    assert f"<!-- g43r-error -->{float(v['error norm']):.6g}<!--" in doc and f"(GLM43: {float(err43):.6g})" in doc

@@ -17,9 +17,7 @@ def moon():
 
 @pytest.fixture(scope="module")
 def block(moon):
-    doc = (ROOT / "docs" / "design.md").read_text()
-    assert doc.count(moon.MARK) == 1 and doc.count(moon.END) == 1
-    return doc.split(moon.MARK, 1)[1].split(moon.END, 1)[0]
+    return benchmark_script("doc_blocks").read_block(ROOT / "docs" / "design.md", moon.BLOCK)
 
 
 def _points(block) -> dict:
@@ -62,16 +60,14 @@ def test_the_order_conditions_are_projected_not_assumed(moon):
     assert y is not None and np.max(np.abs(moon.order_residuals(moon.member(y), 4))) < 1e-9
 
 
-def test_symmetric_candidate_is_certified_and_beats_glm43(moon, capsys, monkeypatch):
-    """methods/candidates/glm4_symmetric.json (benchmarks/symmetric_member.py -- -3/20 2/5): the claims
+def test_symmetric_candidate_is_certified_and_beats_glm43(moon, capsys):
+    """methods/glm4_symmetric.json (benchmarks/symmetric_member.py -- -3/20 2/5): the claims
     (G-symplectic, order 4 with θ ≡ 0, μ = 0) hold exactly through `tableau-lab verify`, and in float64 it
     has a larger Y* and real interval and a smaller error norm than GLM43 (docs/design.md)."""
     from tableau_lab.cli import main
-    from tableau_lab.exact import field
     from tableau_lab.exact.tableau_json import load
-    path = ROOT / "methods" / "candidates" / "glm4_symmetric.json"
-    monkeypatch.setattr(field, "FIELD_DEGREE_LIMIT", field.FIELD_DEGREE_LIMIT)       # restored afterwards
-    assert main(["verify", str(path), "--max-field-degree", "512"]) == 0
+    path = ROOT / "methods" / "glm4_symmetric.json"
+    assert main(["verify", str(path)]) == 0          # the default field-degree budget suffices (degree 16)
     out = capsys.readouterr().out
     assert "(4 with θ ≡ 0)" in out and "all μ = 0" in out and "DA + AᵀD − BᵀGB = 0 exactly" in out
     new = moon.describe(moon.NumericGLM.of(load(path)))
@@ -80,3 +76,16 @@ def test_symmetric_candidate_is_certified_and_beats_glm43(moon, capsys, monkeypa
     assert np.all(new["diag"] > 0)
     doc = (ROOT / "docs" / "design.md").read_text()
     assert f"Y* = {new['Y*']:.6f}, X* = {new['X*']:.4g}, error norm = {new['error']:.6g}" in doc
+
+
+def test_work_precision_block_is_current():
+    """docs/design.md's GLM4S work–precision block is what benchmarks/wp_glm4s.py makes of the stored
+    sweep (reports/workprecision/wp_kepler_glm/data.json), and that sweep is the scene's: the same methods
+    and step counts."""
+    import json
+    wp = benchmark_script("wp_glm4s")
+    data = json.loads(wp.DATA.read_text())
+    scene = json.loads((ROOT / "reports" / "workprecision" / "wp_kepler_glm.json").read_text())
+    assert {m["label"]: m["steps"] for m in scene["methods"]} == \
+        {k: [p["steps"] for p in v] for k, v in data["series"].items()}
+    assert benchmark_script("doc_blocks").read_block(ROOT / "docs" / "design.md", wp.BLOCK) == wp.text(data)

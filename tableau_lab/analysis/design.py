@@ -395,7 +395,13 @@ def _label(m: Method, sol: dict, free) -> str:
 
 
 def _rebuild(m: Method, values: dict) -> Method:
-    sub = lambda M: None if M is None else sp.ImmutableMatrix(M.subs(values).applyfunc(normal_form))  # noqa: E731
+    def sub(M):
+        if M is None:
+            return None
+        M = M.subs(values)
+        if M.has(sp.nan, sp.zoo, sp.oo, -sp.oo):      # the values make a denominator of the tableau vanish
+            raise ValueError("the solution makes a denominator of the tableau vanish")
+        return sp.ImmutableMatrix(M.applyfunc(normal_form))
     meta = dict(name=m.name + " (solved)", source=m.source, notes=m.notes)
     if m.kind == "rk":
         return RungeKutta(A=sub(m.A), b=sub(m.b), **meta)
@@ -468,7 +474,7 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
                 try:
                     meth = _rebuild(m, symvals)
                     ver = _verify(meth, reqs, symvals)
-                except (MethodError, ValueError) as exc:  # pragma: no cover - a solution that is no method
+                except (MethodError, ValueError) as exc:  # a solution that is no method (e.g. a zero denominator)
                     rejected.append(Solution(**{**sol.__dict__, "label": f"{sol.label}: {exc}"}))
                     continue
                 sol = Solution(**{**sol.__dict__, "method": meth, "verified": ver})

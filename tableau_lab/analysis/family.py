@@ -29,7 +29,7 @@ from ..exact.field import is_zero, normal_form
 from ..exact.grammar import parse_entry
 from ..exact.methods import GeneralLinearMethod, Method, MethodError
 
-__all__ = ["Family", "FamilyError", "families_of", "family_from_solution"]
+__all__ = ["Family", "FamilyError", "families_of", "family_from_solution", "tableau_family"]
 
 
 class FamilyError(InputError):
@@ -90,10 +90,29 @@ def family_from_solution(sol, requirements, name: str) -> Family:
     return Family(name, sol.method, tuple(sol.free), tuple(sol.conditions), tuple(requirements))
 
 
+def tableau_family(path) -> Family:
+    """The tableau file at ``path`` itself as a family: its unknowns are the free parameters, the
+    denominators of its entries the branch conditions (no requirement is solved; the search's
+    constraints then pick the members, e.g. ``methods/design/glm4_symmetric_family.json``)."""
+    from ..exact.tableau_json import read
+    from .design import _design_method
+    m, extra = _design_method(read(path), str(path))
+    if extra:
+        raise FamilyError(f"{path}: unknown abscissae need a requirement (the row sums of A become equations)")
+    if not m.parameters:
+        raise FamilyError(f"{path}: no unknowns, so no family to search")
+    factors = {f for M in m.matrices().values() if isinstance(M, sp.MatrixBase) for e in M
+               for f, _ in sp.factor_list(sp.denom(sp.together(e)))[1] if f.free_symbols}
+    return Family(m.name, m, tuple(m.parameters), tuple(sorted(factors, key=str)), ())
+
+
 def families_of(path, requirements) -> list:
     """Every real, verified solution family of ``requirements`` for the unknowns of the tableau file
-    at ``path`` (families without free parameters are single methods: members with no values)."""
+    at ``path`` (families without free parameters are single methods: members with no values);
+    without requirements, the tableau itself (:func:`tableau_family`)."""
     from .design import solve_file
+    if not requirements:
+        return [tableau_family(path)]
     res = solve_file(path, list(requirements))          # as `solve` reads it (unknown abscissae dropped)
     if res.status != "solved":
         raise FamilyError(f"{path}: {res.status} for {', '.join(map(str, requirements))}")

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ..exact.field import normal_form
+from ..exact.field import field_of, normal_form
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .growth import NumericMode, growth_rate
@@ -96,7 +96,7 @@ def growth_parameters(m: Method) -> ParasitismResult:
     V, B, U = sp.Matrix(g.V), sp.Matrix(g.B), sp.Matrix(g.U)
     if V.free_symbols:
         raise ValueError(f"{m.name}: V has free parameters; growth parameters need a numeric V")
-    items = []
+    raw = []
     for zeta, mult in _unit_circle_eigenvalues(V):
         right = (V - zeta * sp.eye(V.rows)).nullspace()
         if mult > 1 or len(right) > 1:
@@ -106,9 +106,13 @@ def growth_parameters(m: Method) -> ParasitismResult:
         y = left[0].T
         yx = sp.expand((y * x)[0])
         mu = sp.expand((y * B * U * x)[0] / (zeta * yx))
-        items.append(Parasitic(zeta=normal_form(zeta), mu=_normal(mu), left=tuple(_normal(v / yx) for v in y),
-                               right=tuple(_normal(v) for v in x)))
-    return ParasitismResult(method=m.name, items=tuple(items))
+        raw.append((zeta, mu, [v / yx for v in y], list(x)))
+    # one field for every quantity (a field per expression costs a primitive element each)
+    everything = [e for zeta, mu, y, x in raw for e in (zeta, mu, *y, *x)]
+    K = None if any(sp.sympify(e).free_symbols for e in everything) else field_of(everything)
+    items = tuple(Parasitic(zeta=normal_form(zeta, K), mu=_normal(mu, K), left=tuple(_normal(v, K) for v in y),
+                            right=tuple(_normal(v, K) for v in x)) for zeta, mu, y, x in raw)
+    return ParasitismResult(method=m.name, items=items)
 
 
 def numeric_modes(m: Method) -> tuple:
@@ -127,9 +131,10 @@ def predicted_growth(method, jacobian_at_state) -> dict:
     return {md.label: growth_rate(md.mu, jacobian_at_state) for md in modes}
 
 
-def _normal(e):
-    """Normal form of an exact (possibly complex, possibly parametric) expression."""
+def _normal(e, K=None):
+    """Normal form of an exact (possibly complex, possibly parametric) expression, in K if given."""
+    e = sp.sympify(e)
     if e.free_symbols:
         re, im = (sp.expand(part) for part in sp.expand_complex(e).as_real_imag())
         return normal_form(re) + sp.I * normal_form(im)
-    return normal_form(e)
+    return normal_form(e, K)

@@ -69,6 +69,7 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rings import ring
 
 from ..exact.field import field_of, to_dm
+from ..exact.subfield import subfield
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .results import Result
@@ -304,12 +305,16 @@ def characteristic_polynomial(m: Method):
 
 
 def _over_rationals(P, K):
-    """(P, K) with K = ℚ when every coefficient of P is rational (often so for radical tableaux:
-    Gauss, GLM43), which makes the axis analysis much faster."""
-    if K.is_QQ or not all(len(c.to_list()) <= 1 for c in P.values()):
+    """(P, F) with F = ℚ(coefficients of P) ⊆ K (``exact.subfield``): ℚ when every coefficient is
+    rational (often so for radical tableaux: Gauss, GLM43), ℚ(√265551) for GLM4S whose entries
+    need degree 16.  The axis analysis costs a power of the field's degree (norms to ℚ)."""
+    if K.is_QQ:
         return P, K
-    R = ring(",".join(map(str, P.ring.symbols)), QQ)[0]
-    return R.from_dict({m: QQ.convert(c.to_list()[0]) if c.to_list() else QQ.zero for m, c in P.terms()}), QQ
+    F, coeffs = subfield(K, list(P.values()))
+    if F is K:
+        return P, K
+    R = ring(",".join(map(str, P.ring.symbols)), F)[0]
+    return R.from_dict(dict(zip(P.keys(), coeffs))), F
 
 
 def stability_function(m: Method):

@@ -32,6 +32,7 @@ CHECKS = {
     "order": lambda v: v.order.order,
     "stage_order": lambda v: v.order.stage_order,
     "effective_order": lambda v: v.order.effective_order if v.kind == "rk" else v.order.order,
+    "identity_start_order": lambda v: v.order.order_identity_start,
     "parasitism_free": lambda v: v.parasitism.free,
 }
 
@@ -184,7 +185,7 @@ def verify(m: Method) -> VerifyResult:
         order = order_of(m)
     except ValueError as exc:           # e.g. a GLM that is not preconsistent
         order = None
-        unchecked.update(dict.fromkeys(("order", "stage_order", "effective_order"), str(exc)))
+        unchecked.update(dict.fromkeys(("order", "stage_order", "effective_order", "identity_start_order"), str(exc)))
     par = None
     if m.kind == "glm":
         if m.V.free_symbols:

@@ -27,6 +27,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..budget import FIELD_DEGREE
 from ..errors import InputError
+from .radicals import reduce_generators
 
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
@@ -106,22 +107,42 @@ def _degree(g) -> int:
         return sp.degree(sp.minimal_polynomial(g, sp.Dummy("x")))
     if g.is_Pow and g.exp.is_Rational:
         return int(g.exp.q)
-    return 1
+    return 2 if g is sp.I else 1
 
 
 @lru_cache(maxsize=256)
 def _field(gens: tuple, syms: tuple):
+    red = reduce_generators(gens)
     bound = 1
-    for g in gens:
+    for g in red.basis:
         bound *= _degree(g)
     if bound > FIELD_DEGREE_LIMIT:
         raise FieldError(f"the entries generate a number field of degree up to {bound} (budget "
                          f"FIELD_DEGREE_LIMIT = {FIELD_DEGREE_LIMIT}; raise it with --max-field-degree N): "
                          f"{len(gens)} algebraic numbers such as {gens[0]}")
-    K = QQ.algebraic_field(*gens) if gens else QQ
+    K = QQ.algebraic_field(*red.basis) if gens else QQ
+    if gens:
+        _embed_generators(K, red)
     if syms:
         K = K.frac_field(*syms)
     return K
+
+
+def _embed_generators(K, red) -> None:
+    """Record each generator's image in K from the primitive-element construction itself (its
+    polynomial in θ) and the reduction's words, so that :func:`element` need not rediscover it:
+    sympy's ``to_number_field`` finds an embedding by PSLQ or factoring, seconds per generator."""
+    from sympy.polys.numberfields.subfield import primitive_element
+    minpoly, _, reps = primitive_element(list(red.basis), ex=True, polys=True)
+    mod = K.mod.to_list()
+    if minpoly.rep.to_list() != mod:        # not the construction K was built from: leave it to sympy
+        return
+    images = [K.dtype([QQ.convert(c) for c in rep], mod, QQ) for rep in reps]
+    for g, (q, idx) in red.words.items():
+        img = K.convert(QQ.convert(q))
+        for i in idx:
+            img = img * images[i]
+        _IMAGES[(K, g)] = img
 
 
 def field_of(exprs: Iterable) -> "sp.polys.domains.Domain":
@@ -165,7 +186,7 @@ def element(K, e):
                 _IMAGES[key] = K.from_sympy(key[1])
             base = _IMAGES[key]
         return base ** p if p >= 0 else K.one / base ** (-p)
-    if isinstance(e, (sp.cos, sp.sin, sp.RootOf)):
+    if isinstance(e, (sp.cos, sp.sin, sp.RootOf)) or e is sp.I:
         key = (K, e)
         if key not in _IMAGES:
             _IMAGES[key] = K.from_sympy(e)

@@ -44,6 +44,7 @@ CLAIMS = {
     "order": (int, ("rk", "prk", "glm")),
     "stage_order": (int, ("rk", "glm")),
     "effective_order": (int, ("rk",)),
+    "identity_start_order": (int, ("glm",)),      # the GLM order with θ ≡ 0 (identity first starting component)
     "parasitism_free": (bool, ("glm",)),
 }
 

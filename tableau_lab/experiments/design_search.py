@@ -49,6 +49,9 @@ ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
 DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # rational snapping, smallest height first
 SNAP_TOLERANCE = 1e-6    # a snapped member must keep the objective values to this (relative) tolerance
+PARTIAL_TOLERANCE = 1e-3  # a partly snapped member (the rest solved exactly) may lose this much (relative)
+PARTIAL_ATTEMPTS = 3     # exact solves tried per candidate after a partial snap
+RANK_TOLERANCE = 1e-6    # singular values of the constraint Jacobian below this (relative) do not count
 
 
 class SearchError(FamilyError):
@@ -74,6 +77,7 @@ OBJECTIVES = {
 CONSTRAINTS = {
     "parasitism-free": lambda g, p: np.array([v for m in growth(g) for v in (m.real, m.imag)]),
     "order": lambda g, p: order_residuals(g, p),
+    "explicit-first-stage": lambda g, p: np.array([g.A[0, 0]]),
 }
 
 
@@ -268,8 +272,10 @@ def _refine(item):
         return 1e6 if v is None else task.mix(v[0], weight)
     try:
         with np.errstate(all="ignore"):
+            # SLSQP needs independent equations: the residuals' independent combinations at x
+            W = _independent(_jacobian(task, x, size))
             res = minimize(objective, np.array(x), method="SLSQP", bounds=bounds,
-                           constraints=[{"type": "eq", "fun": lambda z: task.residuals(z, size)}],
+                           constraints=[{"type": "eq", "fun": lambda z: W.T @ task.residuals(z, size)}],
                            options={"maxiter": 200, "ftol": 1e-12})
         y = tuple(float(v) for v in res.x)
         better = task.values(y)
@@ -455,8 +461,12 @@ def _verify(m, constraints, p) -> dict | str:
             return f"order {o.order_identity_start} < {p} with the identity as principal starting component"
         out["order"] = o.order
         out["order with θ ≡ 0"] = o.order_identity_start
+    if "explicit-first-stage" in constraints and not is_zero(m.as_glm().A[0, 0]):
+        return "a11 ≠ 0"
     out["error norm"] = sp.sqrt(normal_form(sum(e ** 2 for e in error_terms(method_series(m, p + 1).phi, p + 1))))
     if m.kind == "glm":
+        from ..analysis.symplectic import g_symplectic
+        out["G-symplectic"] = g_symplectic(m).holds
         mus = [x.mu for x in growth_parameters(m).items]
         if "parasitism-free" in constraints and not all(is_zero(mu) for mu in mus):
             return "μ ≠ 0"
@@ -493,31 +503,18 @@ def _certify(family: Family, c: Candidate, constraints, p, key: str):
                   "(the optimum may be where an exact condition holds: require it with --constrain)")
         return
     if len(family.free) > EXACT_FREE:
+        if _certify_partial(family, c, constraints, p, key):
+            return
         c.note = (f"the constraints are equations on {len(family.free)} free parameters; the exact solve is "
-                  f"attempted for at most EXACT_FREE = {EXACT_FREE} (fix some parameters in the tableau)")
+                  f"attempted for at most EXACT_FREE = {EXACT_FREE}, and no partial snap (rationals for the "
+                  "parameters the constraints leave free, the rest solved exactly) was certified")
         return
     # the constraints are equations the rationals cannot meet: solve them exactly on the family
-    from ..analysis.design import solve
-    # the numeric order constraint is the order with θ ≡ 0 (numeric.objectives.order_residuals)
-    reqs = [k.replace("order=", "identity-start-order=") if k.startswith("order=") and family.method.kind == "glm"
-            else k for k in constraints]
     try:
-        res = solve(family.method, reqs)
+        best = _nearest_solution(family.method, constraints, names, c.point)
     except (ValueError, FamilyError) as exc:
         c.note = f"the constraints could not be solved exactly on the family: {exc}"
         return
-    best, dist = None, np.inf
-    for sol in res.solutions:
-        if not sol.real or sol.free or sol.method is None:
-            continue
-        vals = {str(k): v for k, v in sol.parameters.items()}
-        try:
-            pt = [complex(sp.N(vals[n], 30)) for n in names]
-        except (KeyError, TypeError):
-            continue
-        d = float(np.linalg.norm(np.array([z.real for z in pt]) - np.array(c.point)))
-        if d < dist:
-            best, dist = {n: vals[n] for n in names}, d
     if best is None:
         c.note = f"no exact member meets {', '.join(constraints)} near the optimum"
         return
@@ -527,4 +524,146 @@ def _certify(family: Family, c: Candidate, constraints, p, key: str):
         c.note = ver
         return
     c.certified, c.exact, c.verified = m, best, ver
+
+
+def _requirements(method, constraints) -> list:
+    """The exact requirements of ``design.solve`` that the numeric constraints stand for."""
+    from ..analysis.design import Requirement
+    out = []
+    for k in constraints:
+        if k.startswith("order=") and method.kind == "glm":       # numerically: the order with θ ≡ 0
+            out.append(k.replace("order=", "identity-start-order="))
+        elif k == "explicit-first-stage":
+            out.append(Requirement("equation", (method.as_glm().A[0, 0], sp.S.Zero), "a11 = 0"))
+        else:
+            out.append(k)
+    return out
+
+
+def _nearest_solution(method, constraints, names, point) -> dict | None:
+    """The real exact solution of the constraints for the unknowns ``names`` of ``method`` nearest to
+    ``point`` (name → exact value), or None."""
+    from ..analysis.design import solve
+    res = solve(method, _requirements(method, constraints))
+    best, dist = None, np.inf
+    for sol in res.solutions:
+        if not sol.real or sol.free or sol.method is None:
+            continue
+        vals = {str(k): v for k, v in sol.parameters.items()}
+        try:
+            pt = [complex(sp.N(vals[n], 30)) for n in names]
+        except (KeyError, TypeError):
+            continue
+        d = float(np.linalg.norm(np.array([z.real for z in pt]) - np.array(point)))
+        if d < dist:
+            best, dist = {n: vals[n] for n in names}, d
+    return best
+
+
+def _jacobian(task, x0, size: int) -> np.ndarray:
+    """The constraint residuals' Jacobian at x0 by forward differences."""
+    x0 = np.asarray(x0, dtype=float)
+    r0 = task.residuals(tuple(x0), size)
+    cols = []
+    for i in range(len(x0)):
+        step = 1e-7 * max(1.0, abs(x0[i]))
+        x = x0.copy()
+        x[i] += step
+        cols.append((task.residuals(tuple(x), size) - r0) / step)
+    return np.array(cols).T
+
+
+def _independent(J) -> np.ndarray:
+    """The leading left singular vectors of J (those above RANK_TOLERANCE): the independent
+    combinations of redundant residuals (the order conditions of a family are many equations of low rank)."""
+    if J.size == 0:
+        return np.zeros((J.shape[0], 0))
+    Uf, sv, _ = np.linalg.svd(J, full_matrices=False)
+    k = int(np.sum(sv > RANK_TOLERANCE * sv[0])) if sv[0] > 0 else 0
+    return Uf[:, :k]
+
+
+def _determined(task, point, prefer_snapped=()) -> list:
+    """Choices of the parameters (indices) the constraints determine near ``point``, best first: as many
+    as the rank of the constraint Jacobian (finite differences), each choice with a well-conditioned
+    square block of it.  Choices that leave the ``prefer_snapped`` parameters (those in the family's
+    denominators: solving for them makes the exact system rational, much harder) to the snap come
+    first, then by the block's smallest singular value."""
+    from itertools import combinations
+    x0 = np.array(point, dtype=float)
+    J = _jacobian(task, x0, len(task._residuals(task.at(tuple(x0)))))
+    sv = np.linalg.svd(J, compute_uv=False)
+    U = _independent(J)                            # the constraints' k independent directions
+    k = U.shape[1]
+    if not 0 < k < len(x0):
+        return []
+    choices = []
+    for sub in combinations(range(len(x0)), k):
+        smallest = np.linalg.svd(U.T @ J[:, sub], compute_uv=False)[-1]
+        if smallest > RANK_TOLERANCE * sv[0]:
+            choices.append((sum(i in prefer_snapped for i in sub), -smallest, list(sub)))
+    return [c for _, _, c in sorted(choices)]
+
+
+def _certify_partial(family: Family, c: Candidate, constraints, p, key: str) -> bool:
+    """Snap the parameters the constraints leave free to small rationals, solve the constraints
+    exactly for the others (``design.solve`` on the partly snapped tableau: few unknowns, seconds),
+    and verify the member.  The numeric member after the snap (the determined parameters re-solved
+    by least squares) must keep the objectives within PARTIAL_TOLERANCE before an exact solve is tried."""
+    from dataclasses import replace as dc_replace
+
+    from scipy.optimize import least_squares
+    names = [str(s) for s in family.free]
+    task = _Task(family, tuple(c.values), tuple(constraints), p, (-np.inf, np.inf), key=key)
+    in_denominators = {str(v) for cond in family.conditions for v in sp.sympify(cond).free_symbols}
+    choices = _determined(task, c.point, [i for i, n in enumerate(names) if n in in_denominators])
+    if not choices:
+        return False
+    solved = choices[0]
+    snapped = [i for i in range(len(names)) if i not in solved]
+    size = len(task._residuals(task.at(c.point)))
+    tried, seen = 0, set()
+    for den in DENOMINATORS:
+        fixed = {i: sp.Rational(Fraction(c.point[i]).limit_denominator(den)) for i in snapped}
+        if tuple(fixed.values()) in seen:
+            continue
+        seen.add(tuple(fixed.values()))
+
+        def full(z):
+            x = list(c.point)
+            for i, v in fixed.items():
+                x[i] = float(v)
+            for i, v in zip(solved, z):
+                x[i] = v
+            return tuple(x)
+        fit = least_squares(lambda z: task.residuals(full(z), size), [c.point[i] for i in solved], xtol=1e-15,
+                            ftol=1e-15, gtol=1e-15, max_nfev=200 * len(solved))
+        out = task.values(full(fit.x))
+        if out is None or out[1] > FEASIBLE or not all(
+                abs(v - c.values[o]) <= PARTIAL_TOLERANCE * max(1.0, abs(c.values[o])) for o, v in zip(task.objectives, out[0])):
+            continue
+        tried += 1
+        sub = {family.free[i]: v for i, v in fixed.items()}
+        m = family.method
+        partial = dc_replace(m, **{k: M.applyfunc(lambda e: sp.cancel(e.xreplace(sub)))
+                                   for k, M in m.matrices().items() if isinstance(M, sp.MatrixBase)})
+        try:
+            best = _nearest_solution(partial, constraints, [names[i] for i in solved], [fit.x[k] for k in range(len(solved))])
+        except (ValueError, FamilyError):
+            best = None
+        if best is not None:
+            exact = {**{names[i]: v for i, v in fixed.items()}, **best}
+            try:
+                member = family.member(exact)
+            except FamilyError:
+                member = None
+            ver = None if member is None else _verify(member, constraints, p)
+            if isinstance(ver, dict):
+                c.certified, c.exact, c.verified = member, {n: exact[n] for n in names}, ver
+                c.note = (f"{', '.join(names[i] for i in snapped)} snapped to rationals, "
+                          f"{', '.join(names[i] for i in solved)} solved exactly")
+                return True
+        if tried >= PARTIAL_ATTEMPTS:
+            break
+    return False
 

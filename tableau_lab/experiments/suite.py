@@ -139,6 +139,17 @@ def _claims(rows, monitor_of) -> list:
                     and (bound is None or (g43["max_parasitic"] or 0) <= bound),
                     "detail": f"{g43['status']}, max |H - H0| = {g43['max_H_error']:.2e}, "
                               f"max component {g43['max_parasitic']:.2e}"})
+    free = [r for r in rows if r["mu"] and all(complex(m) == 0 for m in r["mu"])]
+    if free:
+        bad = [r for r in free if r["status"] != "completed"
+               or (r["max_parasitic"] or 0) > (monitor_of.get(r["scene"]) or float("inf"))]
+        worst = max(free, key=lambda r: r["max_parasitic"] or 0)
+        out.append({"claim": "every parasitism-free GLM (all μ = 0) completes every scene, with and without "
+                             "projection, its parasitic components below the monitor bound",
+                    "holds": not bad,
+                    "detail": (f"{len(free)} runs of {', '.join(sorted({r['file'] for r in free}))}; largest component "
+                               f"{worst['max_parasitic'] or 0:.2e} ({worst['file']}, {worst['problem']})") if not bad else
+                              "; ".join(f"{r['file']} on {r['scene']}: {r['status']}" for r in bad)})
     return out
 
 
