@@ -93,3 +93,17 @@ def test_design_search_identical_in_every_executor(cluster):
            for key, (s, w) in _executors(cluster).items()}
     assert got["serial"] == got["pool"] == got["dask"]
     assert "u = 2.154700538" in got["serial"]
+
+
+def test_four_parameter_design_search_identical_in_every_executor(cluster):
+    """A family with four free parameters and three equality constraints (GLM43's symmetric family,
+    docs/design.md): the same candidates in this process, a pool of 2 and the Dask cluster, and the
+    optimum at the member that beats GLM43 (error norm 0.0110023 at y = 0)."""
+    from tableau_lab.analysis.family import families_of
+    from tableau_lab.experiments.design_search import search
+    fam = families_of(str(METHODS / "design" / "glm4_symmetric_family.json"), [])[0]
+    got = {key: str(search(fam, minimize="error-norm", constraints=("order=4", "parasitism-free", "explicit-first-stage"),
+                           box=(-1.0, 1.0), seed=0, samples=32, starts=2, certify=False, scheduler=s, workers=w))
+           for key, (s, w) in _executors(cluster).items()}
+    assert got["serial"] == got["pool"] == got["dask"]
+    assert "d1 = -0.04874221937" in got["serial"] and "error-norm = 0.0110023" in got["serial"]
