@@ -57,7 +57,7 @@ from tableau_lab.numeric.objectives import NumericGLM, series_defects  # noqa: E
 COMMAND = "python benchmarks/pareto_table.py --write docs/design.md"
 BLOCK = "pareto-table"         # docs/design.md: <!-- pareto-table --> … <!-- /pareto-table -->
 METHODS = [("example4_glm.json", "P"), ("glm_n.json", "N"), ("glm43.json", "GLM43"), ("glm4_symmetric.json", "GLM4S"),
-           ("gauss2.json", "Gauss2"), ("implicit_midpoint.json", "midpoint")]
+           ("glm6_moonshot.json", "GLM6M"), ("gauss2.json", "Gauss2"), ("implicit_midpoint.json", "midpoint")]
 PROBLEMS = [("Kepler", "kepler", {"e": sp.Rational(3, 5), "delta": 0}),
             ("pendulum", "pendulum", {"q0": sp.Rational(23, 10), "p0": 0})]
 H = sp.Rational(1, 100)

@@ -504,7 +504,8 @@ def _report(args) -> int:
             raise InputError(f"{path}: the report would be named {Path(path).stem!r}, not a safe file name "
                              "(ASCII letters, digits, - _ . starting with a letter or digit): rename the file")
     jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else
-            [(out / Path(p).stem, method_document(m, _figures_of(p, out))) for p, m in methods])
+            [(out / Path(p).stem, method_document(m, _figures_of(p, out), stability=args.stability))
+             for p, m in methods])
     for target, (tex, facts) in jobs:
         tex_path = write_report(tex, facts, target)
         try:
@@ -774,6 +775,8 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--out", default="reports/proofs")
     rp.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
     rp.add_argument("--library", action="store_true", help="one document for all files, with a summary table")
+    rp.add_argument("--stability", action="store_true",
+                    help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
     rp.set_defaults(run=_report)
     return p
 

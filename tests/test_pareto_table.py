@@ -34,6 +34,8 @@ def test_exact_columns(table):
     assert g4s["order"] == "4 / 4" and g4s["mu"] == "0" and g4s["implicit"] == "4 (DIRK)"
     assert g4s["ystar"] == "1.7257" and g4s["G"].startswith("indefinite")
     assert g4s["_"]["error"] < table["GLM43"]["_"]["error"] / 2
+    g6 = table["GLM6M"]             # the moonshot (methods/glm6_moonshot.json, tests/test_moonshot.py)
+    assert g6["order"] == "4 / 4" and g6["mu"] == "0" and g6["implicit"] == "6 (DIRK)" and g6["ystar"] == "2.0779"
 
 
 def test_docs_table_is_current(pareto, table):

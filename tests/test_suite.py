@@ -116,9 +116,9 @@ def test_reduced_suite(tmp_path, capsys):
     summary = json.loads(capsys.readouterr().out)
     assert code == 0, summary["claims"]
     rows = summary["rows"]
-    assert len(rows) == 18 and {r["file"] for r in rows} == {
+    assert len(rows) == 20 and {r["file"] for r in rows} == {
         "gauss2", "gauss3", "implicit_midpoint", "stormer_verlet", "symplectic_euler", "leapfrog", "example4_glm",
-        "glm43", "glm4_symmetric"}
+        "glm43", "glm4_symmetric", "glm6_moonshot"}
     assert {tuple(r["projection"]) for r in rows} == {(), ("H",)}
     assert all(r["status"] == "completed" and r["steps"] == 1000 for r in rows)     # t = 10: before any blow-up
     by = {(r["file"], bool(r["projection"])): r for r in rows}
@@ -128,7 +128,7 @@ def test_reduced_suite(tmp_path, capsys):
     assert by["gauss2", True]["max_H_error"] < 1e-13 and by["gauss2", False]["max_parasitic"] is None
     assert by["glm4_symmetric", False]["mu"] == ["0", "0"] and by["glm4_symmetric", False]["max_parasitic"] < 1e-10
     assert [c["holds"] for c in summary["claims"]] == [True, True, True, True]
-    assert "4 runs of glm43, glm4_symmetric" in summary["claims"][-1]["detail"]
+    assert "6 runs of glm43, glm4_symmetric, glm6_moonshot" in summary["claims"][-1]["detail"]
     assert {p.name for p in out.iterdir()} >= {"summary.json", "summary.md", "suite_energy.png",
                                                "suite_time_to_failure.png", "suite_pendulum_q23"}
     table = (out / "summary.md").read_text()
@@ -145,7 +145,7 @@ def test_docs_suite_tables_are_current():
     assert benchmark_script("doc_blocks").read_block(ROOT / "docs" / "stability.md", st.BLOCK) == st.tables(summary)
     readme = (ROOT / "README.md").read_text()
     assert f"{summary['runs']} runs, {round(summary['wall_seconds'] / 60)} minutes on 2 cores" in readme
-    free = [r for r in summary["rows"] if r["file"] in ("glm43", "glm4_symmetric")]
-    assert len(free) == 24 and all(r["status"] == "completed" for r in free)     # issue 18: no parasitic blow-up
+    free = [r for r in summary["rows"] if r["file"] in ("glm43", "glm4_symmetric", "glm6_moonshot")]
+    assert len(free) == 36 and all(r["status"] == "completed" for r in free)     # issue 18: no parasitic blow-up
     plain = {(r["file"], r["scene"]): r["max_H_error"] for r in free if not r["projection"]}
     assert all(plain["glm4_symmetric", sc] < plain["glm43", sc] for _, sc in plain)   # docs/design.md: all six

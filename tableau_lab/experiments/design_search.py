@@ -10,8 +10,10 @@ exactly (issue 18).
 3. **Certify**: the optimum is snapped to exact values — rationals of growing height first, then,
    when the constraints are equations the rationals cannot meet (an order, μ = 0), the family is
    solved again with those constraints as exact requirements and the nearest real solution is
-   taken — and the member is re-verified by the ordinary analyses (order, G-symplecticity, μ,
-   the exact stability interval).  A member that cannot be certified is reported as such.
+   taken; on families with more than EXACT_FREE parameters, the parameters the constraints leave
+   free are snapped and the determined ones solved exactly (a partial snap) — and the member is
+   re-verified by the ordinary analyses (order, G-symplecticity, μ, the exact stability interval).
+   A member that cannot be certified is reported as such.
 
 >>> from tableau_lab.analysis.family import families_of
 >>> fam = families_of("methods/design/pn_family.json", ["g-symplectic"])[0]

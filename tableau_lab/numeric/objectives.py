@@ -34,6 +34,8 @@ __all__ = ["NumericGLM", "imaginary_interval", "real_interval", "growth", "serie
 
 YMAX = 20.0              # the axis intervals are searched on [0, YMAX]; beyond: reported as YMAX
 AXIS_POINTS = 2001       # grid points on [0, YMAX] before bisection
+COLLISION_GAP = 0.1      # eigenvalues of M closer than this at a local minimum: the grid is refined there
+FINE_POINTS = 4001       # points of that refinement over two grid steps (spacing 5e-6 for YMAX = 20)
 STABLE_SLACK = 1e-9      # ρ(M) ≤ 1 + STABLE_SLACK counts as stable (G-symplectic methods sit on |ζ| = 1)
 UNIT_CIRCLE = 1e-9       # | |ζ| − 1 | below this: ζ is on the unit circle; |ζ − 1| below it: ζ = 1
 
@@ -74,25 +76,58 @@ class NumericGLM:
         return u, w, np.linalg.pinv(P)
 
 
-def _radii(g: NumericGLM, z: np.ndarray) -> np.ndarray:
-    """ρ(M(z)) for each z (vectorised)."""
+def _eigenvalues(g: NumericGLM, z: np.ndarray) -> np.ndarray:
+    """The eigenvalues of M(z) for each z (vectorised), shape (len(z), r)."""
     s = g.s
     lhs = np.eye(s)[None, :, :] - z[:, None, None] * g.A[None, :, :]
     X = np.linalg.solve(lhs, np.broadcast_to(g.U, (len(z),) + g.U.shape).astype(complex))
     M = g.V[None, :, :] + z[:, None, None] * np.einsum("ij,njk->nik", g.B, X)
-    return np.max(np.abs(np.linalg.eigvals(M)), axis=1)
+    return np.linalg.eigvals(M)
+
+
+def _radii(g: NumericGLM, z: np.ndarray) -> np.ndarray:
+    """ρ(M(z)) for each z (vectorised)."""
+    return np.max(np.abs(_eigenvalues(g, z)), axis=1)
 
 
 def _interval(g: NumericGLM, direction: complex) -> float:
+    """The end of the stable interval along ``direction``: a grid, then bisection.  On the unit circle
+    (a G-symplectic method) instability starts where two eigenvalues of M collide, and the band it
+    opens can be narrower than the grid: for GLM6M (methods/glm6_moonshot.json) the grid of 0.01
+    stepped over the band at y = 2.0779 and read Y* = 3.68.  So around each local minimum of the
+    eigenvalues' smallest mutual distance below COLLISION_GAP (before the first unstable grid point)
+    the grid is refined to FINE_POINTS points."""
     ys = np.linspace(0.0, YMAX, AXIS_POINTS)
     with np.errstate(all="ignore"):
-        rho = _radii(g, direction * ys)
+        ev = _eigenvalues(g, direction * ys)
+    rho = np.max(np.abs(ev), axis=1)
     bad = np.flatnonzero(~(rho <= 1 + STABLE_SLACK))
+    end = bad[0] if len(bad) else len(ys)
+    # thin bands: refine around near-collisions of eigenvalues before the first unstable grid point
+    r = ev.shape[1]
+    if r > 1 and end > 1:
+        with np.errstate(all="ignore"):
+            gap = np.min([np.abs(ev[:, i] - ev[:, j]) for i in range(r) for j in range(i + 1, r)], axis=0)
+        near = [i for i in range(1, end - 1) if gap[i] < COLLISION_GAP and gap[i] <= gap[i - 1] and gap[i] <= gap[i + 1]]
+        for i in near:
+            fine = np.linspace(ys[i - 1], ys[i + 1], FINE_POINTS)
+            with np.errstate(all="ignore"):
+                fr = _radii(g, direction * fine)
+            fbad = np.flatnonzero(~(fr <= 1 + STABLE_SLACK))
+            if len(fbad):
+                if fbad[0] == 0:
+                    return float(fine[0])
+                lo, hi = fine[fbad[0] - 1], fine[fbad[0]]
+                return _bisect(g, direction, lo, hi)
     if not len(bad):
         return YMAX
     if bad[0] == 0:
         return 0.0
-    lo, hi = ys[bad[0] - 1], ys[bad[0]]
+    return _bisect(g, direction, ys[bad[0] - 1], ys[bad[0]])
+
+
+def _bisect(g: NumericGLM, direction: complex, lo: float, hi: float) -> float:
+    """The end of stability between a stable ``lo`` and an unstable ``hi``."""
     for _ in range(40):
         mid = (lo + hi) / 2
         with np.errstate(all="ignore"):
