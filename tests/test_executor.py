@@ -3,6 +3,8 @@
 naming the item; an unreachable scheduler is a clear error, quickly."""
 import functools
 import json
+
+import numpy as np
 import math
 import time
 from pathlib import Path
@@ -102,8 +104,12 @@ def test_four_parameter_design_search_identical_in_every_executor(cluster):
     from tableau_lab.analysis.family import families_of
     from tableau_lab.experiments.design_search import search
     fam = families_of(str(METHODS / "design" / "glm4_symmetric_family.json"), [])[0]
-    got = {key: str(search(fam, minimize="error-norm", constraints=("order=4", "parasitism-free", "explicit-first-stage"),
-                           box=(-1.0, 1.0), seed=0, samples=32, starts=2, certify=False, scheduler=s, workers=w))
+    got = {key: search(fam, minimize="error-norm", constraints=("order=4", "parasitism-free", "explicit-first-stage"),
+                       box=(-1.0, 1.0), seed=0, samples=32, starts=2, certify=False, scheduler=s, workers=w)
            for key, (s, w) in _executors(cluster).items()}
-    assert got["serial"] == got["pool"] == got["dask"]
-    assert "d1 = -0.04874221937" in got["serial"] and "error-norm = 0.0110023" in got["serial"]
+    # the best member agrees to 1e-8; the SLSQP paths (and so the evaluation counts) can differ in the last
+    # bits between processes (seen once in CI: 1199 against 1204 evaluations)
+    best = {k: (np.array(r.candidates[0].point), r.candidates[0].values["error-norm"]) for k, r in got.items()}
+    for k in ("pool", "dask"):
+        assert np.allclose(best[k][0], best["serial"][0], atol=1e-8) and abs(best[k][1] - best["serial"][1]) < 1e-12
+    assert abs(best["serial"][0][1] + 0.04874221937) < 1e-9 and abs(best["serial"][1] - 0.0110023) < 1e-7
