@@ -107,9 +107,12 @@ def test_four_parameter_design_search_identical_in_every_executor(cluster):
     got = {key: search(fam, minimize="error-norm", constraints=("order=4", "parasitism-free", "explicit-first-stage"),
                        box=(-1.0, 1.0), seed=0, samples=32, starts=2, certify=False, scheduler=s, workers=w)
            for key, (s, w) in _executors(cluster).items()}
-    # the best member agrees to 1e-8; the SLSQP paths (and so the evaluation counts) can differ in the last
-    # bits between processes (seen once in CI: 1199 against 1204 evaluations)
+    # the best member agrees: b21, d1, x to 1e-8 and the error norm to 1e-12.  The optimum sits at y = 0, where the
+    # error norm is even in y (flat to second order), so y is found only to about 1e-6, and the SLSQP paths (and
+    # evaluation counts) differ in the last bits between processes after other searches ran in this one
+    # (seen in CI: y = 4.76e-7 against 4.29e-7, 1199 against 1204 evaluations)
     best = {k: (np.array(r.candidates[0].point), r.candidates[0].values["error-norm"]) for k, r in got.items()}
     for k in ("pool", "dask"):
-        assert np.allclose(best[k][0], best["serial"][0], atol=1e-8) and abs(best[k][1] - best["serial"][1]) < 1e-12
+        assert np.allclose(best[k][0][:3], best["serial"][0][:3], atol=1e-8) and abs(best[k][0][3]) < 1e-5
+        assert abs(best[k][1] - best["serial"][1]) < 1e-12
     assert abs(best["serial"][0][1] + 0.04874221937) < 1e-9 and abs(best["serial"][1] - 0.0110023) < 1e-7
