@@ -91,7 +91,7 @@ def main(argv=None) -> int:
     from tableau_lab.analysis.parasitism import growth_parameters
     from tableau_lab.analysis.symplectic import g_symplectic
     from tableau_lab.exact.tableau_json import save
-    from tableau_lab.numeric.objectives import NumericGLM, series_defects
+    from tableau_lab.numeric.objectives import NumericGLM, real_interval, series_defects
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("params", nargs="*", metavar="D1 D2 C", help="d1, d2 and c1,c2,c3[,c4,c5] (exact)")
     ap.add_argument("--save", metavar="OUT")
@@ -115,7 +115,8 @@ def main(argv=None) -> int:
         print(f"d1 = {d1}, d2 = {d2}, c = {c}\nλ = {lam}")
         print(f"order {o.order}, with θ ≡ 0: {o.order_identity_start}; G-symplectic: {gs.holds}; "
               f"μ = {[i.mu for i in mu.items]}")
-        print(f"min a_ii = {np.min(np.diag(g.A)):.6f}, error norm = {series_defects(g, 4)[1]:.6g}  "
+        print(f"min a_ii = {np.min(np.diag(g.A)):.6f}, error norm = {series_defects(g, 4)[1]:.6g}, "
+              f"X* = {real_interval(g):.4g} (float64)  "
               f"({time.perf_counter() - t0:.1f} s)")
         if args.stability:
             from tableau_lab.analysis.stability import stability

@@ -48,7 +48,7 @@ from sympy.polys.rings import ring
 from ..exact.methods import Method
 from .results import Result
 from .roots import box, coefficients, disc_counts, lower, poly_box, real_root_boxes, upper
-from .stability import _cayley, _over_rationals, _primitive, characteristic_polynomial, sign
+from .stability import _cayley, _over_coefficient_field, _primitive, characteristic_polynomial, sign
 
 __all__ = ["a_alpha", "AAlphaResult"]
 
@@ -326,7 +326,7 @@ def a_alpha(m: Method, zero=None, polynomial=None) -> AAlphaResult:
             return AAlphaResult(method=m.name, status="not computed", degree=d, reason=f"P has degree {d} in z")
         if zero is not None and not zero.holds:
             return AAlphaResult(method=m.name, status="none", degree=1, reason="the method is not zero-stable")
-    P, K = _over_rationals(*characteristic_polynomial(m))
+    P, K = _over_coefficient_field(*characteristic_polynomial(m))
     z = P.ring.gens[1]
     d = P.degree(z)
     Pp = _primitive(P)

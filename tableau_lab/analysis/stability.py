@@ -304,7 +304,7 @@ def characteristic_polynomial(m: Method):
     return DomainMatrix(rows, (s + r, s + r), R).det(), K
 
 
-def _over_rationals(P, K):
+def _over_coefficient_field(P, K):
     """(P, F) with F = ℚ(coefficients of P) ⊆ K (``exact.subfield``): ℚ when every coefficient is
     rational (often so for radical tableaux: Gauss, GLM43), ℚ(√265551) for GLM4S whose entries
     need degree 16.  The axis analysis costs a power of the field's degree (norms to ℚ)."""
@@ -779,7 +779,7 @@ def _is_symplectic(m, gsym=None) -> bool:
 def stability(m: Method, gsym=None) -> StabilityResult:
     """The exact linear-stability analysis of an RK, partitioned RK or GL method (``gsym``: the
     method's ``g_symplectic`` result, when already computed)."""
-    P, K = _over_rationals(*characteristic_polynomial(m))
+    P, K = _over_coefficient_field(*characteristic_polynomial(m))
     imaginary = m.kind != "prk"
     Pp = _primitive(P)
     Yeq, Yle, critical, samples = _radii(_axis(Pp, K, imaginary))

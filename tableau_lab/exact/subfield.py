@@ -61,17 +61,17 @@ class _Span:
         return True
 
 
-def _coordinates(K, powers: list, a) -> list:
-    """x with Σ x_k powers[k] = a (powers independent, a in their span), exactly."""
+def _coordinates(K, powers: list, elements: list) -> list:
+    """For each a of ``elements``, x with Σ x_k powers[k] = a (powers independent, each a in their
+    span), exactly: one row reduction for all of them."""
     from sympy.polys.matrices import DomainMatrix
-    cols = [_vector(K, p) for p in powers]
-    n, e = len(cols[0]), len(cols)
-    M = DomainMatrix([[cols[k][i] for k in range(e)] + [_vector(K, a)[i]] for i in range(n)], (n, e + 1), QQ)
-    R, pivots = M.rref()
-    if e in pivots:
+    cols = [_vector(K, p) for p in powers] + [_vector(K, a) for a in elements]
+    n, e, w = len(cols[0]), len(powers), len(cols)
+    R, pivots = DomainMatrix([[c[i] for c in cols] for i in range(n)], (n, w), QQ).rref()
+    if any(p >= e for p in pivots):
         raise ValueError("element not in the subfield")
     R = R.to_list()
-    return [R[k][e] for k in range(e)]
+    return [[R[k][j] for k in range(e)] for j in range(e, w)]
 
 
 def subfield(K, elements):
@@ -95,9 +95,9 @@ def subfield(K, elements):
     if e == 1:
         return QQ, [QQ.convert(a.to_list()[-1]) if a.to_list() else QQ.zero for a in elements]
     alpha, powers = _primitive(K, span.elements[1:], e)
-    minpoly = [QQ.one] + [-c for c in reversed(_coordinates(K, powers, powers[-1] * alpha))]
-    F = _field_of_root(K, alpha, minpoly)
-    return F, [F.dtype(list(reversed(_coordinates(K, powers, a))), F.mod.to_list(), QQ) for a in elements]
+    top, *coords = _coordinates(K, powers, [powers[-1] * alpha, *elements])
+    F = _field_of_root(K, alpha, [QQ.one] + [-c for c in reversed(top)])
+    return F, [F.dtype(list(reversed(x)), F.mod.to_list(), QQ) for x in coords]
 
 
 def _primitive(K, basis: list, e: int):

@@ -275,7 +275,7 @@ def _refine(item):
     try:
         with np.errstate(all="ignore"):
             # SLSQP needs independent equations: the residuals' independent combinations at x
-            W = _independent(_jacobian(task, x, size))
+            W = _independent(_jacobian(task, x, size))[0]
             res = minimize(objective, np.array(x), method="SLSQP", bounds=bounds,
                            constraints=[{"type": "eq", "fun": lambda z: W.T @ task.residuals(z, size)}],
                            options={"maxiter": 200, "ftol": 1e-12})
@@ -575,14 +575,15 @@ def _jacobian(task, x0, size: int) -> np.ndarray:
     return np.array(cols).T
 
 
-def _independent(J) -> np.ndarray:
-    """The leading left singular vectors of J (those above RANK_TOLERANCE): the independent
-    combinations of redundant residuals (the order conditions of a family are many equations of low rank)."""
+def _independent(J) -> tuple:
+    """(U, σ₁): the leading left singular vectors of J (those above RANK_TOLERANCE·σ₁), the independent
+    combinations of redundant residuals (the order conditions of a family are many equations of low
+    rank), and J's largest singular value."""
     if J.size == 0:
-        return np.zeros((J.shape[0], 0))
+        return np.zeros((J.shape[0], 0)), 0.0
     Uf, sv, _ = np.linalg.svd(J, full_matrices=False)
     k = int(np.sum(sv > RANK_TOLERANCE * sv[0])) if sv[0] > 0 else 0
-    return Uf[:, :k]
+    return Uf[:, :k], float(sv[0])
 
 
 def _determined(task, point, prefer_snapped=()) -> list:
@@ -594,15 +595,14 @@ def _determined(task, point, prefer_snapped=()) -> list:
     from itertools import combinations
     x0 = np.array(point, dtype=float)
     J = _jacobian(task, x0, len(task._residuals(task.at(tuple(x0)))))
-    sv = np.linalg.svd(J, compute_uv=False)
-    U = _independent(J)                            # the constraints' k independent directions
+    U, top = _independent(J)                       # the constraints' k independent directions
     k = U.shape[1]
     if not 0 < k < len(x0):
         return []
     choices = []
     for sub in combinations(range(len(x0)), k):
         smallest = np.linalg.svd(U.T @ J[:, sub], compute_uv=False)[-1]
-        if smallest > RANK_TOLERANCE * sv[0]:
+        if smallest > RANK_TOLERANCE * top:
             choices.append((sum(i in prefer_snapped for i in sub), -smallest, list(sub)))
     return [c for _, _, c in sorted(choices)]
 
