@@ -38,7 +38,8 @@ FUNCTION_PROBLEMS = ("pendulum", "kepler", "fpu", "outer_solar_system", "henon_h
 # (method, problem, h, steps or None, options): beyond CASES, the other stage iterations and switches
 EXTRA = (("gauss2", "kepler", 0.01, None, dict(solver="newton")),
          ("gauss3", "pendulum", 0.01, None, dict(solver="newton")),
-         ("example4_glm", "pendulum", 0.01, None, dict(solver="newton")),
+         ("example4_glm", "pendulum", 0.01, None, dict(solver="newton")),      # diagonally implicit: block Newton
+         ("glm6_moonshot", "fpu", 0.001, None, dict(solver="newton")),
          ("gauss2", "outer_solar_system", 10.0, None, dict(solver="newton")),
          ("implicit_midpoint", "kepler", 0.01, None, dict(mode=limits.FIXED)),
          ("gauss2", "fpu", 0.001, None, dict(mode=limits.FIXED)),

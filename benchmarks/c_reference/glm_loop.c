@@ -14,7 +14,8 @@
  *            when the q and p corrections are SPLIT_TOL_ULPS ulps of the stage values, or on a
  *            stall at the round-off floor;
  *     NEWTON / FIXED (newton_stages): simplified Newton on Z = Y - Ubar with the Jacobian at
- *            Ubar_1 (FIXED: M = I), Hairer's theta test, stage derivatives A^-1 Z / h;
+ *            Ubar_1 (FIXED: M = I), Hairer's theta test, stage derivatives A^-1 Z / h; block
+ *            by block for a diagonally implicit method (flags[F_LOWER]: lower_factor, lower_solve);
  *   both started by predict (HISTORY steps of stage derivatives in the ring Fh extrapolated per
  *   stage, or E times the last step's before that); keep pushes them into the ring.
  * Not here: projection, invariant tracking, records, and the fallback chain (rescue_step): a
@@ -99,12 +100,13 @@ typedef struct {
 
 /* ---- core (stepcore.py, same order of operations) -------------------------------------- */
 
-static int lu_factor(double M[SD][SD], int piv[SD])
+/* LU with partial pivoting, in place, of the block M[o:o+n, o:o+n] (piv: global row indices) */
+static inline int lu_factor(double M[SD][SD], int piv[SD], int o, int n)
 {
-    for (int k = 0; k < SD; k++) {
+    for (int k = o; k < o + n; k++) {
         int p = k;
         double big = fabs(M[k][k]);
-        for (int i = k + 1; i < SD; i++)
+        for (int i = k + 1; i < o + n; i++)
             if (fabs(M[i][k]) > big) {
                 big = fabs(M[i][k]);
                 p = i;
@@ -113,26 +115,26 @@ static int lu_factor(double M[SD][SD], int piv[SD])
         if (big == 0.0)
             return 1;
         if (p != k)
-            for (int j = 0; j < SD; j++) {
+            for (int j = o; j < o + n; j++) {
                 double tmp = M[k][j];
                 M[k][j] = M[p][j];
                 M[p][j] = tmp;
             }
         double inv = 1.0 / M[k][k];
-        for (int i = k + 1; i < SD; i++) {
+        for (int i = k + 1; i < o + n; i++) {
             double m = M[i][k] * inv;
             M[i][k] = m;
             if (m != 0.0)
-                for (int j = k + 1; j < SD; j++)
+                for (int j = k + 1; j < o + n; j++)
                     M[i][j] -= m * M[k][j];
         }
     }
     return 0;
 }
 
-static inline void lu_solve(double M[SD][SD], const int piv[SD], double b[SD])
+static inline void lu_solve(double M[SD][SD], const int piv[SD], double b[SD], int o, int n)
 {
-    for (int k = 0; k < SD; k++) {
+    for (int k = o; k < o + n; k++) {
         int p = piv[k];
         if (p != k) {
             double tmp = b[k];
@@ -140,15 +142,15 @@ static inline void lu_solve(double M[SD][SD], const int piv[SD], double b[SD])
             b[p] = tmp;
         }
     }
-    for (int i = 0; i < SD; i++) {
+    for (int i = o; i < o + n; i++) {
         double acc = b[i];
-        for (int j = 0; j < i; j++)
+        for (int j = o; j < i; j++)
             acc -= M[i][j] * b[j];
         b[i] = acc;
     }
-    for (int i = SD - 1; i >= 0; i--) {
+    for (int i = o + n - 1; i >= o; i--) {
         double acc = b[i];
-        for (int j = i + 1; j < SD; j++)
+        for (int j = i + 1; j < o + n; j++)
             acc -= M[i][j] * b[j];
         b[i] = acc / M[i][i];
     }
@@ -279,6 +281,44 @@ static inline void subtract_block(double M[SD][SD], double hlo, double A[2][S][S
     }
 }
 
+/* Newton's matrix of a diagonally implicit method (flags[F_LOWER]): its diagonal blocks
+ * I - h A[cls][i][i] J, each factored in place; 1 if one is singular */
+static int lower_factor(double M[SD][SD], int piv[SD], double hlo, double A[2][S][S], const int cls[D],
+                        double J[D][D])
+{
+    for (int i = 0; i < S; i++) {
+        const int o = i * D;
+        for (int k = 0; k < D; k++)
+            for (int l = 0; l < D; l++)
+                M[o + k][o + l] = k == l ? 1.0 : 0.0;
+        subtract_block(M, hlo, A, cls, J, i, i);
+        if (lu_factor(M, piv, o, D) != 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* Rv = (I - h (A x J))^-1 Rv for lower triangular A, forward block substitution */
+static inline void lower_solve(double M[SD][SD], const int piv[SD], double hlo, double A[2][S][S],
+                               const int cls[D], double J[D][D], double Rv[SD])
+{
+    for (int j = 0; j < S; j++) {
+        const int o = j * D;
+        lu_solve(M, piv, Rv, o, D);
+        if (j + 1 < S)
+            for (int k = 0; k < D; k++) {
+                double acc = 0.0;
+                for (int l = 0; l < D; l++)
+                    acc += J[k][l] * Rv[o + l];
+                for (int i = j + 1; i < S; i++) {
+                    const double wk = hlo * A[cls[k]][i][j];
+                    if (wk != 0.0)
+                        Rv[i * D + k] += wk * acc;
+                }
+            }
+    }
+}
+
 static inline void identity(double M[SD][SD])
 {
     for (int a = 0; a < SD; a++)
@@ -315,13 +355,19 @@ static int newton_stages(long mode, Pack *P, Work *w)
                 jmax = MAX(jmax, fabs(w->J[k][l]));
         amp = 1.0 + P->hA * jmax;
     }
+    const int lower = mode == NEWTON && w->flags[F_LOWER] == 1;
     if (mode == NEWTON) {
-        identity(w->M);
-        for (int i = 0; i < S; i++)
-            for (int j = 0; j < S; j++)
-                subtract_block(w->M, hlo, P->A, P->cls, w->J, i, j);
-        if (lu_factor(w->M, w->piv) != 0)
-            return 1;
+        if (lower) {
+            if (lower_factor(w->M, w->piv, hlo, P->A, P->cls, w->J) != 0)
+                return 1;
+        } else {
+            identity(w->M);
+            for (int i = 0; i < S; i++)
+                for (int j = 0; j < S; j++)
+                    subtract_block(w->M, hlo, P->A, P->cls, w->J, i, j);
+            if (lu_factor(w->M, w->piv, 0, SD) != 0)
+                return 1;
+        }
     }
     double scale = 0.0;
     for (int i = 0; i < S; i++)
@@ -346,8 +392,10 @@ static int newton_stages(long mode, Pack *P, Work *w)
             for (int i = 0; i < S; i++)
                 for (int l = 0; l < D; l++)
                     w->Rv[i * D + l] = w->W[i][l] - w->Z[i][l];
-            if (mode != FIXED)
-                lu_solve(w->M, w->piv, w->Rv);
+            if (lower)
+                lower_solve(w->M, w->piv, hlo, P->A, P->cls, w->J, w->Rv);
+            else if (mode != FIXED)
+                lu_solve(w->M, w->piv, w->Rv, 0, SD);
             w->sweeps += 1;
             double size = 0.0, zn = 0.0;
             int finite = 1;

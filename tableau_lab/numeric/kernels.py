@@ -284,8 +284,9 @@ class Pack:
         first_is_increment = bool(nm.V[0, 0] == 1 and all(nm.V[0, k] == 0 for k in range(1, nm.r)))
         compensate = compensated and first_is_increment and self.kind != "dd"
         self.flags = np.zeros(L.N_FLAGS, dtype=np.int64)
-        self.flags[[L.F_EXPLICIT, L.F_HAS_E, L.F_HAS_INV, L.F_COMPENSATE, L.F_MODE, L.F_HAS_JAC, L.F_PREDICT]] = (
-            int(nm.explicit), int(nm.E is not None), int(invertible), int(compensate), mode, 1, int(predict))
+        self.flags[[L.F_EXPLICIT, L.F_HAS_E, L.F_HAS_INV, L.F_COMPENSATE, L.F_MODE, L.F_HAS_JAC, L.F_PREDICT,
+                    L.F_LOWER]] = (int(nm.explicit), int(nm.E is not None), int(invertible), int(compensate), mode, 1,
+                                   int(predict), int(nm.lower))
         self.c = num(list(getattr(prob, "constants", ()))) if self.kind != "mp" else np.zeros(0)
         self.eps, self.tol = a.loop_tolerances()
         self.hA = nm.stage_scale(h)

@@ -57,8 +57,8 @@ CHUNK = 1 << 16             # steps per call of a compiled loop (records, progre
 PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
-F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT = range(9)
-N_FLAGS = 9
+F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT, F_LOWER = range(10)
+N_FLAGS = 10                # F_LOWER: A lower triangular (diagonally implicit): Newton's matrix block by block
 S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACKS, S_DONE = range(10)
 N_STATS = 10                # S_STEP: the step under way; S_DONE: the last step finished (a Ctrl-C keeps up to it)
 

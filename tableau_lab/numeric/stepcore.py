@@ -32,7 +32,9 @@ Stage equations (``flags[F_MODE]``, chosen by :func:`limits.choose_iteration`):
   extrapolated per stage, or the last step's extrapolated to the new nodes, E[i, j] =
   ℓⱼ(1 + cᵢ)), stopped by Hairer's estimate θ/(1 − θ)‖ΔZ‖ ≤ u‖Z‖ (θ the observed contraction);
   the stage derivatives then come from A⁻¹Z/h (no f-evaluation after convergence) when A is
-  invertible;
+  invertible; for a diagonally implicit method (``flags[F_LOWER]``) the matrix I − h(A ⊗ J) is
+  block lower triangular: s LUs of its d × d diagonal blocks and forward block substitution
+  (:func:`lower_factor`, :func:`lower_solve`), not one LU of size s·d;
 * ``FIXED``: the same with M = I (no Jacobian, no LU);
 * ``SPLIT`` (H = T(p) + V(q)): fixed point on the q stages only — forces at the q stages, the p
   stages from them, the velocities at the p stages, new q stages — as GNI_IRK2 iterates for
@@ -54,7 +56,7 @@ import numpy as np
 from .ops_f64 import *  # noqa: F401,F403 -- the arithmetic; kernels.py binds one per precision
 from .ops_f64 import alloc, g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
     waddlo, wmadd, wmat, wmul, wsub, wvec, wzero
-from .limits import (ANY, DIVERGE_AFTER, EXPLICIT, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_NHIST, F_PREDICT,
+from .limits import (ANY, DIVERGE_AFTER, EXPLICIT, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_LOWER, F_NHIST, F_PREDICT,
                      HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
                      F_MODE, FIXED, FULL, FULL_NEWTON_SWEEPS, NEWTON, PROJECTION_ACCEPT, PROJECTION_ROUNDOFF,
                      PROJECTION_STALL, PROJECTION_SWEEPS, RESCUE_SWEEPS, ROUNDOFF_FLOOR, S_FALLBACKS, S_LAST,
@@ -108,12 +110,13 @@ def dims(A, Y):
 
 
 @heavy
-def lu_factor(M, piv, n):
-    """LU with partial pivoting in place (low precision); 1 if singular."""
-    for k in range(n):
+def lu_factor(M, piv, o, n):
+    """LU with partial pivoting, in place, of the block M[o:o+n, o:o+n] (low precision; piv
+    holds global row indices); 1 if singular."""
+    for k in range(o, o + n):
         p = k
         big = abs(M[k, k])
-        for i in range(k + 1, n):
+        for i in range(k + 1, o + n):
             if abs(M[i, k]) > big:
                 big = abs(M[i, k])
                 p = i
@@ -121,36 +124,37 @@ def lu_factor(M, piv, n):
         if big == 0.0:
             return 1
         if p != k:
-            for j in range(n):
+            for j in range(o, o + n):
                 tmp = M[k, j]
                 M[k, j] = M[p, j]
                 M[p, j] = tmp
         inv = 1.0 / M[k, k]
-        for i in range(k + 1, n):
+        for i in range(k + 1, o + n):
             m = M[i, k] * inv
             M[i, k] = m
             if m != 0.0:
-                for j in range(k + 1, n):
+                for j in range(k + 1, o + n):
                     M[i, j] -= m * M[k, j]
     return 0
 
 
 @heavy
-def lu_solve(M, piv, b, n):
-    for k in range(n):
+def lu_solve(M, piv, b, o, n):
+    """b[o:o+n] = (the block M[o:o+n, o:o+n] of :func:`lu_factor`)⁻¹ b[o:o+n]."""
+    for k in range(o, o + n):
         p = piv[k]
         if p != k:
             tmp = b[k]
             b[k] = b[p]
             b[p] = tmp
-    for i in range(n):
+    for i in range(o, o + n):
         acc = b[i]
-        for j in range(i):
+        for j in range(o, i):
             acc -= M[i, j] * b[j]
         b[i] = acc
-    for i in range(n - 1, -1, -1):
+    for i in range(o + n - 1, o - 1, -1):
         acc = b[i]
-        for j in range(i + 1, n):
+        for j in range(i + 1, o + n):
             acc -= M[i, j] * b[j]
         b[i] = acc / M[i, i]
 
@@ -269,6 +273,40 @@ def subtract_block(M, hlo, A, cls, J, i, j, d):
 
 
 @heavy
+def lower_factor(M, piv, hlo, A, cls, J, s, d):
+    """Newton's matrix I − h(A ⊗ J) of a diagonally implicit method (A lower triangular,
+    ``flags[F_LOWER]``): only its diagonal blocks I − h A[cls, i, i] J, each factored in place
+    at its position (s LUs of size d instead of one of size s·d); 1 if one is singular."""
+    for i in range(s):
+        o = i * d
+        for k in range(d):
+            for l in range(d):
+                M[o + k, o + l] = 1.0 if k == l else 0.0
+        subtract_block(M, hlo, A, cls, J, i, i, d)
+        if lu_factor(M, piv, o, d) != 0:
+            return 1
+    return 0
+
+
+@heavy
+def lower_solve(M, piv, hlo, A, cls, J, R, s, d):
+    """R = (I − h(A ⊗ J))⁻¹ R for lower triangular A, by forward block substitution:
+    (I − h aᵢᵢ J)Δᵢ = Rᵢ + h Σ_{j<i} aᵢⱼ J Δⱼ, with the blocks of :func:`lower_factor`."""
+    for j in range(s):
+        o = j * d
+        lu_solve(M, piv, R, o, d)
+        if j + 1 < s:
+            for k in range(d):
+                acc = 0.0
+                for l in range(d):
+                    acc += wlo(g2(J, k, l)) * R[o + l]
+                for i in range(j + 1, s):
+                    w = hlo * wlo(g3(A, cls[k], i, j))
+                    if w != 0.0:
+                        R[i * d + k] += w * acc
+
+
+@heavy
 def identity(M, n):
     for a in range(n):
         for b in range(n):
@@ -303,13 +341,18 @@ def newton_stages(mode, Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F
             for l in range(d):
                 jmax = max(jmax, abs(wlo(g2(J, k, l))))
         amp = 1.0 + hA * jmax
+    lower = mode == NEWTON and flags[F_LOWER] == 1
     if mode == NEWTON:
-        identity(M, sd)
-        for i in range(s):
-            for j in range(s):
-                subtract_block(M, hlo, A, cls, J, i, j, d)
-        if lu_factor(M, piv, sd) != 0:
-            return 1
+        if lower:
+            if lower_factor(M, piv, hlo, A, cls, J, s, d) != 0:
+                return 1
+        else:
+            identity(M, sd)
+            for i in range(s):
+                for j in range(s):
+                    subtract_block(M, hlo, A, cls, J, i, j, d)
+            if lu_factor(M, piv, 0, sd) != 0:
+                return 1
     scale = 0.0
     for i in range(s):
         for l in range(d):
@@ -336,14 +379,16 @@ def newton_stages(mode, Ubar, h, hinv, A, Ainv, cls, E, flags, c, eps, hA, Fh, F
                     jac_(Yst, c, J)
                     for i in range(s):
                         subtract_block(M, hlo, A, cls, J, i, j, d)
-                if lu_factor(M, piv, sd) != 0:
+                if lu_factor(M, piv, 0, sd) != 0:
                     return 1
             stage_sums(h, A, cls, F, W, s, d)
             for i in range(s):
                 for l in range(d):
                     R[i * d + l] = wlo(wsub(g2(W, i, l), g2(Z, i, l)))
-            if mode != FIXED:
-                lu_solve(M, piv, R, sd)
+            if lower:
+                lower_solve(M, piv, hlo, A, cls, J, R, s, d)
+            elif mode != FIXED:
+                lu_solve(M, piv, R, 0, sd)
             stats[S_SWEEPS] += 1
             size = 0.0
             zn = 0.0
@@ -523,7 +568,7 @@ def project(y, c, proj, target, eps, tol, G, Gz, GtG, gpiv, g, lam, z, tmp, stat
     for k in range(m):
         grad_(proj[k], y, c, G, k)
     gram(G, G, GtG, m, d)
-    if lu_factor(GtG, gpiv, m) != 0:
+    if lu_factor(GtG, gpiv, 0, m) != 0:
         return 1
     tscale = 0.0
     for k in range(m):
@@ -550,9 +595,9 @@ def project(y, c, proj, target, eps, tol, G, Gz, GtG, gpiv, g, lam, z, tmp, stat
             for a in range(m):
                 grad_(proj[a], z, c, Gz, a)
             gram(Gz, G, GtG, m, d)
-            if lu_factor(GtG, gpiv, m) != 0:
+            if lu_factor(GtG, gpiv, 0, m) != 0:
                 return 1
-        lu_solve(GtG, gpiv, g, m)
+        lu_solve(GtG, gpiv, g, 0, m)
         step = 0.0
         for k in range(m):
             step = max(step, abs(g[k]))
