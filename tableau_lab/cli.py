@@ -557,6 +557,31 @@ def _executor_options(parser):
                         help="processes of the local pool (default: every core; 1: in this process)")
 
 
+# what a shell completes for an argument that names a file or a folder (shtab's FILE and
+# DIRECTORY, written out: building the parser does not import shtab)
+_FILES = {"bash": "_shtab_compgen_files", "zsh": "_files", "tcsh": "f"}
+_DIRS = {"bash": "_shtab_compgen_dirs", "zsh": "_files -/", "tcsh": "d"}
+
+
+def _mark_paths(parser) -> None:
+    """File-name completion for the FILE/SCENE arguments, folder-name completion for --out and
+    SUITE_DIR, in every subcommand."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _mark_paths(sub)
+        elif action.metavar in ("FILE", "SCENE") or action.dest == "method":
+            action.complete = _FILES
+        elif action.dest in ("out", "suite_dir") or action.metavar in ("DIR", "SUITE_DIR"):
+            action.complete = _DIRS
+
+
+def _completion(args) -> int:
+    import shtab
+    print(shtab.complete(build_parser(), shell=args.shell))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     from .budget import DEFAULT_SECONDS, FIELD_DEGREE as FIELD_DEGREE_LIMIT
     p = argparse.ArgumentParser(prog="tableau-lab", description=(
@@ -778,6 +803,16 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--stability", action="store_true",
                     help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
     rp.set_defaults(run=_report)
+    cm = sub.add_parser("completion", help="print a shell completion script (bash, zsh, tcsh)",
+                        description="Print the completion script of tableau-lab for SHELL (made by shtab from "
+                                    "this command line): commands, options, and file names where a file "
+                                    "is expected. Install, e.g.: tableau-lab completion bash > "
+                                    "~/.local/share/bash-completion/completions/tableau-lab (bash), "
+                                    "tableau-lab completion zsh > ~/.zfunc/_tableau-lab (zsh, with ~/.zfunc "
+                                    "in fpath).")
+    cm.add_argument("shell", choices=("bash", "zsh", "tcsh"))
+    cm.set_defaults(run=_completion)
+    _mark_paths(p)
     return p
 
 

@@ -147,7 +147,7 @@ def test_double_double_agrees_with_mpmath_32(name, problem, project):
 
 def test_stage_iteration_choice_and_switch_to_newton():
     """"auto": fixed point (on the q stages: all built-in problems are separable) where
-    h·s·max|A|·ρ(f′) is small, whatever the dimension; simplified Newton where it is not (FPU
+    h·‖A‖∞·ρ(f′) is small, whatever the dimension; simplified Newton where it is not (FPU
     with ω = 50 at h = 0.05).  Forced fixed point on that stiff case fails, and after
     SWITCH_AFTER failed steps the run goes on with Newton, to the same result; every iteration
     reaches the same stages (compiled = pure, fixed point = Newton) on a non-stiff problem."""

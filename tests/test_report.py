@@ -4,6 +4,7 @@ against an independent exact computation; every library method's report compiles
 import json
 import re
 import shutil
+import subprocess
 from pathlib import Path
 
 import pytest
@@ -66,3 +67,13 @@ def test_every_report_compiles_without_overfull_lines(tmp_path):
         widths = [float(w) for w in re.findall(r"Overfull \\hbox \(([\d.]+)pt too wide\)", text)]
         assert not widths or max(widths) < 1.0, (log.name, widths)
     assert len(list(tmp_path.glob("*.pdf"))) == len(files) + 1
+    # issue 19: no Type 3 (bitmap) fonts, every font embedded with a Unicode map (copy-paste
+    # keeps ligatures), and byte-identical PDFs when an unchanged report is made again
+    if shutil.which("pdffonts"):
+        for pdf in tmp_path.glob("*.pdf"):
+            rows = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, check=True).stdout.splitlines()[2:]
+            assert rows and not [r for r in rows if "Type 3" in r], (pdf.name, rows)
+            assert all(r.split()[-5:-2] == ["yes", "yes", "yes"] for r in rows), (pdf.name, rows)   # emb sub uni
+    again = tmp_path / "again"
+    assert main(["report", str(METHODS / "gauss2.json"), "--out", str(again), "--pdf"]) == 0
+    assert (again / "gauss2.pdf").read_bytes() == (tmp_path / "gauss2.pdf").read_bytes()

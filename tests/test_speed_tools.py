@@ -68,3 +68,29 @@ def test_bench_dd_agrees_with_mpmath(capsys):
                      "--reps", "1", "--precision", prec, "--json"]) == 0
         res.append(json.loads(capsys.readouterr().out)["max_invariant_error"])
     assert res[0]["H"] == res[1]["H"] != 0
+
+
+def test_speed_doc_bench_block_is_the_saved_bench():
+    """docs/speed.md quotes `tableau-lab bench`'s saved tables and the goals' standing, generated
+    from reports/bench/ by benchmarks/bench_block.py (no number typed by hand); a goal missed is
+    named in the standing sentence."""
+    from conftest import benchmark_script
+    block = benchmark_script("bench_block")
+    root = Path(__file__).resolve().parents[1]
+    assert benchmark_script("doc_blocks").read_block(root / "docs" / "speed.md", "bench-table") == block.make()
+    res = {"float64": [{"method": "gauss2", "problem": "pendulum", "over_c": 1.3, "goal": 1.0, "us_per_step": 0.1,
+                        "c_us_per_step": 0.077}]}
+    assert "but 2-stage Gauss on the pendulum, 1.30× the C loop" in block.standing(res)
+    res["float64"][0]["over_c"] = 0.9
+    assert "every row is within its goal." in block.standing(res)
+
+
+def test_speed_doc_workprecision_block_is_the_saved_sweep():
+    """docs/speed.md's Kepler work–precision tables and the f-evaluation winner per threshold are
+    generated from reports/workprecision/wp_kepler/ by benchmarks/wp_block.py."""
+    from conftest import benchmark_script
+    block = benchmark_script("wp_block")
+    root = Path(__file__).resolve().parents[1]
+    assert benchmark_script("doc_blocks").read_block(root / "docs" / "speed.md", "wp-kepler") == block.make()
+    pts = [{"nfev": 10, "invariant_error": 1e-5}, {"nfev": 20, "invariant_error": 1e-7}, {"nfev": 40, "invariant_error": 1e-9}]
+    assert [block.cheapest(pts, "nfev", t) for t in block.THRESHOLDS] == [20, 40, None]

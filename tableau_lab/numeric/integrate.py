@@ -177,7 +177,7 @@ def component_masks(prob, d: int):
 
 
 def stage_iteration(solver, nm, prob, y0, h, d) -> int:
-    """The stage iteration mode (:func:`limits.choose_iteration`): h·s·max|A|·ρ(f′(y₀)) from the
+    """The stage iteration mode (:func:`limits.choose_iteration`): h·‖A‖∞·ρ(f′(y₀)) from the
     Jacobian at y₀ (the spectral radius, not the largest entry: q′ = p/m has huge entries 1/m
     and small eigenvalues); the q stages alone for a separable problem with q/p masks."""
     if nm.explicit or solver == "newton":

@@ -4,7 +4,7 @@ precision (compiled modules import them: numba takes them as compile-time consta
 driver (:mod:`kernels`) lays out the flag and counter arrays with the indices below.
 
 The stage iteration (:func:`choose_iteration`; Hairer, Lubich & Wanner, *Geometric Numerical
-Integration*, 2nd ed., Sec. VIII.6): fixed-point iteration where h·s·max|A|·ρ(f′(y₀)) <
+Integration*, 2nd ed., Sec. VIII.6): fixed-point iteration where h·‖A‖∞·ρ(f′(y₀)) <
 ``FIXED_POINT_BELOW`` (non-stiff: the iteration contracts by about that factor a sweep, and
 needs neither a Jacobian nor an LU factorisation), simplified Newton otherwise.  A problem whose
 q-rate depends on p only and whose p-rate on q only (H = T(p) + V(q)) iterates on the q stages
@@ -42,7 +42,7 @@ HISTORY = 6                 # steps of stage derivatives kept to extrapolate the
 HISTORY_WEIGHTS = tuple(float((-1) ** (m + 1) * comb(HISTORY, m)) for m in range(1, HISTORY + 1))
 SPLIT_TOL_ULPS = 1.0        # the q-stage iteration stops when its correction is this many ulps of q
 SWITCH_AFTER = 3            # failed fixed-point steps after which the run switches to Newton
-FIXED_POINT_BELOW = 0.1     # h·s·max|A|·ρ(f′) below which fixed-point iteration is chosen
+FIXED_POINT_BELOW = 0.1     # h·‖A‖∞·ρ(f′) below which fixed-point iteration is chosen
 
 PROJECTION_SWEEPS = 50      # Newton sweeps on the multipliers
 PROJECTION_STALL = 0.5      # corrections shrinking by less than this count as stalled …
@@ -67,7 +67,7 @@ __all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iterat
 
 def choose_iteration(solver: str, *, explicit: bool, separable: bool, contraction: float) -> int:
     """The stage iteration mode for ``solver`` "auto", "newton" or "fixedpoint";
-    ``contraction`` = h·s·max|A|·ρ(f′(y₀)) (see the module docstring)."""
+    ``contraction`` = h·‖A‖∞·ρ(f′(y₀)) (see the module docstring)."""
     if solver not in ("auto", "newton", "fixedpoint"):
         raise ValueError(f"solver must be 'auto', 'newton' or 'fixedpoint', not {solver!r}")
     if explicit or solver == "newton":

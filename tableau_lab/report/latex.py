@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import os
 import subprocess
 from pathlib import Path
 
@@ -43,6 +44,9 @@ PREAMBLE = r"""\documentclass[11pt]{article}
 \usepackage{longtable}
 \usepackage[utf8]{inputenc}
 \usepackage[T1]{fontenc}
+\IfFileExists{lmodern.sty}{\usepackage{lmodern}}{}
+\input{glyphtounicode}\pdfgentounicode=1
+\ifdefined\pdftrailerid\pdftrailerid{}\fi
 \allowdisplaybreaks
 \setlength{\parindent}{0pt}
 \setlength{\parskip}{4pt}
@@ -374,6 +378,19 @@ def _document(methods, figures, title, summary=False, stability=False) -> tuple[
     return "\n".join(out) + "\n", result
 
 
+REPORT_EPOCH = 1767225600   # 2026-01-01 00:00 UTC: the PDFs' date unless SOURCE_DATE_EPOCH is set
+
+
+def _reproducible_env() -> dict:
+    """pdflatex's environment for byte-identical PDFs from the same .tex: the creation and
+    modification dates (and \\today) from SOURCE_DATE_EPOCH (reproducible-builds.org), fixed
+    to REPORT_EPOCH unless the caller sets it; the preamble drops the trailer /ID."""
+    env = dict(os.environ)
+    env.setdefault("SOURCE_DATE_EPOCH", str(REPORT_EPOCH))
+    env["FORCE_SOURCE_DATE"] = "1"
+    return env
+
+
 def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
     """pdflatex twice in a scratch directory; the PDF and the log are moved beside the .tex.
     Returns None when pdflatex is absent and not required."""
@@ -389,7 +406,7 @@ def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
         for _ in range(2):                       # pdflatex dies with this process (kill -9 included)
             p = subprocess.run([exe, "-interaction=nonstopmode", "-halt-on-error", "-output-directory", tmp,
                                 str(tex_path)], capture_output=True, text=True, errors="replace", cwd=tex_path.parent,
-                               timeout=300, preexec_fn=die_with_parent)
+                               timeout=300, preexec_fn=die_with_parent, env=_reproducible_env())
         log = Path(tmp) / (tex_path.stem + ".log")
         pdf = Path(tmp) / (tex_path.stem + ".pdf")
         failed = p.returncode != 0 or not pdf.exists()
