@@ -55,8 +55,12 @@ def tables(summary: dict) -> str:
     return "\n".join(out)
 
 
+def make() -> str:
+    return tables(json.loads(SUMMARY.read_text()))
+
+
 def main(argv=None) -> int:
-    return cli(__doc__.splitlines()[0], BLOCK, lambda: tables(json.loads(SUMMARY.read_text())), argv)
+    return cli(__doc__.splitlines()[0], BLOCK, make, argv)
 
 
 if __name__ == "__main__":

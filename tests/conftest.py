@@ -23,5 +23,7 @@ def benchmark_script(name: str):
     path = Path(__file__).resolve().parents[1] / "benchmarks" / f"{name}.py"
     spec = importlib.util.spec_from_file_location(name, path)
     mod = importlib.util.module_from_spec(spec)
+    import sys
+    sys.modules[name] = mod              # before executing it: dataclasses look their module up
     spec.loader.exec_module(mod)
     return mod

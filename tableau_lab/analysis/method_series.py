@@ -51,6 +51,7 @@ class MethodSeries(Result):
     """Φ (the method's B-series, for a GLM that of its underlying one-step method) and, for a GLM,
     the starting method ξ_i(t) with wᵀξ(t) = 0 (empty for a Runge–Kutta method)."""
 
+    latex_math = True           # to_latex: the (t, Φ(t)) array, a formula
     method: str
     kind: str
     phi: BSeries

@@ -42,6 +42,7 @@ class ModifiedEquation(Result):
     """The field f̃ (``kind`` "modified") or the modifying field (``kind`` "modifying") of a method,
     as h-power, tree, coefficient b(t)/σ(t)."""
 
+    latex_math = True           # to_latex: the field's series, a formula
     method: str
     kind: str
     max_order: int

@@ -68,6 +68,7 @@ class ModifiedHamiltonian(Result):
     system became inconsistent at order + 1 (no modified energy beyond); ``free`` counts the
     undetermined directions met (0 when the invariant is unique)."""
 
+    latex_math = True           # to_latex: H̃ as a series, a formula
     label: str
     max_order: int
     order: int

@@ -57,6 +57,8 @@ class Parasitic:
 
 @dataclass(frozen=True)
 class ParasitismResult(Result):
+    latex_math = True           # to_latex: the (ζ, μ) array, a formula
+
     method: str
     items: tuple
     note: str = ""

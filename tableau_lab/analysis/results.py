@@ -1,14 +1,39 @@
-"""Result objects shared by the analyses: each prints itself, serialises to JSON
-(exact values as strings in the tableau grammar) and renders to LaTeX."""
+r"""Result objects shared by the analyses: each prints itself, serialises to JSON
+(exact values as strings in the tableau grammar) and renders to LaTeX.
+
+In a notebook (Jupyter with MathJax) a result shows itself through its ``to_latex`` — the
+LaTeX made for the PDF reports, prose with ``$…$``, ``\[…\]`` and ``tabular`` — translated:
+
+* ``_repr_markdown_``: the first line of ``str(result)`` in bold, then ``to_latex`` with its
+  display math as ``$$…$$``, inline math as ``$…$``, tables as Markdown tables and the few
+  text-mode commands it uses (``\par``, ``\paragraph``, ``\textbf``, ``\text``, …) as
+  Markdown.  JupyterLab and Notebook prefer Markdown to LaTeX, so this is what they show.
+* ``_repr_latex_``: display math only (``$$…$$``: MathJax typesets the whole output as math),
+  offered only when the result is all math — a class whose ``to_latex`` is a formula sets
+  ``latex_math``, and a result whose LaTeX is display blocks only qualifies too; with any prose
+  it is None, so that a frontend preferring LaTeX (nbconvert to PDF) loses no sentence.
+
+A result made of others (``_parts``) shows them one after the other.
+
+>>> from tableau_lab.exact.tableau_json import load
+>>> from tableau_lab.analysis.parasitism import growth_parameters
+>>> print(growth_parameters(load("methods/example4_glm.json"))._repr_latex_())
+$$\begin{array}{c|c} \zeta & \mu \\ \hline -1 & 1 + \frac{2 \sqrt{3}}{3} \end{array}$$
+>>> print(latex_markdown(r"Order $p = 4$, \textbf{not} 5: \[ \Phi(t) \ne 1/\gamma(t) \]"))
+Order $p = 4$, **not** 5:
+<BLANKLINE>
+$$\Phi(t) \ne 1/\gamma(t)$$
+"""
 from __future__ import annotations
 
 import json
+import re
 
 import sympy as sp
 
 from ..exact.grammar import format_matrix
 
-__all__ = ["Result", "Combined", "matrix_text", "matrix_latex"]
+__all__ = ["Result", "Combined", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
 
 
 def matrix_text(M, indent: str = "    ") -> str:
@@ -24,8 +49,99 @@ def matrix_latex(M) -> str:
     return sp.latex(sp.Matrix(M), mat_delim="(", mat_str="matrix")
 
 
+# ------------------------------------------------------------------ LaTeX fragments to Markdown
+
+_SEGMENT = re.compile(                          # the math and the tables of a text-mode LaTeX fragment
+    r"\\\[(?P<d1>.*?)\\\]|\$\$(?P<d2>.*?)\$\$"                                      # \[ … \], $$ … $$
+    r"|\\begin\{(?P<env>align|gather)\*?\}(?P<d3>.*?)\\end\{(?P=env)\*?\}"              # align*, gather*
+    r"|\\begin\{(?P<tab>tabular|longtable)\}\{[^}]*\}(?P<t>.*?)\\end\{(?P=tab)\}"       # tables
+    r"|\\\((?P<i1>.*?)\\\)|(?<!\\)\$(?P<i2>.*?)(?<!\\)\$", re.S)                       # \( … \), $ … $
+_RULES = re.compile(r"\\(?:hline|toprule|midrule|bottomrule)\b")
+_TEXT_COMMANDS = ((re.compile(r"\\par\b\s*"), "\n\n"), (re.compile(r"\\(?:paragraph|textbf)\{([^{}]*)\}"), r"**\1**"),
+                  (re.compile(r"\\(?:emph|textit)\{([^{}]*)\}"), r"*\1*"),
+                  (re.compile(r"\\texttt\{([^{}]*)\}"), lambda mo: "`" + mo[1].replace("\\", "") + "`"),
+                  (re.compile(r"\\text\{([^{}]*)\}"), r"\1"), (re.compile(r"(?<!\\)~"), "\u00a0"))
+
+
+def _display_body(mo) -> str | None:
+    """The math of a display segment of ``_SEGMENT`` (None: inline math or a table)."""
+    return next((mo[k] for k in ("d1", "d2", "d3") if mo[k] is not None), None)
+
+
+def markdown_text(text: str) -> str:
+    """Plain text (or LaTeX text mode) safe in Markdown: the characters Markdown would read as
+    markup are backslash-escaped, unless LaTeX escaped them already (``\\_``)."""
+    return re.sub(r"(?<!\\)([*_`<>\[\]|#])", r"\\\1", text)
+
+
+def _prose(text: str) -> str:
+    text = markdown_text(text)
+    for pattern, repl in _TEXT_COMMANDS:
+        text = pattern.sub(repl, text)
+    return text
+
+
+def _table(body: str) -> str:
+    """A ``tabular`` body as a Markdown table, its first row the header; ``|`` in math as ``\\vert``."""
+    rows = [[latex_markdown(c.strip(), table=True) for c in re.split(r"(?<!\\)&", r)]
+            for r in re.split(r"\\\\", _RULES.sub("", body)) if r.strip()]
+    if not rows:
+        return ""
+    lines = ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join([lines[0], "|" + " --- |" * len(rows[0])] + lines[1:])
+
+
+def _display(math: str) -> str:
+    """A formula as one display block: rows (``\\\\`` outside any environment) go into
+    ``aligned``, which MathJax accepts inside ``$$``, where ``align*`` is not allowed; a row
+    that begins with ``[`` (a tree such as ``[\\tau]``) is kept from being read as the
+    ``\\\\[dimen]`` argument of the line break before it (a MathJax and LaTeX error)."""
+    math = re.sub(r"\\\\(\s*)\[", r"\\\\{}\1[", math)
+    flat = math
+    while (shorter := re.sub(r"\\begin\{([^{}]*)\}(?:(?!\\begin\{).)*?\\end\{\1\}", "", flat, flags=re.S)) != flat:
+        flat = shorter
+    return rf"\begin{{aligned}}{math}\end{{aligned}}" if "\\\\" in flat else math
+
+
+def latex_markdown(tex: str, table: bool = False) -> str:
+    """The LaTeX of a result (text mode with math, as ``to_latex`` makes it for the reports) as
+    Markdown with MathJax math: ``$$…$$`` blocks, ``$…$`` inline, Markdown tables, prose escaped."""
+    out, pos = [], 0
+    for mo in _SEGMENT.finditer(tex):
+        out.append(_prose(tex[pos:mo.start()]))
+        pos = mo.end()
+        display, inline = _display_body(mo), (mo["i1"] if mo["i1"] is not None else mo["i2"])
+        if display is not None:                  # on one line: no Markdown reads a row as a list item
+            out.append("\n\n$$" + re.sub(r"\s*\n\s*", " ", _display(display.strip())) + "$$\n\n")
+        elif mo["t"] is not None:
+            out.append(f"\n\n{_table(mo['t'])}\n\n")
+        else:
+            inline = inline.strip()
+            out.append("$" + (inline.replace("|", r"\vert ") if table else inline) + "$")
+    out.append(_prose(tex[pos:]))
+    text = re.sub(r"[ \t]*\n[ \t]*(\n[ \t]*)+", "\n\n", "".join(out))
+    return text.strip().replace("\n", " ") if table else text.strip()
+
+
+def _display_blocks(tex: str) -> list[str] | None:
+    """The display-math blocks of ``tex`` when nothing but blank text lies between them."""
+    blocks, pos = [], 0
+    for mo in _SEGMENT.finditer(tex):
+        body = _display_body(mo)
+        if body is None or tex[pos:mo.start()].strip():
+            return None
+        blocks.append(_display(body.strip()))
+        pos = mo.end()
+    return blocks if blocks and not tex[pos:].strip() else None
+
+
+# ------------------------------------------------------------------ the results
+
 class Result:
-    """Base: subclasses implement ``to_json`` (a dict), ``__str__`` and ``to_latex``."""
+    """Base: subclasses implement ``to_json`` (a dict), ``__str__`` and ``to_latex``; notebooks
+    get ``_repr_markdown_`` and, for results that are all math, ``_repr_latex_`` from these."""
+
+    latex_math = False     # True: to_latex() is one formula (math mode, no delimiters), not text
 
     def to_json(self) -> dict:  # pragma: no cover - overridden
         raise NotImplementedError
@@ -36,19 +152,53 @@ class Result:
     def to_latex(self) -> str:  # pragma: no cover - overridden
         raise NotImplementedError
 
-    def _repr_latex_(self) -> str:
-        return "$" + self.to_latex() + "$"
+    def _parts(self) -> list | None:
+        """The results this one is made of, shown one after the other; None: a single result."""
+        return None
+
+    def _display_math(self) -> str | None:
+        """The whole result as one math formula (no delimiters), or None when it has prose."""
+        parts = self._parts()
+        if parts:
+            bodies = [p._display_math() for p in parts]
+            return None if None in bodies else _gathered(bodies)
+        if self.latex_math:
+            return _display(self.to_latex().strip())
+        blocks = _display_blocks(self.to_latex())
+        return None if blocks is None else _gathered(blocks)
+
+    def _repr_latex_(self) -> str | None:
+        """Jupyter: display math only, or None (then the Markdown is shown)."""
+        math = self._display_math()
+        return None if math is None else f"$${math}$$"
+
+    def _repr_markdown_(self) -> str:
+        """Jupyter: the first line of ``str(self)`` in bold over the LaTeX as Markdown."""
+        parts = self._parts()
+        if parts:
+            return "\n\n".join(p._repr_markdown_() for p in parts)
+        head = str(self).split("\n", 1)[0].strip()
+        body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
+        return ((f"**{markdown_text(head)}**\n\n" if head else "") + body).strip()
+
+
+def _gathered(bodies: list[str]) -> str:
+    """Several display formulas as one, centred one below the other."""
+    return bodies[0] if len(bodies) == 1 else r"\begin{gathered}" + r" \\ ".join(bodies) + r"\end{gathered}"
 
 
 class Combined(Result):
     """Several results of one method shown together: text one after the other, JSON merged
-    (each later part under its ``key``), LaTeX one after the other."""
+    (each later part under its ``key``), LaTeX and the notebook displays one after the other."""
 
     def __init__(self, parts: tuple, keys: tuple = ()):
         self.parts, self.keys = tuple(parts), tuple(keys) or tuple(f"part{i}" for i in range(len(parts)))
 
     def __str__(self):
         return "\n".join(str(p) for p in self.parts)
+
+    def _parts(self) -> list:
+        return list(self.parts)
 
     def to_json(self) -> dict:
         out = dict(self.parts[0].to_json())

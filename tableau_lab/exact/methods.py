@@ -106,6 +106,40 @@ class Method:
         except FieldError as exc:
             raise MethodError(str(exc)) from None
 
+    # ------------------------------------------------------------ display (notebooks, reports)
+
+    def tableau_latex(self, tex=sp.latex) -> str:  # pragma: no cover - overridden
+        """The tableau as LaTeX math (no delimiters), each entry typeset by ``tex``: the PDF
+        report passes its named-constant typesetter, notebooks the default ``sympy.latex``."""
+        raise NotImplementedError
+
+    def _display_math(self) -> str:
+        return self.tableau_latex()
+
+    def _repr_latex_(self) -> str:
+        """Jupyter/MathJax: the tableau as display math, exact entries."""
+        return f"$${self._display_math()}$$"
+
+    def _repr_markdown_(self) -> str:
+        """Jupyter: the name as a heading, the kind and size, then the tableau as display math."""
+        from ..analysis.results import markdown_text      # the notebook face's escaping, in one place
+        size = f"s = {self.s} stage{'s' * (self.s != 1)}"
+        if self.kind == "glm":
+            size += f", r = {self.r} value{'s' * (self.r != 1)}"
+        return (f"### {markdown_text(self.name or 'unnamed method')}\n\n{_KIND_NAMES[self.kind]}, {size}\n\n"
+                f"$${self._display_math()}$$")
+
+
+_KIND_NAMES = {"rk": "Runge–Kutta method", "prk": "partitioned Runge–Kutta method", "glm": "general linear method"}
+
+
+def _butcher_array(A, b, c, tex) -> str:
+    """One Butcher tableau, c | A over a rule and bᵀ, as a LaTeX array ([B16] ch. 3)."""
+    s = A.rows
+    rows = [f"{tex(c[i])} & " + " & ".join(tex(A[i, j]) for j in range(s)) for i in range(s)]
+    return (rf"\begin{{array}}{{c|{'c' * s}}} " + r" \\ ".join(rows) + r" \\ \hline & "
+            + " & ".join(tex(x) for x in b) + r" \end{array}")
+
 
 def _meta(kw: Mapping[str, Any]) -> dict:
     out = dict(kw)
@@ -210,6 +244,10 @@ class RungeKutta(Method):
         scalar factor that commutes with the step) and R has degree s."""
         return self.s if self.explicit else 2 * self.s
 
+    def tableau_latex(self, tex=sp.latex) -> str:
+        """The Butcher tableau c | A over bᵀ."""
+        return _butcher_array(self.A, self.b, self.c, tex)
+
     def matrices(self) -> dict:
         out = {"A": self.A, "b": self.b, "c": self.c}
         if self.bhat is not None:
@@ -262,6 +300,11 @@ class PartitionedRungeKutta(Method):
     @property
     def s(self) -> int:
         return self.A.rows
+
+    def tableau_latex(self, tex=sp.latex) -> str:
+        """Both Butcher tableaux, (A, b, c) then (Â, b̂, ĉ), side by side."""
+        return (_butcher_array(self.A, self.b, self.c, tex) + r" \qquad "
+                + _butcher_array(self.Ahat, self.bhat, self.chat, tex))
 
     def matrices(self) -> dict:
         return {"A": self.A, "b": self.b, "c": self.c, "Ahat": self.Ahat, "bhat": self.bhat, "chat": self.chat}
@@ -369,6 +412,24 @@ class GeneralLinearMethod(Method):
     @property
     def r(self) -> int:
         return self.V.rows
+
+    def tableau_latex(self, tex=sp.latex) -> str:
+        """The partitioned matrix [A U; B V] ([B16] ch. 5), a rule between stages and values."""
+        s, r = self.s, self.r
+        top = [" & ".join([tex(self.A[i, j]) for j in range(s)] + [tex(self.U[i, j]) for j in range(r)])
+               for i in range(s)]
+        bot = [" & ".join([tex(self.B[i, j]) for j in range(s)] + [tex(self.V[i, j]) for j in range(r)])
+               for i in range(r)]
+        return (r"\begin{bmatrix} A & U \\ B & V \end{bmatrix} = "
+                rf"\left[\begin{{array}}{{{'c' * s}|{'c' * r}}} " + r" \\ ".join(top) + r" \\ \hline "
+                + r" \\ ".join(bot) + r" \end{array}\right]")
+
+    def abscissae_latex(self, tex=sp.latex) -> str:
+        """The stage abscissae, c = (c₁, …, c_s)."""
+        return r"c = (" + r",\ ".join(tex(x) for x in self.c) + ")"
+
+    def _display_math(self) -> str:
+        return self.tableau_latex() + r",\qquad " + self.abscissae_latex()
 
     def matrices(self) -> dict:
         return {"A": self.A, "U": self.U, "B": self.B, "V": self.V, "c": self.c}

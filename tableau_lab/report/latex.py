@@ -131,27 +131,12 @@ class _Constants:
 
 
 def _tableau(m: Method, C: _Constants) -> str:
-    if m.kind == "rk":
-        s = m.s
-        rows = [f"{C.tex(m.c[i])} & " + " & ".join(C.tex(m.A[i, j]) for j in range(s)) for i in range(s)]
-        body = r" \\ ".join(rows) + r" \\ \hline & " + " & ".join(C.tex(x) for x in m.b)
-        return rf"\[ \begin{{array}}{{c|{'c' * s}}} {body} \end{{array}} \]"
-    if m.kind == "prk":
-        parts = []
-        for A, b, c, hat in ((m.A, m.b, m.c, ""), (m.Ahat, m.bhat, m.chat, r"\hat")):
-            s = A.rows
-            rows = [f"{C.tex(c[i])} & " + " & ".join(C.tex(A[i, j]) for j in range(s)) for i in range(s)]
-            parts.append(rf"\begin{{array}}{{c|{'c' * s}}} " + r" \\ ".join(rows) + r" \\ \hline & "
-                         + " & ".join(C.tex(x) for x in b) + r" \end{array}")
-        return r"\[ " + r" \qquad ".join(parts) + r" \]"
-    s, r = m.s, m.r
-    top = [" & ".join([C.tex(m.A[i, j]) for j in range(s)] + [C.tex(m.U[i, j]) for j in range(r)]) for i in range(s)]
-    bot = [" & ".join([C.tex(m.B[i, j]) for j in range(s)] + [C.tex(m.V[i, j]) for j in range(r)]) for i in range(r)]
-    mat = (rf"\left[\begin{{array}}{{{'c' * s}|{'c' * r}}} " + r" \\ ".join(top) + r" \\ \hline "
-           + r" \\ ".join(bot) + r" \end{array}\right]")
-    c = r",\ ".join(C.tex(x) for x in m.c)
-    return (rf"\[ \begin{{bmatrix}} A & U \\ B & V \end{{bmatrix}} = {mat} \]" + "\n"
-            + rf"with stage abscissae $c = ({c})$.")
+    """The tableau (``Method.tableau_latex``, shared with the notebook display) as display math,
+    long entries as named constants; a GLM's stage abscissae below it."""
+    out = rf"\[ {m.tableau_latex(C.tex)} \]"
+    if m.kind == "glm":
+        out += "\n" + rf"with stage abscissae ${m.abscissae_latex(C.tex)}$."
+    return out
 
 
 def _g_section(m: Method, res, C: _Constants, facts: dict) -> str:
