@@ -87,8 +87,8 @@ class Executor:
         show = sys.stderr.isatty() if self.progress is None else bool(self.progress)
         bar = None
         if show and items:
-            from tqdm import tqdm
-            bar = tqdm(total=len(items), desc=desc, unit="run", leave=False, file=sys.stderr)
+            from .progress import bar as progress_bar
+            bar = progress_bar(len(items), desc, "run")
         outcomes = self._run(fn, items)
         try:
             for i, get in outcomes:

@@ -52,8 +52,11 @@ class RunJob:
 
     def execute(self) -> dict:
         """Run it; the result as a JSON-ready dict (final state through the finishing method)."""
-        run = integrate(self.nm, self.prob, self.prob.y0, self.h, self.steps, start=self.start,
-                        project=self.project, invariants=self.invariants, monitor=self.monitor)
+        from .progress import QUICK_RUN_BAR_STEPS, StepBar
+        with StepBar(self.steps, f"{self.method} on {self.problem}",
+                     show=None if self.steps >= QUICK_RUN_BAR_STEPS else False) as tick:
+            run = integrate(self.nm, self.prob, self.prob.y0, self.h, self.steps, start=self.start,
+                            project=self.project, invariants=self.invariants, monitor=self.monitor, progress=tick)
         if self.precision == "float64":
             final = [float(x) for x in run.final]
         else:                                     # all digits of a multiprecision run, as strings

@@ -53,6 +53,7 @@ from .. import __version__
 from ..errors import InputError
 from ..files import atomic_write, atomic_write_text
 from ..inputs import MAX_STEPS, SAFE_NAME, printable, read_json
+from .progress import StepBar
 
 __all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
 
@@ -343,21 +344,13 @@ def run_one(sc: Scene, i: int, progress: bool = False):
     m = load(r["method"])
     nm = to_numeric(m, r["precision"])
     cp = compiled(sc.problem, r["precision"])
-    bar = None
-    if progress:
-        from tqdm import tqdm
-        bar = tqdm(total=sc.steps, desc=f"{sc.name}: {r['label']}", unit="step", leave=False)
-    last = [0]
-
-    def tick(n):
-        if bar is not None:
-            bar.update(n - last[0])
-            last[0] = n
     status, message, interrupted = "completed", "", False
     try:
-        run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
-                        invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
-                        record_states=want_states, problem_name=sc.problem.name, progress=tick, monitor=sc.monitor)
+        with StepBar(sc.steps, f"{sc.name}: {r['label']}", show=bool(progress)) as tick:
+            run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
+                            invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
+                            record_states=want_states, problem_name=sc.problem.name, progress=tick,
+                            monitor=sc.monitor)
     except (IntegrationError, KeyboardInterrupt) as exc:
         run = getattr(exc, "partial", None)
         status = ("interrupted" if isinstance(exc, KeyboardInterrupt)
@@ -366,9 +359,6 @@ def run_one(sc: Scene, i: int, progress: bool = False):
         interrupted = isinstance(exc, KeyboardInterrupt)
         if run is None:
             raise
-    finally:
-        if bar is not None:
-            bar.close()
     arrays = {"t": np.array(run.times)}
     for k, v in run.invariant_errors.items():
         arrays[k] = np.array([float(x) for x in v])

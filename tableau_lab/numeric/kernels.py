@@ -29,10 +29,12 @@ the final input vector, the status).
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import os
 import sys
+import threading
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -373,6 +375,34 @@ class LoopState:
                 self.track_every, self.comp, self.Fh, self.rec, self.recn, self.stats, self.stages, self.work)
 
 
+COMPILE_NOTICE_SECONDS = 2.0    # a compile (or cache load) longer than this is announced on a terminal
+
+
+@contextlib.contextmanager
+def _compile_notice():
+    """On a terminal, say so when numba's first compile of a loop takes longer than
+    COMPILE_NOTICE_SECONDS (once per problem and method shape; cached on disk afterwards), and
+    how long it took."""
+    if not sys.stderr.isatty():
+        yield
+        return
+    t0, said = time.perf_counter(), threading.Event()
+
+    def notice():
+        said.set()
+        print("tableau-lab: compiling the step loop for this problem and method shape "
+              "(once: it is cached on disk) ...", file=sys.stderr, flush=True)
+    timer = threading.Timer(COMPILE_NOTICE_SECONDS, notice)
+    timer.daemon = True
+    timer.start()
+    try:
+        yield
+    finally:
+        timer.cancel()
+        if said.is_set():
+            print(f"tableau-lab: compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+
+
 def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, track_every: int = 1,
           chunk: int | None = None) -> Outcome:
     """Steps 1..steps of ``loop`` (a compiled module or a pure loop) from the input vector Y
@@ -401,11 +431,12 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
         fresh = compiled and key not in _COMPILE
         if fresh:
             t = time.perf_counter()
-            if entry == "run":
-                loop.run(*st.args(n0, n0))              # no step: compiles
-            else:
-                import numba
-                loop.rescue_step.compile(tuple(numba.typeof(x) for x in st.args(n0, n1)))
+            with _compile_notice():
+                if entry == "run":
+                    loop.run(*st.args(n0, n0))          # no step: compiles
+                else:
+                    import numba
+                    loop.rescue_step.compile(tuple(numba.typeof(x) for x in st.args(n0, n1)))
             _COMPILE[key] = time.perf_counter() - (t0 if entry == "run" and n0 == 0 else t)
             out.compile_seconds += _COMPILE[key]
         done[0] = 0
