@@ -249,46 +249,44 @@ def numbers(r: dict) -> dict:
 
 
 def plot(results, target: Path, steps: int) -> Path:
-    from tableau_lab.experiments.plots import _figure, _save
-    plt = _figure()
+    from tableau_lab.experiments import figure_style as style
+    plt = style.pyplot()
     floor = np.finfo(float).eps / 10
-    fig, axes = plt.subplots(len(results), 1, figsize=(8, 2.9 * len(results)), squeeze=False, sharex=True)
+    fig, axes = plt.subplots(len(results), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(results) + 0.8),
+                             squeeze=False, sharex=True)
     for ax, r in zip(axes[:, 0], results):
         n, t = r["numbers"], r["t"]
-        pw = " + ".join(f"h^{k}" for k in r["powers"])
-        ax.semilogy(t, np.maximum(r["err_H"], floor), lw=0.7, color="tab:blue", label="|H − H₀|")
-        ax.semilogy(t, np.maximum(r["err_Ht"], floor), lw=0.7, color="tab:orange",
-                    label=f"|H̃ − H̃₀|, H̃ to {pw}")
-        ax.semilogy(t, np.maximum(r["parasitic"], floor), lw=0.9, color="tab:red", label="parasitic component")
+        pw = " + ".join(f"h^{{{k}}}" for k in r["powers"])
+        ax.semilogy(t, np.maximum(r["err_H"], floor), lw=0.7, label=style.invariant_error("H"), **style.series_style(0))
+        ax.semilogy(t, np.maximum(r["err_Ht"], floor), lw=0.7,
+                    label=f"{style.invariant_error('H~')}, $\\tilde{{H}}$ to ${pw}$", **style.series_style(1))
+        c = style.series_style(2)
+        ax.semilogy(t, np.maximum(r["parasitic"], floor), lw=0.9, label="parasitic component", **c)
         if "dist_phi" in r:
             m = len(r["dist_phi"])
-            ax.semilogy(t[:m], np.maximum(r["dist_phi"], floor), lw=0.7, color="tab:green",
-                        label="|z_n − Φⁿ(y₀)| (underlying one-step method)")
-            ax.semilogy(t[:m], np.maximum(r["dist_E"], floor), lw=0.6, color="0.55",
-                        label="|z_n − y(t_n)| (exact flow)")
+            ax.semilogy(t[:m], np.maximum(r["dist_phi"], floor), lw=0.7,
+                        label=r"$|z_n - \Phi^n(y_0)|$ (underlying one-step method)", **style.series_style(3))
+            ax.semilogy(t[:m], np.maximum(r["dist_E"], floor), lw=0.6,
+                        label=r"$|z_n - y(t_n)|$ (exact flow)", **style.series_style(4))
         g = n["growth"]
         if g is not None:             # at least one e-fold predicted
-            c, P = r["parasitic"], r["predicted_log_growth"]
-            k0 = int(np.flatnonzero(c > 0)[0])
+            cc, P = r["parasitic"], r["predicted_log_growth"]
+            k0 = int(np.flatnonzero(cc > 0)[0])
             with np.errstate(over="ignore"):
-                pred = c[k0] * np.exp(P - P[k0])
+                pred = cc[k0] * np.exp(P - P[k0])
             keep = (np.arange(len(t)) >= k0) & (pred <= 1e3)
-            ax.semilogy(t[keep], pred[keep], lw=0.8, ls="--", color="tab:red", alpha=0.6,
-                        label="predicted: c₀·exp ∫ max Re eig(μ f′) dt")
+            ax.semilogy(t[keep], pred[keep], lw=0.8, color=c["color"], linestyle=(0, (5, 2)), marker="None",
+                        label=r"predicted: $c_0\,\exp\int \max\,\mathrm{Re\,eig}(\mu f')\,dt$")
         if n["onset_t"] is not None:
             ax.axvline(n["onset_t"], color="k", lw=0.6, ls=":", label=f"onset: component ≥ {ONSET:g}")
         ax.set_ylim(1e-18, 1e2)
         ax.set_ylabel("error / size")
-        ax.set_title(r["case"]["label"], fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6.5, loc="upper left", bbox_to_anchor=(1.01, 1))
-    axes[-1, 0].set_xlabel("t")
-    fig.suptitle(f"Pendulum, h = 1/100, {steps} steps, float64: the smooth part follows Φ, parasitism breaks the bound",
-                 fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 0.97))
-    target.parent.mkdir(parents=True, exist_ok=True)
-    _save(fig, target)
-    plt.close(fig)
+        style.title(ax, style.plain(r["case"]["label"]))
+        style.legend(ax, "right")
+    axes[-1, 0].set_xlabel(style.T_LABEL)
+    style.title(fig, f"Pendulum, h = 1/100, {steps} steps, float64: the smooth part follows Φ, parasitism breaks "
+                     "the bound")
+    style.save(fig, target)
     return target
 
 

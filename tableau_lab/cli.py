@@ -473,16 +473,20 @@ def _workprecision_runs(args, ex) -> int:
                 else:
                     print(f"  {label:32s} {what:16s} cpu {p['cpu']:8.3f} s  nfev {p['nfev']:9d}  "
                           f"error {p['error']:.2e}  max|{scene.invariant}-{scene.invariant}0| {p['invariant_error']:.2e}")
+        from .experiments.workprecision import versus
         for level, v in data["speedup"].items():
-            r = v["DOP853_over_best"]
-            print(f"  max|{scene.invariant}-{scene.invariant}0| <= {level}: "
-                  + (f"DOP853 / our best ({v['best']}) CPU time = {r:.1f}" if r else "not reached by both"))
+            print(f"  max|{scene.invariant}-{scene.invariant}0| <= {level}: {versus(v)}")
     return code
 
 
 def _suite(args) -> int:
     from .experiments.suite import main_suite
     return main_suite(args)
+
+
+def _replot(args) -> int:
+    from .experiments.replot import main_replot
+    return main_replot(args)
 
 
 def _report(args) -> int:
@@ -518,8 +522,8 @@ def _report(args) -> int:
 
 
 def _figures_of(method_path, out, reports="reports", most=2):
-    """Invariant plots of scenes (under reports/) that ran this method file: (path relative to
-    the report's directory, caption)."""
+    """Invariant plots of scenes (under reports/) that ran this method file, as vector PDF where
+    the figure style wrote one, else PNG: (path relative to the report's directory, caption)."""
     import os
     found = []
     for meta in sorted(Path(reports).glob("*/meta.json")):
@@ -529,9 +533,10 @@ def _figures_of(method_path, out, reports="reports", most=2):
             continue
         labels = [r["label"] for r in data.get("runs", []) if Path(r.get("file", "")).name == Path(method_path).name]
         png = meta.parent / f"{data.get('name')}_invariants.png"
-        if labels and png.exists():
-            found.append((os.path.relpath(png, out), f"{data.get('title', '')} ({', '.join(labels)}; scene "
-                                                       f"{data.get('scene', '')})"))
+        figure = png.with_suffix(".pdf") if png.with_suffix(".pdf").exists() else png     # vector where drawn
+        if labels and figure.exists():
+            found.append((os.path.relpath(figure, out), f"{data.get('title', '')} ({', '.join(labels)}; scene "
+                                                          f"{data.get('scene', '')})"))
     return found[:most]
 
 
@@ -792,6 +797,15 @@ def build_parser() -> argparse.ArgumentParser:
     _executor_options(su)
     su.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     su.set_defaults(run=_suite)
+    rpl = sub.add_parser("replot", help="redraw figures (PNG, PDF, SVG) from the data a run saved, without "
+                                        "running anything again",
+                         description="Redraw the figures of saved outputs in the current figure style: scene "
+                                     "folders (meta.json, data.npz and the scene file named there), work-precision "
+                                     "folders (data.json), convergence and round-off JSON files, a suite's "
+                                     "summary.json; any other folder is searched (e.g. reports). Data files are "
+                                     "read, never written. Exit 0: done; 2: a path holds nothing to draw from.")
+    rpl.add_argument("paths", nargs="+", metavar="PATH", help="saved outputs or folders to search")
+    rpl.set_defaults(run=_replot)
     rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
                         description="For each method: the tableau, the G-symplecticity proof step by step, the "
                                     "symplecticity matrix, the order conditions and starting method, parasitism; "

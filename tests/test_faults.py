@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from tableau_lab import files
+from tableau_lab.experiments.figure_style import FORMATS
 from tableau_lab.files import OutputError, is_temp, output_lock, remove_stale_temps
 
 METHODS = Path(__file__).resolve().parents[1] / "methods"
@@ -99,9 +100,17 @@ def _check_folder(folder: Path, temps_allowed=False) -> dict:
         elif f.suffix == ".pdf":
             assert data.startswith(PDF) and b"%%EOF" in data[-1024:], f.name
             found[f.name] = len(data)
+        elif f.suffix == ".svg":
+            assert b"<svg" in data[:2048] and data.rstrip().endswith(b"</svg>"), f.name
+            found[f.name] = len(data)
         else:
             found[f.name] = data
     return found
+
+
+def _figures(*stems) -> set:
+    """A figure's files: each stem in every format of the figure style (PNG, PDF, SVG)."""
+    return {stem + ext for stem in stems for ext in FORMATS}
 
 
 def _check_scene_set(found: dict, name="faults") -> bool:
@@ -111,7 +120,7 @@ def _check_scene_set(found: dict, name="faults") -> bool:
     suffix = "" if complete else ".incomplete"
     meta, data = found[f"meta{suffix}.json"], found[f"data{suffix}.npz"]
     assert meta["complete"] is complete
-    assert f"{name}_invariants{suffix}.png" in found and f"{name}_orbit{suffix}.png" in found
+    assert _figures(f"{name}_invariants{suffix}", f"{name}_orbit{suffix}") <= set(found)
     for i, r in enumerate(meta["runs"]):
         if r["status"] == "not run":
             assert f"run{i}_t" not in data and not complete
@@ -124,7 +133,7 @@ def _check_scene_set(found: dict, name="faults") -> bool:
             h = float(Fraction(meta["h"]))
             assert -1e-9 <= r["t_end"] - t[-1] <= meta["record_every"] * h + 1e-9
         assert r["status"] in (("completed",) if complete else ("completed", "interrupted", "not run"))
-    mine = {f"data{suffix}.npz", f"meta{suffix}.json", f"{name}_invariants{suffix}.png", f"{name}_orbit{suffix}.png"}
+    mine = {f"data{suffix}.npz", f"meta{suffix}.json"} | _figures(f"{name}_invariants{suffix}", f"{name}_orbit{suffix}")
     assert not set(found) - mine, f"files of another set beside this one: {sorted(set(found) - mine)}"
     return complete
 
@@ -153,7 +162,7 @@ def test_kill_9_at_random_moments_then_a_complete_run(lab, tmp_path):
     assert done.returncode == 0, done.stderr
     found = _check_folder(folder)
     assert _check_scene_set(found)
-    assert set(found) == {"data.npz", "meta.json", "faults_invariants.png", "faults_orbit.png"}
+    assert set(found) == {"data.npz", "meta.json"} | _figures("faults_invariants", "faults_orbit")
     print(f"{REPEATS} kills ({', '.join(kills)}) and a complete run: {time.monotonic() - t0:.1f} s")
 
 
@@ -235,7 +244,7 @@ def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch):
     monkeypatch.setattr(files, "_fill", fill)
     with pytest.raises(KeyboardInterrupt):
         S.run_scene(compiled["scene"], out_root=out, progress=False)
-    assert len(calls) == 4 and _check_scene_set(_check_folder(out / "faults"))     # data, meta, 2 plots
+    assert len(calls) == 2 + 2 * len(FORMATS) and _check_scene_set(_check_folder(out / "faults"))  # data, meta, 2 plots
     assert {f.name for f in (out / "faults").iterdir()} == set(before)
     before = {f.name: f.read_bytes() for f in (out / "faults").iterdir()}
     calls.clear()
@@ -284,7 +293,7 @@ def test_concurrent_runs_into_one_folder(lab, tmp_path):
             assert "Traceback" not in err
         found = _check_folder(out / "faults")
         assert _check_scene_set(found)
-        assert set(found) == {"data.npz", "meta.json", "faults_invariants.png", "faults_orbit.png"}
+        assert set(found) == {"data.npz", "meta.json"} | _figures("faults_invariants", "faults_orbit")
 
 
 def test_a_held_folder_is_reported_clearly(tmp_path):
@@ -439,14 +448,14 @@ def test_no_worker_outlives_convergence(lab, tmp_path):
     assert done.returncode == 0, done.stderr
     assert _gone(marker, within=5) == []
     found = _check_folder(out)
-    assert set(found) == {"convergence_pendulum_float64.json", "convergence_pendulum_float64.png"}
+    assert set(found) == {"convergence_pendulum_float64.json"} | _figures("convergence_pendulum_float64")
 
 
 KILLED = {   # command, and the files a complete run leaves in its output folder
     "convergence": (lambda out: [sys.executable, "-m", "tableau_lab", "convergence", str(METHODS / "rk4.json"),
                                  "--problem", "harmonic", "--T", "1", "--max-steps", "800", "--workers", "1",
                                  "--out", str(out)],
-                    {"convergence_harmonic_float64.json", "convergence_harmonic_float64.png"}),
+                    {"convergence_harmonic_float64.json"} | _figures("convergence_harmonic_float64")),
     "report": (lambda out: [sys.executable, "-m", "tableau_lab", "report", str(METHODS / "gauss2.json"), "--pdf",
                             "--out", str(out)],
                {"gauss2.json", "gauss2.tex", "gauss2.pdf", "gauss2.log"}),

@@ -26,7 +26,6 @@ numeric integrator runs a PRK as a one-step method (r = 1), so H̃ is tracked at
 """
 from __future__ import annotations
 
-import textwrap
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -185,41 +184,41 @@ def modified_energy_run(method, problem_name, params=None, h=None, steps: int = 
 
 
 def plot_modified_energy(runs, target, title: str = "") -> Path:
-    """One PNG: a panel per run with |H − H₀| and |H̃ − H̃₀| against t (log scale)."""
+    """One figure (PNG, PDF, SVG): a panel per run with |H − H₀| and |H̃ − H̃₀| against t (log scale)."""
     panels = [{"t": r.times, "err_H": r.err_H, "err_Ht": r.err_Ht, "powers": r.powers,
                "title": f"{r.method} (ratio of maxima {r.ratio:.3g})"} for r in runs]
     return plot_energy_panels(panels, target, title)
 
 
 def plot_energy_panels(panels, target, title: str = "", floor: float | None = None) -> Path:
-    """One PNG, a panel per dict of ``panels``: "t", "err_H" (H(y_n) − H₀), "title", and either
-    "err_Ht" with "powers" (H̃ − H̃₀, H̃ to those powers of h) or "note" (why there is no H̃: the
-    panel shows |H − H₀| alone and says so).  Exact zeros are drawn at ``floor`` (default: a
-    tenth of float64's unit round-off, as in plots.py).  Written atomically."""
-    from .plots import _figure, _save
-    plt = _figure()
+    """One figure (PNG, PDF, SVG), a panel per dict of ``panels``: "t", "err_H" (H(y_n) − H₀),
+    "title", and either "err_Ht" with "powers" (H̃ − H̃₀, H̃ to those powers of h) or "note"
+    (why there is no H̃: the panel shows |H − H₀| alone and says so).  Exact zeros are drawn at
+    ``floor`` (default: a tenth of float64's unit round-off, as in plots.py).  Written
+    atomically."""
+    from . import figure_style as style
+    plt = style.pyplot()
     floor = np.finfo(float).eps / 10 if floor is None else floor
-    fig, axes = plt.subplots(len(panels), 1, figsize=(7, 2.6 * len(panels)), squeeze=False, sharex=True)
+    fig, axes = plt.subplots(len(panels), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(panels) + 0.8),
+                             squeeze=False, sharex=True)
     for ax, r in zip(axes[:, 0], panels):
         t = np.asarray(r["t"], dtype=float)
         eH = np.asarray(r["err_H"], dtype=float)
-        ax.semilogy(t[: len(eH)], np.maximum(np.abs(eH), floor), lw=0.6, label="|H − H₀|")
+        ax.semilogy(t[: len(eH)], np.maximum(np.abs(eH), floor), lw=0.6, label=style.invariant_error("H"),
+                    **style.series_style(0))
         if r.get("err_Ht") is not None:
-            powers = " + ".join(f"h^{k}" for k in r["powers"])
+            powers = " + ".join(f"h^{{{k}}}" for k in r["powers"])
             eT = np.asarray(r["err_Ht"], dtype=float)
-            ax.semilogy(t[: len(eT)], np.maximum(np.abs(eT), floor), lw=0.6, label=f"|H̃ − H̃₀|, H̃ to {powers}")
+            ax.semilogy(t[: len(eT)], np.maximum(np.abs(eT), floor), lw=0.6,
+                        label=f"{style.invariant_error(NAME)}, $\\tilde{{H}}$ to ${powers}$", **style.series_style(1))
         else:
-            note = textwrap.fill(f"no H̃: {r.get('note') or 'no modified energy'}", 48)
-            ax.plot([], [], " ", label=note)
+            ax.plot([], [], " ", label=f"no $\\tilde{{H}}$: {style.plain(r.get('note') or 'no modified energy')}")
         ax.set_ylabel("energy error")
-        ax.set_title(r.get("title", ""), fontsize=9)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
-    axes[-1, 0].set_xlabel("t")
+        style.title(ax, style.plain(r.get("title", "")))
+        style.legend(ax, "right")
+    axes[-1, 0].set_xlabel(style.T_LABEL)
     if title:
-        fig.suptitle(title, fontsize=10)
+        style.title(fig, style.plain(title))
     target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    _save(fig, target)
-    plt.close(fig)
+    style.save(fig, target)
     return target

@@ -1,27 +1,17 @@
 """Plots of scene data (matplotlib, Agg backend): invariant errors against time, orbits, the
-parasitic components of GLM inputs.  Reads the arrays a scene run produced; never runs
-anything itself."""
+parasitic components of GLM inputs; round-off, convergence and work–precision figures.  Reads
+the arrays a run produced; never runs anything itself.  The style (series, legends, labels,
+the PNG/PDF/SVG files) is :mod:`~tableau_lab.experiments.figure_style`'s."""
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 
-from ..files import atomic_write
 from ..numeric.arith import arith
+from . import figure_style as style
 
-__all__ = ["draw", "draw_roundoff", "draw_convergence", "draw_workprecision"]
-
-
-def _figure():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
-
-
-def _save(fig, target: Path):
-    atomic_write(target, lambda tmp: fig.savefig(tmp, dpi=110, bbox_inches="tight"), suffix=".png")
+__all__ = ["draw", "draw_roundoff", "draw_convergence", "draw_workprecision", "roundoff_title", "convergence_title"]
 
 
 def _floor(run) -> float:
@@ -30,95 +20,116 @@ def _floor(run) -> float:
 
 
 def draw(scene, meta, arrays, out: Path) -> list:
-    """Draw the scene's plots into ``out``; returns the file names."""
-    plt = _figure()
+    """Draw the scene's plots into ``out``; returns the file names (the PNGs; each has its PDF
+    and SVG beside it)."""
+    plt = style.pyplot()
     names = []
     runs = meta["runs"]
     suffix = "" if meta["complete"] else ".incomplete"
-    title = scene.title + ("" if meta["complete"] else " (incomplete)")
+    title = style.plain(scene.title + ("" if meta["complete"] else " (incomplete)"))
     for kind in scene.plots:
         if kind == "invariants":
             invs = [k for k in scene.problem.invariants if any(f"run{i}_{k}" in arrays for i in range(len(runs)))]
-            fig, axes = plt.subplots(len(invs), 1, figsize=(7, 2.6 * len(invs)), squeeze=False, sharex=True)
+            fig, axes = plt.subplots(len(invs), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(invs) + 0.7),
+                                     squeeze=False, sharex=True)
             for ax, k in zip(axes[:, 0], invs):
                 for i, r in enumerate(runs):
                     t, e = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_{k}")
                     if t is None or e is None:
                         continue
-                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), lw=0.8, label=r["label"])
-                ax.set_ylabel(f"|{k}(y) − {k}(y₀)|")
-                ax.grid(True, which="both", alpha=0.3)
-            axes[-1, 0].set_xlabel("t")
-            axes[0, 0].legend(fontsize=8)
-            axes[0, 0].set_title(title, fontsize=10)
+                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), label=style.plain(r["label"]),
+                                **style.series_style(i))
+                ax.set_ylabel(style.invariant_error(k))
+            axes[-1, 0].set_xlabel(style.T_LABEL)
+            style.legend(list(axes[:, 0]), "right")
+            style.title(fig, title)
         elif kind in ("orbit", "state"):
-            fig, ax = plt.subplots(figsize=(5.5, 5))
+            fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
             for i, r in enumerate(runs):
                 y = arrays.get(f"run{i}_y")
                 if y is None:
                     continue
                 d = y.shape[1] // 2 if scene.problem.kind == "hamiltonian" else 1
                 if kind == "orbit" and d >= 2:
-                    ax.plot(y[:, 0], y[:, 1], lw=0.6, label=r["label"])
-                    ax.set_xlabel("q₁"), ax.set_ylabel("q₂")
+                    ax.plot(y[:, 0], y[:, 1], lw=0.7, label=style.plain(r["label"]), **style.series_style(i))
+                    ax.set_xlabel("$q_1$"), ax.set_ylabel("$q_2$")
                     ax.set_aspect("equal", adjustable="datalim")
                 else:
-                    ax.plot(y[:, 0], y[:, d], lw=0.6, label=r["label"])
-                    ax.set_xlabel("q"), ax.set_ylabel("p")
-            ax.legend(fontsize=8)
-            ax.set_title(title, fontsize=10)
+                    ax.plot(y[:, 0], y[:, d], lw=0.7, label=style.plain(r["label"]), **style.series_style(i))
+                    ax.set_xlabel("$q$"), ax.set_ylabel("$p$")
+            style.legend(ax, "below", ncols=1)
+            style.title(fig, title)
         elif kind == "parasitic":
-            fig, ax = plt.subplots(figsize=(7, 3.4))
+            fig, ax = plt.subplots(figsize=(style.PRINT_WIDTH, 3.4))
+            k, modes = 0, any(f"run{i}_parasitic_0" in arrays for i in range(len(runs)))
             for i, r in enumerate(runs):
-                _draw_parasitic(ax, arrays, i, r)
+                k = _draw_parasitic(ax, arrays, i, r, k, modes)
             _long_time_axis(ax, arrays, len(runs))
-            ax.set_xlabel("t"), ax.set_ylabel("parasitic component")
-            ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1))
-            ax.set_title(title, fontsize=10)
+            ax.set_xlabel(style.T_LABEL), ax.set_ylabel(r"parasitic component $|c_\zeta|$" if modes else _INPUTS)
+            style.legend(ax, "right")
+            style.title(fig, title)
         else:  # pragma: no cover - validated in load_scene
             continue
         name = f"{scene.name}_{kind}{suffix}.png"
-        _save(fig, out / name)
-        plt.close(fig)
+        style.save(fig, out / name)
         names.append(name)
     return names
 
 
-def _draw_parasitic(ax, arrays, i, run):
+def _zetas(values) -> str:
+    """ζ as decimals; a conjugate pair as a ± bi."""
+    texts = [style.decimal(z) for z in values]
+    if len(texts) == 2 and texts[0] != texts[1] and texts[0].replace(" + ", " - ") == texts[1].replace(" + ", " - "):
+        return texts[0].replace(" + ", " ± ").replace(" - ", " ± ")
+    return ", ".join(texts)
+
+
+_INPUTS = r"$\mathrm{max}_{k\geq 2}\,|y^{[n]}_k|$"     # what runs without parasitic components recorded
+_PREDICTED = r", $c(t_1)\,\exp\int_{t_1}^t \max\,\mathrm{Re\,eig}(\mu f')\,ds$"      # the dashed lines
+
+
+def _draw_parasitic(ax, arrays, i, run, k, modes=True) -> int:
     """Run i's parasitic components max_i |c_ζ,i| (one line per ζ; a conjugate ζ with the same
     sizes is drawn once) and, dashed, the prediction c(t₁)·exp(∫_{t₁}^t max Re eig(μ f′) dt) from
-    the first nonzero record t₁; runs without components: max |y^[n]_k|, k ≥ 2."""
+    the first nonzero record t₁; runs without components: max |y^[n]_k|, k ≥ 2 (so labelled when
+    ``modes``: other runs have components).  ``k`` is the index of the next series; returns the
+    next one."""
     t = arrays.get(f"run{i}_t")
     if t is None:
-        return
-    floor, drawn = _floor(run), []
+        return k
+    floor, groups = _floor(run), []
     for j, mode in enumerate(run.get("parasitic_modes", [])):
         c = arrays.get(f"run{i}_parasitic_{j}")
-        if c is None or any(len(c) == len(d) and np.array_equal(c, d) for d in drawn):
+        if c is None:
             continue
-        drawn.append(c)
-        line, = ax.semilogy(t[: len(c)], np.maximum(c, floor), lw=0.8,
-                            label=f"{run['label']}: ζ = {mode['zeta']}, μ = {_short_number(mode['mu'])}")
-        P = arrays.get(f"run{i}_predicted_{j}")
+        same = next((g for g in groups if len(c) == len(g["c"]) and np.array_equal(c, g["c"])), None)
+        if same is not None:
+            same["zeta"].append(mode["zeta"])
+            continue
+        groups.append({"c": c, "zeta": [mode["zeta"]], "mu": mode["mu"], "P": arrays.get(f"run{i}_predicted_{j}")})
+    label = style.plain(run["label"])
+    for g in groups:
+        c, P = g["c"], g["P"]
+        s = style.series_style(k)
+        k += 1
+        ax.semilogy(t[: len(c)], np.maximum(c, floor), label=f"{label}: $\\zeta$ = {_zetas(g['zeta'])}, "
+                                                             f"$\\mu$ = {style.decimal(g['mu'])}", **s)
         start = np.flatnonzero(c > 0)
         if P is not None and len(start):
-            k = start[0]
-            pred = c[k] * np.exp(np.minimum(P[k:] - P[k], 700.0))
+            n0 = start[0]
+            with np.errstate(over="ignore"):
+                pred = c[n0] * np.exp(np.minimum(P[n0:] - P[n0], 700.0))
             keep = pred <= 10 * max(float(np.max(c)), floor)
-            ax.semilogy(t[k: len(P)][keep], pred[keep], "--", color=line.get_color(), lw=0.8,
-                        label="predicted: ∫ max Re eig(μ f′) dt")
-    if not drawn:
+            first = not any(ln.get_label().endswith(_PREDICTED) for ln in ax.get_lines())
+            ax.semilogy(t[n0: len(P)][keep], pred[keep], color=s["color"], linestyle=(0, (5, 2)), marker="None",
+                        label=f"{label}: predicted" + (_PREDICTED if first else ""))
+    if not groups:
         v = arrays.get(f"run{i}_parasitic")
         if v is not None:
-            ax.semilogy(t[: len(v)], np.maximum(v, 1e-300), lw=0.8, label=f"{run['label']}: max |y^[n]_k|, k ≥ 2")
-
-
-def _short_number(text: str) -> str:
-    try:
-        return f"{float(text):.5g}"
-    except ValueError:
-        return text
+            ax.semilogy(t[: len(v)], np.maximum(v, floor), label=f"{label}: {_INPUTS}" if modes else label,
+                        **style.series_style(k))
+            k += 1
+    return k
 
 
 def _long_time_axis(ax, arrays, n_runs):
@@ -130,69 +141,106 @@ def _long_time_axis(ax, arrays, n_runs):
         ax.set_xscale("log")
 
 
+def roundoff_title(data: dict) -> str:
+    """The round-off figure's title from its data file (``tableau-lab roundoff``'s JSON)."""
+    return f"Round-off alone: {Path(data['method']).stem} on {data['problem']}, h = {data['h']}"
+
+
 def draw_roundoff(result: dict, target: Path, title: str) -> None:
     """RMS round-off (float64 − the same method at high precision) against the step number,
     with and without compensated summation, and the √n reference slope."""
-    plt = _figure()
-    fig, ax = plt.subplots(figsize=(6.5, 3.6))
+    plt = style.pyplot()
+    fig, ax = plt.subplots(figsize=(style.PRINT_WIDTH, 3.4))
     n = np.array(result["n"], dtype=float)
     keep = n > 0
-    for key, style in (("plain", "-"), ("compensated", "-")):
+    for i, key in enumerate(("plain", "compensated")):
         v = np.array(result[key])
-        ax.loglog(n[keep], np.maximum(v[keep], 1e-20), style, lw=0.9,
-                  label=f"{key} summation (fitted exponent {result['slope_' + key]:.2f})")
+        ax.loglog(n[keep], np.maximum(v[keep], 1e-20),
+                  label=f"{key} summation (fitted exponent {result['slope_' + key]:.2f})", **style.series_style(i))
     ref = np.array(result["plain"])[keep]
     if len(ref):
-        ax.loglog(n[keep], ref[-1] * np.sqrt(n[keep] / n[keep][-1]), "k:", lw=0.8, label="√n (Brouwer's law)")
-    ax.set_xlabel("steps n"), ax.set_ylabel("RMS |y_float64 − y_exact arithmetic|")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(title, fontsize=10)
-    _save(fig, target)
-    plt.close(fig)
+        ax.loglog(n[keep], ref[-1] * np.sqrt(n[keep] / n[keep][-1]), color="0.35", linestyle=":", marker="None",
+                  label=r"$\propto\sqrt{n}$ (Brouwer's law)")
+    ax.set_xlabel(style.STEPS_LABEL)
+    ax.set_ylabel(r"RMS $|y_{\mathrm{float64}} - y_{\mathrm{high\ precision}}|$")
+    style.legend(ax, "right")
+    style.title(fig, style.plain(title))
+    style.save(fig, target)
+
+
+def convergence_title(results: list) -> str:
+    """The convergence figure's title from its data file (``tableau-lab convergence``'s JSON)."""
+    c = results[0]
+    return f"{c['problem']}, T = {c['T']:g}, {c['precision']}"
 
 
 def draw_convergence(results: list, target: Path, title: str) -> None:
-    """Global error against h (log–log) for several methods, with the fitted slopes."""
-    plt = _figure()
-    fig, ax = plt.subplots(figsize=(7, 5))
+    """Global error against h (log–log), one panel per order p (the methods of that order, each
+    with its fitted slope, and a reference line of slope p), panels sharing both axes, each as
+    high as its legend needs."""
+    plt = style.pyplot()
+    groups: dict = {}
     for c in results:
-        pts = [(h, e) for h, e in zip(c["h"], c["error"]) if e is not None]
-        if not pts:
-            continue
-        h, e = np.array(pts).T
-        slope = "—" if c["slope"] is None else f"{c['slope']:.2f}"
-        ax.loglog(h, e, "o-", ms=3, lw=0.8, label=f"{c['method']} (p = {c['order']}, slope {slope})")
-    ax.set_xlabel("h"), ax.set_ylabel("global error at T")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=6, loc="best")
-    ax.set_title(title, fontsize=10)
-    _save(fig, target)
-    plt.close(fig)
+        groups.setdefault(c.get("order"), []).append(c)
+    orders = sorted(groups, key=lambda p: (p is None, p or 0))
+    labels = {p: [f"{style.plain(c['method'])}: slope {'—' if c['slope'] is None else format(c['slope'], '.2f')}"
+                  for c in groups[p]] for p in orders}
+    heights = [max(style.SMALL_PANEL_HEIGHT, style.legend_height(labels[p] + ["reference"])) for p in orders]
+    fig, axes = plt.subplots(len(orders), 1, figsize=(style.PRINT_WIDTH, sum(heights) + 0.7), squeeze=False,
+                             sharex=True, sharey=True, gridspec_kw={"height_ratios": heights})
+    for ax, p in zip(axes[:, 0], orders):
+        points = []
+        for i, (c, label) in enumerate(zip(groups[p], labels[p])):
+            pts = [(h, e) for h, e in zip(c["h"], c["error"]) if e is not None and e > 0]
+            if not pts:
+                ax.plot([], [], label=label + " (no run finished)", **style.series_style(i))
+                continue
+            h, e = np.array(pts).T
+            ax.loglog(h, e, label=label, **style.series_style(i))
+            points.append((h, e))
+        if p is not None and points:
+            _reference_slope(ax, p, points)
+        ax.set_title("order unknown" if p is None else f"methods of order $p = {p}$", loc="left")
+        ax.set_ylabel("global error at $T$")
+        style.legend(ax, "right")
+    axes[-1, 0].set_xlabel(style.H_LABEL)
+    style.title(fig, style.plain(title))
+    style.save(fig, target)
+
+
+def _reference_slope(ax, p: int, points) -> None:
+    """A line of slope p through the median error at the largest h, down to the smallest error
+    of the panel (not beyond the points' range of h)."""
+    h0 = max(float(h.max()) for h, _ in points)
+    e0 = float(np.exp(np.median([np.log(e[np.argmax(h)]) for h, e in points])))
+    e_low = min(float(e.min()) for _, e in points)
+    h_low = max(min(float(h.min()) for h, _ in points), h0 * (e_low / e0) ** (1 / p))
+    hs = np.array([h_low, h0])
+    ax.loglog(hs, e0 * (hs / h0) ** p, color="0.4", linestyle=(0, (1, 1.5)), marker="None",
+              label=f"reference slope {p} ($\\propto h^{{{p}}}$)")
 
 
 def draw_workprecision(data: dict, target: Path) -> None:
     """Four panels: error at T and max |I − I₀| against CPU seconds and against f-evaluations,
-    one line per method or peer (points that failed are left out)."""
-    plt = _figure()
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5), sharey="row")
+    one line per method or peer (points that failed are left out), each in the order of its
+    sweep; peers (adaptive integrators: their points have an rtol) dashed."""
+    plt = style.pyplot()
+    fig, axes = plt.subplots(2, 2, figsize=(style.PRINT_WIDTH, 6.4), sharey="row")
     inv = data["invariant"]
-    for label, pts in data["series"].items():
-        ok = sorted((p for p in pts if "cpu" in p), key=lambda p: p["cpu"])
+    for i, (label, pts) in enumerate(data["series"].items()):
+        ok = sorted((p for p in pts if "cpu" in p), key=lambda p: (p.get("nfev", 0), p["cpu"]))
         if not ok:
             continue
-        style = "--" if label in ("DOP853", "RK45", "RK23", "Radau", "LSODA") else "-"
+        s = {**style.series_style(i), "linestyle": "--" if any("rtol" in p for p in pts) else "-"}
         for row, key in enumerate(("error", "invariant_error")):
             for col, cost in enumerate(("cpu", "nfev")):
-                axes[row, col].loglog([p[cost] for p in ok], [max(p[key], 1e-17) for p in ok], style,
-                                      marker="o", ms=3, label=label)
-    for col, cost in enumerate(("CPU seconds", "f-evaluations")):
+                axes[row, col].loglog([p[cost] for p in ok], [max(p[key], 1e-17) for p in ok],
+                                      label=style.plain(label), **s)
+    for col, cost in enumerate((style.CPU_LABEL, style.NFEV_LABEL)):
         axes[1, col].set_xlabel(cost)
-    axes[0, 0].set_ylabel(f"error at T = {data['T']:g} (max norm)")
-    axes[1, 0].set_ylabel(f"max |{inv} − {inv}₀| over the run")
-    for ax in axes.flat:
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0, 1].legend(fontsize=8)
-    fig.suptitle(f"{data['title']} (work–precision; reference error ≤ {data['reference_error_bound']:.1e})")
-    _save(fig, target)
-    plt.close(fig)
+    axes[0, 0].set_ylabel(f"error at $T = {data['T']:g}$ (max norm)")
+    axes[1, 0].set_ylabel(f"max {style.invariant_error(inv)}")
+    style.legend(list(axes.flat), "below", ncols=3)
+    style.title(fig, f"{style.plain(data['title'])} (work–precision; reference error ≤ "
+                     f"{data['reference_error_bound']:.1e})")
+    style.save(fig, target)

@@ -464,7 +464,9 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
                 plots.append(_draw_modified_energy(sc, meta, arrays, out, suffix))
             extra = list(also(out)) if also is not None else []
         # the set is in place: a previous run's files must not contradict it
-        keep = set(written) | set(plots) | set(extra)
+        from .figure_style import siblings
+        keep = set(written) | {f.name for name in plots + extra
+                               for f in (siblings(out / name) if name.endswith(".png") else [out / name])}
         for name in _scene_files(out, sc.name):
             if name not in keep:
                 try:
@@ -500,13 +502,15 @@ def _draw_modified_energy(sc: Scene, meta, arrays, out: Path, suffix: str) -> st
 
 
 def _scene_files(out: Path, name: str) -> list:
-    """The files of a scene's output set in ``out``: data*.npz, meta*.json, <name>_*.png."""
+    """The files of a scene's output set in ``out``: data*.npz, meta*.json, and its figures
+    <name>_* in every format of the figure style."""
+    from .figure_style import FORMATS
     try:
         names = [p.name for p in out.iterdir()]
     except OSError:
         return []
     return [f for f in names if (f.startswith("data") and f.endswith(".npz"))
-            or (f.startswith("meta") and f.endswith(".json")) or (f.startswith(f"{name}_") and f.endswith(".png"))]
+            or (f.startswith("meta") and f.endswith(".json")) or (f.startswith(f"{name}_") and f.endswith(FORMATS))]
 
 
 def _not_run(sc: Scene, i: int) -> dict:

@@ -191,7 +191,7 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
               progress=None) -> dict:
     """Run the suite (module docstring); returns the summary (also written to OUT)."""
     from .. import __version__
-    from .plots import _figure
+    from .figure_style import pyplot
     scenes = load_suite(suite_dir, steps, only)
     out = Path(out or suite_dir)
     items = [(str(sc.path), i, steps) for sc in scenes for i in range(len(sc.runs))]
@@ -203,7 +203,7 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     def write(sc):                   # a scene's data and plots, the energy plot in the same set
         res = [results.get((str(sc.path), i, steps)) for i in range(len(sc.runs))]
         metas[sc.name] = write_outputs(sc, res, out / sc.name, also=lambda folder: [
-            _draw_energy(_figure(), sc, [r for r in res if r is not None], folder)])
+            _draw_energy(pyplot(), sc, [r for r in res if r is not None], folder)])
 
     def finished(k, res):
         results[items[order[k]]] = res
@@ -237,56 +237,61 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     with output_phase(out):          # the summary's files: one set, under the folder's lock
         atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, ensure_ascii=False))
         atomic_write_text(out / "summary.md", _markdown(summary))
-        summary["plots"] = _draw(_figure(), rows, scenes, out)
+        summary["plots"] = _draw(pyplot(), rows, scenes, out)
     return summary
 
 
 def _draw_energy(plt, sc, results, out) -> str:
     """|H − H₀| against t (log–log), one panel per method: without projection solid, with
-    projection dashed; a run that stopped or failed ends in a cross.  Returns the file name."""
-    from .plots import _save
+    projection dashed; a run that stopped or failed ends in a cross; a panel whose two curves
+    coincide says so in its title.  Returns the file name."""
+    from . import figure_style as style
     stems = list(dict.fromkeys(Path(m["file"]).stem for _, m, _ in results))
-    cols = min(4, len(stems))
+    cols = min(style.GRID_COLUMNS, len(stems))
     rows = -(-len(stems) // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3.2 * cols, 2.4 * rows), squeeze=False, sharex=True, sharey=True)
+    fig, axes = plt.subplots(rows, cols, figsize=(style.PRINT_WIDTH, style.SMALL_PANEL_HEIGHT * rows + 0.9),
+                             squeeze=False, sharex=True, sharey=True)
+    kinds = {False: ("without projection", {**style.series_style(0), "linestyle": "-"}),
+             True: ("with projection", {**style.series_style(1), "linestyle": "--"})}
     for ax, stem in zip(axes.flat, stems):
         for arrays, meta, _ in results:
             if Path(meta["file"]).stem != stem or "H" not in arrays or len(arrays["t"]) < 2:
                 continue
             t, e = arrays["t"][1:], np.maximum(np.abs(arrays["H"][1:]), 1e-17)
-            style = "--" if meta["projection"] else "-"
-            line, = ax.loglog(t, e, style, lw=0.7, label="projected" if meta["projection"] else "plain")
+            label, s = kinds[bool(meta["projection"])]
+            ax.loglog(t, e, lw=0.7, label=label, **s)
             if meta["status"] != "completed":
-                ax.plot(t[-1:], e[-1:], "x", color=line.get_color(), ms=6)
-        ax.set_title(stem, fontsize=8)
-        ax.grid(True, which="both", alpha=0.3)
-        ax.tick_params(labelsize=7)
+                ax.plot(t[-1:], e[-1:], color=s["color"], marker="x", linestyle="None", ms=7, mew=1.5)
+        same = style.mark_coinciding(ax, relabel=False)
+        note = "" if not same else " (the two coincide)" if same[0][2] == 1 else " (the two mostly coincide)"
+        ax.set_title(style.plain(stem) + note, fontsize=style.SMALL_FONT)
     for ax in axes.flat[len(stems):]:
         ax.set_visible(False)
-    axes[0, 0].legend(fontsize=7)
     for ax in axes[:, 0]:
-        ax.set_ylabel("|H − H₀|", fontsize=8)
+        ax.set_ylabel(style.invariant_error("H"))
     for ax in axes[-1, :]:
-        ax.set_xlabel("t", fontsize=8)
-    fig.suptitle(f"{sc.title} (x: stopped or failed)", fontsize=9)
+        ax.set_xlabel(style.T_LABEL)
+    style.legend(axes[0, 0], "below", notes=False, ncols=3,
+                 entries=[*kinds.values(), ("stopped or failed", {"color": "0.3", "marker": "x", "linestyle": "None"})])
+    style.title(fig, style.plain(sc.title))
     name = f"{sc.name}_energy.png"
-    _save(fig, out / name)
-    plt.close(fig)
+    style.save(fig, out / name)
     return name
 
 
 def _draw(plt, rows, scenes, out) -> list:
-    """Two heat maps, methods × problems (without | with projection): log10 max |H − H₀|, and the
-    fraction of the span each run got through (stopped and failed runs marked)."""
-    from .plots import _save
+    """Two heat maps, methods × problems (without | with projection, one above the other): log10
+    max |H − H₀|, and the fraction of the span each run got through (stopped and failed runs
+    marked)."""
+    from . import figure_style as style
     names = [sc.name for sc in scenes]
     methods = list(dict.fromkeys(r["file"] for r in rows))
     files = []
     for kind in ("energy", "time_to_failure"):
-        fig, axes = plt.subplots(1, 2, figsize=(4 + 1.3 * len(names), 1.2 + 0.45 * len(methods)), squeeze=False,
-                                 sharey=True)
-        for col, proj in enumerate((False, True)):
-            ax = axes[0, col]
+        fig, axes = plt.subplots(2, 1, figsize=(style.PRINT_WIDTH, 1.6 + 0.5 * len(methods)), squeeze=False,
+                                 sharex=True)
+        for row, proj in enumerate((False, True)):
+            ax = axes[row, 0]
             M = np.full((len(methods), len(names)), np.nan)
             for r in rows:
                 if bool(r["projection"]) != proj:
@@ -302,19 +307,19 @@ def _draw(plt, rows, scenes, out) -> list:
                 if not np.isfinite(M[i, j]):
                     continue
                 dark = M[i, j] > -6 if kind == "energy" else M[i, j] < 0.25
-                ax.text(j, i, text, ha="center", va="center", fontsize=6, color="white" if dark else "black")
+                ax.text(j, i, text, ha="center", va="center", fontsize=style.SMALL_FONT - 1,
+                        color="white" if dark else "black")
             im = ax.imshow(M, aspect="auto", cmap="viridis_r" if kind == "energy" else "RdYlGn",
                            vmin=(-16 if kind == "energy" else 0), vmax=1)
-            ax.set_xticks(range(len(names)), [n.removeprefix("suite_") for n in names], rotation=30, ha="right",
-                          fontsize=7)
-            ax.set_yticks(range(len(methods)), methods, fontsize=7)
-            ax.set_title("with projection" if proj else "without projection", fontsize=9)
-        fig.colorbar(im, ax=axes[0, :].tolist(), shrink=0.8,
-                     label="log10 max |H − H₀| (s, f: until stopped, failed)" if kind == "energy"
+            ax.grid(False)
+            ax.set_xticks(range(len(names)), [n.removeprefix("suite_") for n in names], rotation=20, ha="right")
+            ax.set_yticks(range(len(methods)), [style.plain(m) for m in methods])
+            ax.set_title("with projection" if proj else "without projection")
+        fig.colorbar(im, ax=axes[:, 0].tolist(), shrink=0.8,
+                     label=r"$\log_{10}\,\max|H(y_n)-H(y_0)|$ (s, f: until stopped, failed)" if kind == "energy"
                      else "t reached / T (s: stopped, f: failed)")
         name = f"suite_{kind}.png"
-        _save(fig, out / name)
-        plt.close(fig)
+        style.save(fig, out / name)
         files.append(name)
     return files
 

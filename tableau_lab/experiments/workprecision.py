@@ -29,10 +29,12 @@ import numpy as np
 
 from ..files import atomic_write_text, output_phase
 
-__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point"]
+from .compiled_peer import PEER as COMPILED_PEER, dop853_point
+__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus"]
 
 FORMAT = "tableau_lab/workprecision/1"
-PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA")
+PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
+# (experiments/compiled_peer.py: numbalsoda, f through a C function pointer: the fair CPU peer)
 
 
 @dataclass(frozen=True)
@@ -173,7 +175,8 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     ref, gap = reference_state(scene.problem, scene.T)
     tasks = [(method_point, (str(p), scene.problem, scene.T, n, scene.invariant), label)
              for p, steps, label in scene.methods for n in steps]
-    tasks += [(peer_point, (peer, scene.problem, scene.T, rtol, af, scene.invariant), peer)
+    tasks += [(dop853_point, (scene.problem, scene.T, rtol, af, scene.invariant), peer) if peer == COMPILED_PEER
+              else (peer_point, (peer, scene.problem, scene.T, rtol, af, scene.invariant), peer)
               for peer, rtols, af in scene.peers for rtol in rtols]
     with executor(scheduler=scheduler, workers=workers) as ex:
         results = ex.map(_call, [(fn, args) for fn, args, _ in tasks])
@@ -200,8 +203,9 @@ def _call(task):
 
 
 def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
-    """For each invariant-error level: the cheapest CPU time of each series reaching it, and the
-    ratio of DOP853's to our best's (None where a series never reaches the level)."""
+    """For each invariant-error level: the cheapest CPU time of each series reaching it, our best
+    series, and each peer's time over our best's (``peer_over_best``; None where one of the two
+    never reaches the level; ``DOP853_over_best`` is scipy's DOP853's)."""
     out = {}
     for lv in levels:
         best = {}
@@ -209,10 +213,10 @@ def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
             ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
             best[label] = min(ok) if ok else None
         ours = {k: v for k, v in best.items() if k not in PEERS and v is not None}
-        peer = best.get("DOP853")
         top = min(ours, key=ours.get) if ours else None
-        out[f"{lv:g}"] = {"cpu": best, "best": top,
-                          "DOP853_over_best": (peer / ours[top]) if top and peer else None}
+        ratios = {k: (v / ours[top] if top and v else None) for k, v in best.items() if k in PEERS}
+        out[f"{lv:g}"] = {"cpu": best, "best": top, "peer_over_best": ratios,
+                          "DOP853_over_best": ratios.get("DOP853")}
     return out
 
 
@@ -230,7 +234,14 @@ def summary_table(data, levels=(1e-6, 1e-8, 1e-10)) -> str:
         rows.append(f"| {label} | {key} {pts[0][key]:g} … {pts[-1][key]:g} | {best} |")
     sp_ = data.get("speedup") or cheapest
     rows.append("")
-    rows += [f"- max abs({inv} − {inv}₀) ≤ {lv}: DOP853 needs {v['DOP853_over_best']:.1f}× the CPU time of our best "
-             f"({v['best']})" if v["DOP853_over_best"] else f"- ≤ {lv}: not reached by both"
-             for lv, v in sp_.items()]
+    rows += [f"- max abs({inv} − {inv}₀) ≤ {lv}: " + versus(v) for lv, v in sp_.items()]
     return "\n".join(rows)
+
+
+def versus(v) -> str:
+    """One level of :func:`speedup` in words: each peer's CPU time over our best's."""
+    if v["best"] is None:
+        return "none of our methods reaches it"
+    ratios = v.get("peer_over_best") or {"DOP853": v.get("DOP853_over_best")}
+    said = [f"{k} needs {r:.2g}× the CPU time of our best ({v['best']})" for k, r in ratios.items() if r]
+    return "; ".join(said) if said else f"no peer reaches it (our best: {v['best']})"
