@@ -14,10 +14,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from doc_blocks import cli  # noqa: E402
+from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 WP = ROOT / "reports" / "workprecision" / "wp_kepler"
-THRESHOLDS = (1e-6, 1e-8, 1e-10)
 
 
 def cheapest(points, key: str, threshold: float):

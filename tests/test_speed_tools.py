@@ -94,7 +94,7 @@ def test_speed_doc_workprecision_block_is_the_saved_sweep():
     root = Path(__file__).resolve().parents[1]
     assert benchmark_script("doc_blocks").read_block(root / "docs" / "speed.md", "wp-kepler") == block.make()
     pts = [{"nfev": 10, "invariant_error": 1e-5}, {"nfev": 20, "invariant_error": 1e-7}, {"nfev": 40, "invariant_error": 1e-9}]
-    assert [block.cheapest(pts, "nfev", t) for t in block.THRESHOLDS] == [20, 40, None]
+    assert [block.cheapest(pts, "nfev", t) for t in (1e-6, 1e-8, 1e-10)] == [20, 40, None]
 
 
 def test_compiled_dop853_peer_is_scipys_algorithm():
@@ -137,7 +137,8 @@ def test_readme_speed_headline_is_the_saved_sweep():
     root = Path(__file__).resolve().parents[1]
     data = json.loads((root / "reports" / "workprecision" / "wp_kepler" / "data.json").read_text())
     compiled = [v["peer_over_best"]["DOP853 (compiled)"] for v in data["speedup"].values()]
-    scipy_ = [v["peer_over_best"]["DOP853"] for v in data["speedup"].values()]
+    scipy_ = [r for v in data["speedup"].values() if (r := v["peer_over_best"]["DOP853"]) is not None]
+    assert None not in compiled                      # the compiled peer reaches every level
     readme = " ".join((root / "README.md").read_text().split())
     assert f"{min(compiled):.1f}–{max(compiled):.1f}× the CPU time of our best method" in readme
     assert f"{min(scipy_):.0f}–{max(scipy_):.0f}× faster than scipy's DOP853" in readme

@@ -35,6 +35,7 @@ __all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "
 FORMAT = "tableau_lab/workprecision/1"
 PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
 # (experiments/compiled_peer.py: numbalsoda, f through a C function pointer: the fair CPU peer)
+LEVELS = (1e-6, 1e-8, 1e-10, 1e-12)   # energy-error thresholds of the summary: the cheapest run reaching each
 
 
 @dataclass(frozen=True)
@@ -202,7 +203,7 @@ def _call(task):
     return fn(*args)
 
 
-def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
+def speedup(data, levels=LEVELS):
     """For each invariant-error level: the cheapest CPU time of each series reaching it, our best
     series, and each peer's time over our best's (``peer_over_best``; None where one of the two
     never reaches the level; ``DOP853_over_best`` is scipy's DOP853's)."""
@@ -220,7 +221,7 @@ def speedup(data, levels=(1e-6, 1e-8, 1e-10)):
     return out
 
 
-def summary_table(data, levels=(1e-6, 1e-8, 1e-10)) -> str:
+def summary_table(data, levels=LEVELS) -> str:
     """Markdown: per series, its sweep and the cheapest CPU time reaching each invariant-error
     level, then DOP853's time over our best's."""
     inv = data["invariant"]
