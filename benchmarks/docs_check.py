@@ -48,7 +48,8 @@ BLOCKS = {"bench-table": "bench_block", "wp-kepler": "wp_block", "suite-tables":
           "wp-glm4s": "wp_glm4s"}
 # blocks made by rerunning searches or sweeps: checked by their tests (tests/test_moonshot.py,
 # tests/test_pareto_table.py, tests/test_design_search.py)
-EXPENSIVE = {"pareto-table", "moonshot-table", "g43r-ystar", "g43r-error", "series-table"}
+EXPENSIVE = {"pareto-table", "moonshot-table", "g43r-ystar", "g43r-error", "series-table",
+             "latency"}      # timings of this machine (benchmarks/latency.py): made, not compared
 
 NUMBER = r"(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?"          # unsigned: a sign is compared as text
 _TOKEN = re.compile(rf"(\.\.\.)|({NUMBER})|(\s+)|(.)", re.S)

@@ -77,3 +77,70 @@ def test_every_report_compiles_without_overfull_lines(tmp_path):
     again = tmp_path / "again"
     assert main(["report", str(METHODS / "gauss2.json"), "--out", str(again), "--pdf"]) == 0
     assert (again / "gauss2.pdf").read_bytes() == (tmp_path / "gauss2.pdf").read_bytes()
+
+
+# issue 19: the order section is a proof — every condition up to p + 1 evaluated exactly, the
+# differences / residuals in the facts, checked here against independent computations
+
+def _bushy_tall(m, k):
+    """Φ − 1/γ of the bushy tree [τ^(k−1)] (bᵀc^(k−1) − 1/k) and of the tall tree of order k
+    (bᵀA^(k−2)c − 1/k!), plain sympy matrix algebra."""
+    A, b = sp.Matrix(m.A), sp.Matrix(m.b)
+    c = A * sp.ones(A.rows, 1)
+    bushy = (b.T * c.applyfunc(lambda x: x ** (k - 1)))[0] - sp.Rational(1, k)
+    tall = (b.T * A ** (k - 2) * c)[0] - sp.Rational(1, sp.factorial(k)) if k >= 2 else None
+    return bushy, tall
+
+
+_SUP = str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+@pytest.mark.parametrize("name", ["gauss2", "rk4"])
+def test_rk_order_table_differences_are_zero_up_to_p_and_not_at_p_plus_1(name):
+    m = load(METHODS / f"{name}.json")
+    tex, facts = method_document(m)
+    oc = facts["order_conditions"]
+    assert (oc["checked_up_to"], oc["all_zero_up_to"]) == (5, 4) and oc["nonzero_at_p_plus_1"]
+    diffs = {t: parse_entry(v) for t, v in oc["differences"].items()}
+    assert len(diffs) == 1 + 1 + 2 + 4 + 9                       # every rooted tree up to order 5
+    for k in range(1, 6):
+        bushy, tall = _bushy_tall(m, k)
+        key_b = "τ" if k == 1 else "[τ]" if k == 2 else f"[τ{str(k - 1).translate(_SUP)}]"
+        assert is_zero(diffs[key_b] - bushy) and (k <= 4) == is_zero(bushy)
+        if tall is not None:
+            key_t = "[" * (k - 1) + "τ" + "]" * (k - 1)
+            assert is_zero(diffs[key_t] - tall) and (k <= 4) == is_zero(tall)
+    assert sum(1 for v in diffs.values() if v != 0) == len(oc["nonzero_at_p_plus_1"])
+    assert r"\Phi(t) - 1/\gamma(t)" in tex and r"$\ne$" in tex and "so the order is exactly 4" in tex
+
+
+@pytest.mark.parametrize("name", ["glm43", "example4_glm"])
+def test_glm_order_conditions_vanish_up_to_4_and_not_at_5(name):
+    from tableau_lab.analysis.order import order
+    from tableau_lab.analysis.trees import bracket, trees_of_order
+    m = load(METHODS / f"{name}.json")
+    o = order(m)
+    assert o.order == 4 and o.errors and all(t in {bracket(s) for s in trees_of_order(5)} for t in o.errors)
+    tex, facts = method_document(m)
+    oc = facts["order_conditions"]
+    assert (oc["checked_up_to"], oc["all_zero_up_to"]) == (5, 4)
+    assert oc["nonzero_at_p_plus_1"] and oc["theta_can_repair"] is False
+    assert len(oc["residuals"]) == 8 and len(oc["solvability"]) == 9
+    assert all(is_zero(parse_entry(x)) for v in oc["residuals"].values() for x in v)
+    assert set(oc["nonzero_at_p_plus_1"]) == {t for t, v in oc["solvability"].items() if not is_zero(parse_entry(v))}
+    assert "no starting method gives order 5" in tex
+
+
+def test_a_wrong_starting_method_shows_a_nonzero_residual(monkeypatch):
+    import tableau_lab.report.latex as latex
+    from tableau_lab.analysis.glm_order import glm_order
+    m = load(METHODS / "example4_glm.json")
+    wrong = dict(glm_order(m).starting)
+    wrong["[τ]"] = (wrong["[τ]"][0], wrong["[τ]"][1] + sp.Rational(1, 7))      # ξ₂([τ]) perturbed
+    original = latex.condition_residuals
+    monkeypatch.setattr(latex, "condition_residuals", lambda m, starting, upto: original(m, wrong, upto))
+    tex, facts = method_document(m)
+    oc = facts["order_conditions"]
+    assert oc["all_zero_up_to"] == 1
+    assert not all(is_zero(parse_entry(x)) for x in oc["residuals"]["[τ]"])
+    assert r"\textbf{Not every $R(t)$" in tex

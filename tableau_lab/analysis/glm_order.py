@@ -23,7 +23,7 @@ as first starting component; for an RK method the two are its effective and clas
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import lru_cache
 
 import sympy as sp
@@ -36,7 +36,7 @@ from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
 from .trees import bracket, density, leaf_removals, order, trees_of_order
 
-__all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions"]
+__all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
 
 @lru_cache(maxsize=None)
 def theta_matrix(k: int) -> tuple:
@@ -64,6 +64,13 @@ class GLMOrderResult(Result):
     errors_identity_start: dict
     max_order: int = 0
     capped: bool = False         # order reached max_order: it may be higher
+    _exact: dict = field(default_factory=dict, repr=False, compare=False)   # ``starting`` in the field
+
+    @property
+    def starting_exact(self) -> dict:
+        """``starting`` as elements of the method's number field when the solve kept them (the
+        sympy form of an entry in a large field need not convert back), else ``starting``."""
+        return self._exact or self.starting
 
     def __str__(self):
         cap = " (at least: cap reached)" if self.capped else ""
@@ -148,36 +155,37 @@ class _Solver:
     def dot_w(self, v):
         return sum((a * b for a, b in zip(self.w, v)), self.K.zero)
 
+    def defect(self, t, eta, xi, etaD, nonzero):
+        """Q(t) = B(ηD)(t) − [(ξ·E)(t) − ξ(t)] from η of the subtrees of t and ξ of its trunks
+        (those in ``nonzero``; ξ[None] = u); (ηD)(t) is stored in ``etaD``."""
+        d = [self.K.one] * self.s
+        for c in t:
+            d = [x * y for x, y in zip(d, eta[c])]
+        etaD[t] = d
+        q = self.mat(self.B, d)
+        e = self.rational(sp.Rational(1, density(t)))
+        q = [a - b * e for a, b in zip(q, xi[None])]
+        for trunk, coef in flow_cuts(t):
+            if trunk in nonzero:
+                cf = self.rational(coef)
+                q = [a - cf * b for a, b in zip(q, xi[trunk])]
+        return q
+
     def run(self, max_order, free_theta, theta_tau, collect=None):
         """The sequential solve.  With ``collect`` (a list), the order conditions up to
         ``max_order`` are appended to it as (label, residual) instead of stopping at the first
         failure; θ is then the least-squares-free left-inverse solution, exact wherever the
         conditions hold (the design module solves them)."""
         K = self.K
-        one = [K.one] * self.s
         xi = {None: list(self.u)}          # None is the empty tree
         eta, etaD, theta = {}, {}, {}
         p, errors = 0, {}
-        E = lambda t: self.rational(sp.Rational(1, density(t)))  # noqa: E731
         nonzero = set()                    # trees whose ξ(t) is not the zero vector
         for k in range(1, max_order + (1 if collect is not None else 2)):
             Tk = trees_of_order(k)
 
             def Q(t):
-                if t == ():
-                    d = list(one)
-                else:
-                    d = list(one)
-                    for c in t:
-                        d = [x * y for x, y in zip(d, eta[c])]
-                etaD[t] = d
-                q = self.mat(self.B, d)
-                q = [a - b * E(t) for a, b in zip(q, xi[None])]
-                for trunk, coef in flow_cuts(t):
-                    if trunk in nonzero:
-                        cf = self.rational(coef)
-                        q = [a - cf * b for a, b in zip(q, xi[trunk])]
-                return q
+                return self.defect(t, eta, xi, etaD, nonzero)
 
             res = [self.dot_w(Q(t)) for t in Tk]
             if k >= 3 and free_theta:
@@ -272,6 +280,7 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
         method=m.name, order=p, order_identity_start=p0, stage_order=q,
         u=tuple(lift(x) for x in solver.u), w=tuple(lift(x) for x in solver.w),
         starting={bracket(t): tuple(lift(x) for x in xi[t]) for k in range(1, p + 1) for t in trees_of_order(k)},
+        _exact={bracket(t): tuple(xi[t]) for k in range(1, p + 1) for t in trees_of_order(k)},
         theta={bracket(t): lift(v) for t, v in theta.items() if order(t) <= p},
         finishing={bracket(t): lift(v) for t, v in beta.items() if t is not None},
         errors=errors, errors_identity_start=errors0, max_order=max_order, capped=not errors)
@@ -286,3 +295,47 @@ def order_conditions(m: Method, max_order: int, K, free_theta: bool = True) -> l
     out: list = []
     solver.run(max_order, free_theta, None, collect=out)
     return out
+
+
+def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, bool | None]:
+    """The order conditions evaluated with a given starting method, tree by tree for |t| ≤ upto.
+
+    ``starting``: bracket → ξ(t) (r exact entries, sympy or of the method's field, as
+    ``GLMOrderResult.starting`` or ``.starting_exact``); ξ(∅) = u.  The
+    stage condition η(t) = A(ηD)(t) + Uξ(t) defines η; the value for t is the residual of the
+    output condition, R(t) = B(ηD)(t) + Vξ(t) − (ξE)(t) (r exact sympy entries).  For a tree whose
+    ξ(t) is not given (they must all be of the last order) the value is the scalar wᵀR(t), which
+    does not depend on ξ(t) (wᵀ(V − I) = 0): the output condition is solvable for ξ(t) iff it is 0.
+
+    Returns (bracket → value, repairable): ``repairable`` says, when scalars were returned and not
+    all are zero, whether a change θ(s) of the principal parts of the last given order
+    (ξ(s) ↦ ξ(s) + θ(s)u, which changes no condition of lower order) can make them all zero —
+    L_k θ = −wᵀR solvable — and is None otherwise."""
+    g = m.as_glm()
+    K = field_of([g.A, g.U, g.B, g.V, g.c])
+    solver = _Solver(g, K)
+    xi = {None: list(solver.u)}
+    eta, etaD, nonzero, out, missing = {}, {}, set(), {}, []
+    for k in range(1, upto + 1):
+        for t in trees_of_order(k):
+            q = solver.defect(t, eta, xi, etaD, nonzero)
+            if bracket(t) not in starting:
+                missing.append((t, solver.dot_w(q)))
+                continue
+            x = [v if isinstance(v, K.dtype) else element(K, v) for v in starting[bracket(t)]]
+            xi[t] = x
+            if any(not K.is_zero(v) for v in x):
+                nonzero.add(t)
+            eta[t] = [a + b for a, b in zip(solver.mat(solver.A, etaD[t]), solver.mat(solver.U, x))]
+            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, solver.mat(solver.V, x)))
+        if missing:
+            break
+    repairable = None
+    if missing and any(not K.is_zero(v) for _, v in missing):
+        k = order(missing[0][0])
+        res = [v for _, v in missing]
+        L = theta_matrix(k) if k >= 2 else ()
+        repairable = bool(L) and solve_linear(
+            DomainMatrix([[K.convert(x) for x in row] for row in L], (len(L), len(L[0])), K), [-v for v in res]) is not None
+    out.update((bracket(t), K.to_sympy(v)) for t, v in missing)
+    return out, repairable

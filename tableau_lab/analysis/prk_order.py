@@ -21,7 +21,7 @@ from ..exact.methods import PartitionedRungeKutta
 from .results import Result
 from .tree_kinds import BICOLOURED, bicoloured_trees
 
-__all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function"]
+__all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
 
 
 def _gamma(t) -> int:
@@ -92,6 +92,16 @@ def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
     for n, level in zip(range(1, max_order + 1), _residuals(m, K)):
         out += [(f"order {n}, tree {_label(t)}", K.to_sympy(r)) for t, r in level]
     return out
+
+
+def condition_table(m: PartitionedRungeKutta, max_order: int) -> list:
+    """(order, label, Φ(t), 1/γ(t), Φ(t) − 1/γ(t)) for every bicoloured tree of order ≤ max_order,
+    computed over the method's field (exact sympy values)."""
+    K = field_of([m.A, m.b, m.Ahat, m.bhat])
+    phi = weight_function(m, K)
+    return [(n, _label(t), K.to_sympy(phi(t)), sp.Rational(1, _gamma(t)),
+             K.to_sympy(phi(t) - K.convert(sp.Rational(1, _gamma(t)))))
+            for n in range(1, max_order + 1) for t in bicoloured_trees(n)]
 
 
 def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:

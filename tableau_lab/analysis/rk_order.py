@@ -77,6 +77,13 @@ class RKOrderResult(Result):
                      for t, phi in self._phi)
 
     @cached_property
+    def conditions(self) -> tuple:
+        """((|t|, bracket, LaTeX, Φ(t), 1/γ(t), Φ(t) − 1/γ(t)), ...) for every tree checked (|t| ≤ p + 1),
+        the difference computed in the method's field (exact sympy values)."""
+        return tuple((tree_order(t),) + w + (self._F.to_sympy(phi - self._F.rational(w[3])),)
+                     for w, (t, phi) in zip(self.weights, self._phi))
+
+    @cached_property
     def residuals(self) -> dict:
         """bracket → Φ(t) − 1/γ(t) for the trees of order p + 1 where it is not zero."""
         return {bracket(t): self._F.to_sympy(v) for t, v in self._bad}

@@ -1,0 +1,22 @@
+"""Issue 19, item 4: the exact commands pay only for what they use — none of them imports numba,
+scipy, dask or matplotlib (the numeric side's heavy libraries).  Checked in a fresh interpreter
+per command, as a user's call would run (``benchmarks/latency.py`` times them)."""
+import subprocess
+import sys
+
+import pytest
+
+HEAVY = ("numba", "scipy", "dask", "distributed", "matplotlib")
+COMMANDS = [["verify", "methods/example4_glm.json"], ["order", "methods/gauss2.json"],
+            ["stability", "methods/rk4.json"], ["modified", "methods/explicit_euler.json", "--order", "3"],
+            ["solve", "methods/design/erk2_general.json", "--require", "symplectic"]]
+
+
+@pytest.mark.parametrize("argv", COMMANDS, ids=lambda a: a[0])
+def test_exact_commands_import_no_numeric_library(argv):
+    probe = ("import sys\nfrom tableau_lab.cli import main\ncode = main(%r)\n"
+             "heavy = sorted({m.split('.')[0] for m in sys.modules} & set(%r))\n"
+             "print('HEAVY', heavy, file=sys.stderr)\nraise SystemExit(0 if code in (0, 1) else code)") % (argv, HEAVY)
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr[-500:]
+    assert "HEAVY []" in p.stderr, p.stderr[-300:]
