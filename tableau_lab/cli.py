@@ -127,6 +127,8 @@ def _solve(args) -> int:
         print(json.dumps({"file": args.file, "name": rep.name, **rep.to_json()}, ensure_ascii=False), flush=True)
     else:
         print(f"== {args.file}\n{rep}", flush=True)
+    if res is None and getattr(rep, "located", ()):
+        return 0                          # --locate found the entries to repair: its answer, not a failure
     if res is None or res.status != "solved":
         return EXIT_CLAIM
     if args.save:
@@ -356,7 +358,7 @@ def _roundoff(args) -> int:
         res, png, f"Round-off alone: {Path(args.method).stem} on {args.problem}, h = {h}"))
     print(f"round-off after {args.steps} steps (RMS over {args.starts} starts): plain {res['plain'][-1]:.2e} "
           f"(exponent {res['slope_plain']:.2f}), compensated {res['compensated'][-1]:.2e} "
-          f"(exponent {res['slope_compensated']:.2f}); wrote {where}.json and .png")
+          f"(exponent {res['slope_compensated']:.2f}); wrote {where}.json and its figure (.png, .pdf, .svg)")
     return EXIT_OK
 
 
@@ -419,7 +421,7 @@ def _convergence_runs(args, ex) -> int:
     if results:
         where = _json_and_plot(args.out, f"convergence_{args.problem}_{args.precision.replace(':', '')}", results,
                                lambda png: draw_convergence(results, png, f"{args.problem}, T = {args.T}, {args.precision}"))
-        print(f"wrote {where}.json and .png")
+        print(f"wrote {where}.json and its figure (.png, .pdf, .svg)")
     return status
 
 
@@ -668,7 +670,8 @@ def build_parser() -> argparse.ArgumentParser:
                                     "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, identity-start-order=P "
                                     "(GLM: θ ≡ 0), effective-order=P, "
                                     "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
-                                    "Exit 0: solved; 1: no (real, radical) solution; 2: bad input.")
+                                    "Exit 0: solved (with --locate: entries located); 1: no (real, radical) solution "
+                                    "(nothing located); 2: bad input.")
     _family_options(sv, "comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
     sv.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
     sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
@@ -729,7 +732,9 @@ def build_parser() -> argparse.ArgumentParser:
     r.add_argument("--h", help="step size, read exactly (0.01 is 1/100)")
     r.add_argument("--steps", type=_count(1, MAX_STEPS), help="number of steps")
     r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
-    r.add_argument("--precision", default="float64", help="float64 (default) or mp:DIGITS, e.g. mp:32")
+    r.add_argument("--precision", default="float64",
+                   help="float64 (default), dd (double-double: about 32 digits, compiled) or mp:DIGITS (mpmath), "
+                        "e.g. mp:32")
     r.add_argument("--start", choices=("exact", "naive"), default="exact",
                    help="GLM starting method: the computed one (default) or y^[0] = u y0")
     r.add_argument("--monitor", metavar="BOUND", help="stop when a parasitic component of a GLM's input vector "

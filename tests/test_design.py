@@ -220,3 +220,12 @@ def test_identity_start_order_is_the_order_with_theta_zero():
     assert solve_text(text, ["identity-start-order=5"]).status == "no solution"
     ident = solve_text(text, ["identity-start-order=4"])
     assert ident.status == "solved" and [s.parameters["x"] for s in ident.solutions] == [2]
+
+
+def test_locate_exits_0_when_it_finds_the_entries(capsys):
+    """`solve --locate` answers with the entries whose replacement restores solvability (GLM43
+    as printed: A[2,1] is the misprint, A[1,2] the other single fix): that is a result, exit 0,
+    not the 'no solution' exit 1 (issue 19)."""
+    assert main(["solve", "methods/glm43_printed.json", "--require", "g-symplectic", "--locate", "--within", "A"]) == 0
+    out = capsys.readouterr().out
+    assert "located:" in out and "A[2,1]" in out
