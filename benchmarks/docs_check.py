@@ -42,7 +42,7 @@ ROUNDOFF = 1e-12          # quoted values below this are round-off: compared to 
 TIMEOUT = 300.0           # seconds per command
 # settings the test suite makes (tests/conftest.py) that a user does not: the docs quote the defaults
 # (the compiled loop; the pure loop may stop a projection one iteration apart)
-USER_DEFAULTS = ("TABLEAU_LAB_KERNEL", "TABLEAU_LAB_SPECIALISE")
+USER_DEFAULTS = ("TABLEAU_LAB_KERNEL", "TABLEAU_LAB_SPECIALISE", "TABLEAU_LAB_FIGURE_FORMATS")
 # block name -> benchmarks script whose make() writes it (no runs: reads saved outputs)
 BLOCKS = {"bench-table": "bench_block", "wp-kepler": "wp_block", "suite-tables": "suite_tables",
           "wp-glm4s": "wp_glm4s"}

@@ -13,6 +13,7 @@ import os
 
 os.environ.setdefault("TABLEAU_LAB_KERNEL", "python")
 os.environ.setdefault("TABLEAU_LAB_SPECIALISE", "0")
+os.environ.setdefault("TABLEAU_LAB_FIGURE_FORMATS", "png")   # figures as PNG only (test_figures.py: all three)
 
 
 def benchmark_script(name: str):

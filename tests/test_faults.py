@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from tableau_lab import files
-from tableau_lab.experiments.figure_style import FORMATS
+from tableau_lab.experiments.figure_style import formats
 from tableau_lab.files import OutputError, is_temp, output_lock, remove_stale_temps
 
 METHODS = Path(__file__).resolve().parents[1] / "methods"
@@ -110,7 +110,7 @@ def _check_folder(folder: Path, temps_allowed=False) -> dict:
 
 def _figures(*stems) -> set:
     """A figure's files: each stem in every format of the figure style (PNG, PDF, SVG)."""
-    return {stem + ext for stem in stems for ext in FORMATS}
+    return {stem + ext for stem in stems for ext in formats()}
 
 
 def _check_scene_set(found: dict, name="faults") -> bool:
@@ -244,7 +244,7 @@ def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch):
     monkeypatch.setattr(files, "_fill", fill)
     with pytest.raises(KeyboardInterrupt):
         S.run_scene(compiled["scene"], out_root=out, progress=False)
-    assert len(calls) == 2 + 2 * len(FORMATS) and _check_scene_set(_check_folder(out / "faults"))  # data, meta, 2 plots
+    assert len(calls) == 2 + 2 * len(formats()) and _check_scene_set(_check_folder(out / "faults"))  # data, meta, 2 plots
     assert {f.name for f in (out / "faults").iterdir()} == set(before)
     before = {f.name: f.read_bytes() for f in (out / "faults").iterdir()}
     calls.clear()
@@ -471,8 +471,9 @@ def test_kill_9_of_convergence_and_report(command, lab, tmp_path):
         pytest.skip("no pdflatex")
     make, complete = KILLED[command]
     out = tmp_path / "out"
-    t0 = time.monotonic()
-    subprocess.run(make(tmp_path / "timing"), env=lab["env"], check=True, capture_output=True, timeout=300)
+    for k in range(2):                  # the first compiles the loop (once for the module's cache), the second is timed
+        t0 = time.monotonic()
+        subprocess.run(make(tmp_path / f"timing{k}"), env=lab["env"], check=True, capture_output=True, timeout=300)
     normal = time.monotonic() - t0
     rng = random.Random(17)
     for _ in range(REPEATS):

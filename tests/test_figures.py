@@ -19,6 +19,13 @@ from tableau_lab.experiments import figure_style as style
 from tableau_lab.experiments import plots
 from tableau_lab.files import OutputError
 
+
+@pytest.fixture(autouse=True)
+def _all_formats(monkeypatch):
+    """This file checks the three formats a user gets (the suite draws PNG only: tests/conftest.py)."""
+    monkeypatch.delenv("TABLEAU_LAB_FIGURE_FORMATS", raising=False)
+
+
 ROOT = Path(__file__).resolve().parent.parent
 METHODS = ROOT / "methods"
 

@@ -207,6 +207,6 @@ def test_cli_json_and_exit_codes(capsys, tmp_path):
     assert [set(p) for p in e4["parasitism"]] == [{"zeta", "mu"}]
     assert main(["stability", "tests/data/bad/truncated.json"]) == 2
     assert main(["stability", "--plot", str(tmp_path), "methods/leapfrog.json"]) == 0
-    from tableau_lab.experiments.figure_style import FORMATS
+    from tableau_lab.experiments.figure_style import formats
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(f"leapfrog_{k}{ext}" for k in ("axis", "region")
-                                                                for ext in FORMATS)
+                                                                for ext in formats())

@@ -36,17 +36,34 @@ import cmath
 import logging
 import math
 import operator
+import os
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["DPI", "FORMATS", "PALETTE", "MARKERS", "LINESTYLES", "DISTINCT", "PRINT_WIDTH", "PANEL_HEIGHT",
+__all__ = ["DPI", "FORMATS", "formats", "PALETTE", "MARKERS", "LINESTYLES", "DISTINCT", "PRINT_WIDTH", "PANEL_HEIGHT",
            "FONT_SIZE", "SMALL_FONT", "T_LABEL", "H_LABEL", "CPU_LABEL", "NFEV_LABEL", "pyplot", "rc",
            "series_style", "mark_coinciding", "legend", "title", "wrap", "plain", "math_name", "invariant_error",
            "decimal", "save", "siblings", "thin_markers"]
 
 DPI = 200                                   # the PNG's resolution (dots per inch)
 FORMATS = (".png", ".pdf", ".svg")          # written side by side, the PNG first (its name is the figure's)
+FORMATS_ENV = "TABLEAU_LAB_FIGURE_FORMATS"   # e.g. "png": fewer formats (the test suite's setting, tests/conftest.py)
+
+
+def formats() -> tuple:
+    """The formats a figure is written in: :data:`FORMATS`, or those named (comma-separated) in
+    ``$TABLEAU_LAB_FIGURE_FORMATS`` — the PNG always, as it names the figure.  The test suite
+    draws PNG only (a PDF and an SVG add about 0.5 s a figure); tests/test_figures.py checks all three.
+
+    >>> formats() == FORMATS or formats()[0] == ".png"
+    True
+    """
+    raw = os.environ.get(FORMATS_ENV, "").strip()
+    if not raw:
+        return FORMATS
+    chosen = {"." + f.strip().lower().lstrip(".") for f in raw.split(",")}
+    return tuple(f for f in FORMATS if f == ".png" or f in chosen)
 PALETTE = ("#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000")   # Okabe–Ito
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "*")
 LINESTYLES = ("-", "--", "-.", ":")
@@ -394,9 +411,9 @@ def _mark_panels(axs) -> None:
 # ---- files -----------------------------------------------------------------------------------
 
 def siblings(target) -> list:
-    """The three files of a figure: NAME.png, NAME.pdf, NAME.svg (``target`` is NAME.png)."""
+    """The files of a figure: NAME.png, NAME.pdf, NAME.svg (``target`` is NAME.png; :func:`formats`)."""
     target = Path(target)
-    return [target.with_suffix(s) for s in FORMATS]
+    return [target.with_suffix(s) for s in formats()]
 
 
 def _metadata(fmt: str, caption: str | None) -> dict:

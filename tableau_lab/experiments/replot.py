@@ -193,7 +193,7 @@ def main_replot(args) -> int:
     """The CLI's ``replot`` command: redraw each PATH, print what was written and, for folders,
     the figures there that had nothing to be drawn from.  Exit 0: done; 2: a path could not be
     read or holds nothing to draw from."""
-    from .figure_style import FORMATS
+    from .figure_style import formats
     status = EXIT_OK
     for path in args.paths:
         try:
@@ -203,7 +203,7 @@ def main_replot(args) -> int:
             status = EXIT_INPUT
             continue
         for png in written:
-            print(f"wrote {png} (and {', '.join(png.with_suffix(s).name for s in FORMATS[1:])})")
+            print(f"wrote {png} (and {', '.join(png.with_suffix(s).name for s in formats()[1:])})")
         if Path(path).is_dir():
             done = {Path(p).resolve() for p in written}
             for png in sorted(Path(path).rglob("*.png")):
