@@ -341,7 +341,7 @@ def _run_scenes(args) -> int:
 
 def _roundoff(args) -> int:
     from .exact.tableau_json import TableauError
-    from .experiments.plots import draw_roundoff
+    from .experiments.plots import draw_roundoff, roundoff_title
     from .experiments.runs import roundoff
     from .numeric.problems import ProblemError
 
@@ -354,8 +354,8 @@ def _roundoff(args) -> int:
         return EXIT_INPUT
     data = {"method": args.method, "problem": args.problem, "h": str(h), "steps": args.steps,
             "starts": args.starts, "digits": args.digits, **res}
-    where = _json_and_plot(args.out, f"roundoff_{Path(args.method).stem}_{args.problem}", data, lambda png: draw_roundoff(
-        res, png, f"Round-off alone: {Path(args.method).stem} on {args.problem}, h = {h}"))
+    where = _json_and_plot(args.out, f"roundoff_{Path(args.method).stem}_{args.problem}", data,
+                           lambda png: draw_roundoff(res, png, roundoff_title(data)))
     print(f"round-off after {args.steps} steps (RMS over {args.starts} starts): plain {res['plain'][-1]:.2e} "
           f"(exponent {res['slope_plain']:.2f}), compensated {res['compensated'][-1]:.2e} "
           f"(exponent {res['slope_compensated']:.2f}); wrote {where}.json and its figure (.png, .pdf, .svg)")
@@ -394,7 +394,7 @@ def _convergence(args) -> int:
 
 def _convergence_runs(args, ex) -> int:
     from .exact.tableau_json import TableauError
-    from .experiments.plots import draw_convergence
+    from .experiments.plots import convergence_title, draw_convergence
     from .experiments.runs import convergence
     from .numeric.problems import ProblemError
 
@@ -420,7 +420,7 @@ def _convergence_runs(args, ex) -> int:
             status = EXIT_CLAIM
     if results:
         where = _json_and_plot(args.out, f"convergence_{args.problem}_{args.precision.replace(':', '')}", results,
-                               lambda png: draw_convergence(results, png, f"{args.problem}, T = {args.T}, {args.precision}"))
+                               lambda png: draw_convergence(results, png, convergence_title(results)))
         print(f"wrote {where}.json and its figure (.png, .pdf, .svg)")
     return status
 
