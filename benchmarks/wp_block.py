@@ -14,16 +14,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from doc_blocks import cli  # noqa: E402
-from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS  # noqa: E402
+from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS, cheapest  # noqa: E402,F401
 
 ROOT = Path(__file__).resolve().parents[1]
 WP = ROOT / "reports" / "workprecision" / "wp_kepler"
-
-
-def cheapest(points, key: str, threshold: float):
-    """The smallest ``key`` (cpu, nfev) among the points whose max |H − H₀| is ≤ threshold; None if none."""
-    ok = [p[key] for p in points if key in p and p.get("invariant_error") is not None and p["invariant_error"] <= threshold]
-    return min(ok) if ok else None
 
 
 def evaluations(data: dict) -> str:

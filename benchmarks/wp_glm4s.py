@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from doc_blocks import cli  # noqa: E402
-from wp_block import cheapest  # noqa: E402  (the least cost reaching an energy error)
+from tableau_lab.experiments.workprecision import cheapest  # noqa: E402  (the least cost reaching an energy error)
 
 DATA = ROOT / "reports" / "workprecision" / "wp_kepler_glm" / "data.json"
 BLOCK = "wp-glm4s"

@@ -16,11 +16,12 @@ the timed run asks for the final state only.
 """
 from __future__ import annotations
 
+import functools
 import time
 
 import numpy as np
 
-__all__ = ["PEER", "SAMPLES_PER_UNIT", "available", "dop853_point"]
+__all__ = ["PEER", "SAMPLES_PER_UNIT", "available", "dop853_point", "max_invariant_error"]
 
 PEER = "DOP853 (compiled)"
 SAMPLES_PER_UNIT = 20          # dense-output points per unit of time at which the energy error is read
@@ -35,9 +36,11 @@ def available() -> bool:
     return True
 
 
+@functools.lru_cache(maxsize=None)
 def _rhs(f_, d: int, nc: int):
     """A C callback (t, u, du, p) of numbalsoda's signature around the compiled f_(y, c, out, i):
-    p[0] counts the calls, p[1:] are the problem's constants."""
+    p[0] counts the calls, p[1:] are the problem's constants.  Compiled once per problem and
+    process (the sweep's tolerances of one worker share it)."""
     import numba
     from numbalsoda import lsoda_sig
 
@@ -49,6 +52,19 @@ def _rhs(f_, d: int, nc: int):
         data[0] += 1.0
         f_(y, data[1:], out, 0)
     return rhs
+
+
+def max_invariant_error(mod, invariant, c, y0, states) -> float:
+    """max |I(y) − I(y₀)| over the rows of ``states``, I evaluated by the compiled problem
+    module's ``inv_`` (the energy error of this peer and of scipy's, after their timed runs)."""
+    k, val = mod.invariant_index[invariant], np.empty(1)
+    c = np.asarray(c, dtype=float)
+
+    def inv(y):
+        mod.inv_(k, np.ascontiguousarray(y), c, val)
+        return val[0]
+    I0 = inv(y0)
+    return float(max((abs(inv(y) - I0) for y in states), default=0.0))
 
 
 def dop853_point(problem, T, rtol, atol_factor, invariant):
@@ -80,14 +96,6 @@ def dop853_point(problem, T, rtol, atol_factor, invariant):
     # the same run again, untimed, with dense output at the samples (it costs 3 more f per step)
     t_eval = np.linspace(0.0, float(T), int(SAMPLES_PER_UNIT * float(T)) + 1)
     usol, _ = dop853(rhs.address, y0, t_eval, data=data, rtol=rtol, atol=rtol * atol_factor, mxstep=MAX_STEPS)
-    k = mod.invariant_index[invariant]
-    val = np.empty(1)
-    carr = np.array(c)
-    mod.inv_(k, np.ascontiguousarray(y0), carr, val)
-    I0 = val[0]
-    err = 0.0
-    for row in usol:
-        mod.inv_(k, np.ascontiguousarray(row), carr, val)
-        err = max(err, abs(val[0] - I0))
+    err = max_invariant_error(mod, invariant, c, y0, usol)
     return {"rtol": rtol, "cpu": cpu, "nfev": nfev, "final": final,
             "invariant_error": float(err), "samples": int(t_eval.size)}

@@ -29,8 +29,8 @@ import numpy as np
 
 from ..files import atomic_write_text, output_phase
 
-from .compiled_peer import PEER as COMPILED_PEER, dop853_point
-__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus"]
+from .compiled_peer import PEER as COMPILED_PEER, dop853_point, max_invariant_error
+__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus", "cheapest"]
 
 FORMAT = "tableau_lab/workprecision/1"
 PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
@@ -120,6 +120,12 @@ def method_point(method_path, problem, T, steps, invariant):
             "invariant_error": run.max_invariant_error()[invariant]}
 
 
+def cheapest(points, key: str, level: float):
+    """The smallest ``key`` (cpu, nfev) among the points whose max |I − I₀| is ≤ level; None if none."""
+    ok = [p[key] for p in points if key in p and p.get("invariant_error") is not None and p["invariant_error"] <= level]
+    return min(ok) if ok else None
+
+
 def peer_point(peer, problem, T, rtol, atol_factor, invariant):
     """One scipy solve_ivp run (f compiled by numba as for our runs, called through a thin
     Python wrapper as scipy requires): CPU seconds, nfev, final state, max |I − I₀| over the
@@ -143,14 +149,7 @@ def peer_point(peer, problem, T, rtol, atol_factor, invariant):
     cpu = time.process_time() - t0
     if not sol.success:
         return {"rtol": rtol, "failed": sol.message}
-    k = mod.invariant_index[invariant]
-    val = np.empty(1)
-
-    def inv(y):
-        mod.inv_(k, np.ascontiguousarray(y), c, val)
-        return val[0]
-    I0 = inv(y0)
-    err = max(abs(inv(sol.y[:, j]) - I0) for j in range(sol.y.shape[1]))
+    err = max_invariant_error(mod, invariant, c, y0, sol.y.T)
     return {"rtol": rtol, "cpu": cpu, "nfev": int(sol.nfev), "final": sol.y[:, -1].tolist(),
             "invariant_error": float(err), "steps": int(sol.t.size - 1)}
 
@@ -209,10 +208,7 @@ def speedup(data, levels=LEVELS):
     never reaches the level; ``DOP853_over_best`` is scipy's DOP853's)."""
     out = {}
     for lv in levels:
-        best = {}
-        for label, pts in data["series"].items():
-            ok = [p["cpu"] for p in pts if "cpu" in p and p["invariant_error"] <= lv]
-            best[label] = min(ok) if ok else None
+        best = {label: cheapest(pts, "cpu", lv) for label, pts in data["series"].items()}
         ours = {k: v for k, v in best.items() if k not in PEERS and v is not None}
         top = min(ours, key=ours.get) if ours else None
         ratios = {k: (v / ours[top] if top and v else None) for k, v in best.items() if k in PEERS}

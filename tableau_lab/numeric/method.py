@@ -47,7 +47,8 @@ class NumericMethod:
 
     @property
     def explicit(self) -> bool:
-        return bool(all(self.Aq[i, j] == 0 and self.Ap[i, j] == 0 for i in range(self.s) for j in range(i, self.s)))
+        """Strictly lower triangular A_q and A_p: :attr:`lower` with a zero diagonal."""
+        return self.lower and all(self.Aq[i, i] == 0 and self.Ap[i, i] == 0 for i in range(self.s))
 
     @property
     def lower(self) -> bool:
@@ -63,7 +64,7 @@ class NumericMethod:
         the q-stage iteration of separable problems starts from the q stages (symplectic Euler,
         A_q = 0, needs one sweep at any h).  It was |h|·s·max|A_q|, a cruder bound of the same
         norm: the six-stage GLM6M (rows summing to at most 2.56, s·max|A| = 6.5) was iterated by
-        Newton where fixed point contracts by 0.05 (the outer solar system: 750 µs a step, now 3).
+        Newton where fixed point contracts by 0.05 (the outer solar system: docs/speed.md).
 
         >>> import numpy as np
         >>> from tableau_lab.numeric.arith import arith
