@@ -142,3 +142,19 @@ def test_readme_speed_headline_is_the_saved_sweep():
     readme = " ".join((root / "README.md").read_text().split())
     assert f"{min(compiled):.1f}–{max(compiled):.1f}× the CPU time of our best method" in readme
     assert f"{min(scipy_):.0f}–{max(scipy_):.0f}× faster than scipy's DOP853" in readme
+    speed_doc = " ".join((root / "docs" / "speed.md").read_text().split())
+    assert f"our compiled loop looks {min(scipy_):.0f}–{max(scipy_):.0f}× faster" in speed_doc
+
+
+def test_readme_bench_figures_are_the_saved_bench():
+    """README's speed paragraph quotes the saved `tableau-lab bench`: 2-stage Gauss's f-evaluations
+    and µs per step on the pendulum and Kepler, and the range of cold compile times."""
+    root = Path(__file__).resolve().parents[1]
+    res = json.loads((root / "reports" / "bench" / "bench.json").read_text())
+    g2 = {r["problem"]: r for r in res["float64"] if r["method"] == "gauss2"}
+    cold = [r["compile_seconds"] for r in res["float64"] if r.get("compile_seconds") is not None]
+    readme = " ".join((root / "README.md").read_text().split())
+    assert (f"needs {g2['pendulum']['nfev_per_step']:.2f} force evaluations per step on the pendulum and "
+            f"{g2['kepler']['nfev_per_step']:.2f} on perturbed Kepler") in readme
+    assert f"runs at {g2['pendulum']['us_per_step']:.3f} and {g2['kepler']['us_per_step']:.3f} µs/step" in readme
+    assert f"{min(cold):.1f}–{max(cold):.1f} s, `reports/bench/bench.md`" in readme
