@@ -6,11 +6,13 @@ is run again and compared with what the docs say, and every generated block of t
 
 Exit 0 when everything matches, 1 with one line per difference (file, line, what differs).
 
-**Transcripts.**  A fenced block whose lines start with ``$ tableau-lab …`` is a transcript: each
-``$`` line is a command (a trailing ``# exit N`` is its expected exit code, else 0) and the lines
-up to the next ``$`` line are its quoted output (stdout and stderr together).  The command runs in
-the repository's root (``python -m tableau_lab`` for ``tableau-lab``), and its output must contain
-the quoted text in order, with these rules:
+**Transcripts.**  A fenced block whose lines start with ``$ tableau-lab …`` or ``$ python
+benchmarks/NAME.py …`` is a transcript: each ``$`` line is a command (a trailing ``# exit N`` is
+its expected exit code, else 0) and the lines up to the next ``$`` line are its quoted output
+(stdout and stderr together).  The command runs in the repository's root (``python -m
+tableau_lab`` for ``tableau-lab``, this interpreter for ``python``); a benchmarks script is run only
+without ``WRITING`` options (the check never rewrites tracked files: quote the read-only form of the
+command).  Its output must contain the quoted text in order, with these rules:
 
 * whitespace and line breaks are not compared (the docs wrap long messages);
 * ``...`` (also ``(...)``) stands for any text the docs leave out;
@@ -40,6 +42,8 @@ ROOT = Path(__file__).resolve().parents[1]
 DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 ROUNDOFF = 1e-12          # quoted values below this are round-off: compared to within a factor 10
 TIMEOUT = 300.0           # seconds per command
+COMMANDS = ("$ tableau-lab", "$ python benchmarks/")      # the $ lines that are transcripts
+WRITING = ("--save", "--write", "--family", "--out")    # options of a benchmarks script that write files
 # settings the test suite makes (tests/conftest.py) that a user does not: the docs quote the defaults
 # (the compiled loop; the pure loop may stop a projection one iteration apart)
 USER_DEFAULTS = ("TABLEAU_LAB_KERNEL", "TABLEAU_LAB_SPECIALISE", "TABLEAU_LAB_FIGURE_FORMATS")
@@ -76,7 +80,7 @@ def transcripts(path: Path) -> list[Transcript]:
             continue
         if not inside:
             continue
-        if line.startswith("$ tableau-lab"):
+        if line.startswith(COMMANDS):
             if current is not None:
                 out.append(current)
             cmd, _, comment = line[2:].partition("#")
@@ -157,7 +161,13 @@ def same_number(quoted: str, actual: str) -> bool:
 
 def run(t: Transcript) -> tuple[int, str]:
     argv = shlex.split(t.command)
-    argv = [sys.executable, "-m", "tableau_lab", *argv[1:]]
+    if argv[0] == "python":
+        writes = [a for a in argv if a.split("=")[0] in WRITING]
+        if writes:
+            return -1, f"not run: {' '.join(writes)} would write files (quote the command without it)"
+        argv = [sys.executable, *argv[1:]]
+    else:
+        argv = [sys.executable, "-m", "tableau_lab", *argv[1:]]
     env = {k: v for k, v in os.environ.items() if k not in USER_DEFAULTS}     # as a user runs it
     p = subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, timeout=TIMEOUT, env=env)
     return p.returncode, p.stdout + p.stderr

@@ -2,6 +2,7 @@
 TeX input of JupyterLab 4's MathJax, in node, no browser) and report each TeX error.
 
     python benchmarks/mathjax_check.py [NOTEBOOK] [--execute]
+    python benchmarks/mathjax_check.py --install      (only install MathJax: .ci/run does, before the tests)
 
 The formulas are those a MathJax frontend typesets: every ``text/latex`` output, the ``$$…$$`` and
 ``$…$`` math of every ``text/markdown`` output and of the Markdown cells.  MathJax runs with all
@@ -126,11 +127,15 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("notebook", nargs="?", default=str(NOTEBOOK))
     ap.add_argument("--execute", action="store_true", help="execute the notebook first (nbclient, kernel python3)")
+    ap.add_argument("--install", action="store_true", help="install MathJax (npm) if missing and stop (.ci/run)")
     args = ap.parse_args(argv)
     modules = ensure_mathjax()
     if modules is None:
         print("node or npm is not installed: nothing checked", file=sys.stderr)
         return 2
+    if args.install:
+        print(f"MathJax in {modules}")
+        return 0
     import nbformat
     nb = nbformat.read(args.notebook, as_version=4)
     if args.execute:

@@ -48,3 +48,17 @@ def test_number_rule():
     assert pairs == [("3097", "3097"), (None, "0.9"), ("6.772e-15", "6.7e-15")]     # a duration is not compared
     assert check.match("rank 4 ... G is definite", "rank 4, G is indefinite") == "Gisdefinite"
     assert check.match("x = -1", "x = 1") == "x=-1"                              # a sign is text
+
+
+def test_a_benchmarks_script_transcript_is_run_but_never_one_that_writes(tmp_path):
+    """``$ python benchmarks/NAME.py`` lines are transcripts too; one with a writing option
+    (--save, --write …) is not run and is reported, so the check never rewrites tracked files."""
+    md = tmp_path / "doc.md"
+    md.write_text("```\n$ python benchmarks/symmetric_member.py -- -3/20 2/5\n"
+                  "order 4, with θ ≡ 0: 4; G-symplectic: True\n"
+                  "$ python benchmarks/symmetric_member.py --save methods/glm4_symmetric.json -- -3/20 2/5\n```\n")
+    good, writing = check.transcripts(md)
+    assert check.check_transcript(good) == []
+    code, out = check.run(writing)
+    assert code != 0 and "--save would write files" in out
+    assert any("exited" in p for p in check.check_transcript(writing, out, code))

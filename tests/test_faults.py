@@ -226,7 +226,16 @@ def test_ctrl_c_between_runs_keeps_the_finished_ones(compiled, tmp_path, monkeyp
     assert len(found["data.incomplete.npz"]["run1_t"]) == 401
 
 
-def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch):
+@pytest.fixture
+def sigint_raises():
+    """SIGINT raising KeyboardInterrupt, as in a terminal: a shell starts background jobs with
+    SIGINT ignored, and Python then keeps it ignored (the deferral is then rightly skipped)."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
+def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch, sigint_raises):
     """A first Ctrl-C during the write phase is held until the set is written (then raised); a
     second one abandons the set and the folder keeps its previous files."""
     from tableau_lab.experiments import scene as S
