@@ -97,6 +97,8 @@ def test_compiled_loop_cached_on_disk():
     ("rk4", "kepler", 0.01, {"project": ("H", "L")}),                   # explicit, projected
     ("example4_glm", "pendulum", 0.01, {"solver": "newton"}),           # a GLM, simplified Newton
     ("gauss2", "fpu", 0.05, {"solver": "fixedpoint"}),                  # fails, switches to the NEWTON loop
+    ("glm43", "kepler", 0.01, {}),                                      # zeros in A, B, U, V
+    ("symplectic_euler", "kepler", 0.01, {}),                           # A_q, A_p with other zeros
 ])
 def test_specialised_loop_equals_generic(monkeypatch, name, problem, h, kw):
     """The loop specialised to the run (s, r, d as constants, the stage iteration and the
@@ -114,6 +116,32 @@ def test_specialised_loop_equals_generic(monkeypatch, name, problem, h, kw):
         runs[1].nfev, runs[1].newton_iterations, runs[1].fallbacks)
     if problem == "fpu":
         assert runs[1].fallbacks >= limits.SWITCH_AFTER
+
+
+@pytest.mark.parametrize("name", ["glm43", "symplectic_euler", "gauss2", "example4_glm", "sdirk34"])
+def test_coefficient_patterns_are_the_exact_zeros(name):
+    """kernels.coefficient_patterns (the coefficients a specialised loop uses without a test)
+    against the exact method: bit i·n + j of NZ_X set iff entry (i, j) of X is a nonzero number in
+    both classes (A_q and A_p, B_q and B_p); the double-double arrays give the same masks."""
+    import sympy as sp
+    from tableau_lab.numeric.integrate import component_masks
+    from tableau_lab.numeric.kernels import PATTERNS, Pack, coefficient_patterns
+    m = load(METHODS / f"{name}.json")
+    cp = compile_problem("kepler")
+    masks = component_masks(cp, 4)
+    got = [coefficient_patterns(Pack(to_numeric(m, prec), cp, 0.01, masks, mode=limits.SPLIT)) for prec in ("float64", "dd")]
+    assert got[0] == got[1] and len(got[0]) == len(PATTERNS)
+    if m.kind in ("rk", "prk"):               # one step: U = 1, V = [1], B = bᵀ; a PRK's second tableau is Â, b̂
+        A2, b2 = (m.Ahat, m.bhat) if m.kind == "prk" else (m.A, m.b)
+        exact = {"A": (m.A, A2), "B": (m.b.T, b2.T), "U": (sp.ones(m.s, 1),) * 2, "V": (sp.Matrix([[1]]),) * 2}
+    else:
+        g = m.as_glm()
+        exact = {X: (getattr(g, X),) * 2 for X in "ABUV"}
+    for k, X in enumerate("ABUV"):
+        q, p = (sp.Matrix(M) for M in exact[X])
+        bits = lambda test: sum(1 << (i * q.cols + j) for i in range(q.rows) for j in range(q.cols)   # noqa: E731
+                                if test(q[i, j]) and test(p[i, j]))
+        assert got[0][k] == bits(lambda x: x != 0), X
 
 
 def test_loop_shape_names_the_run(monkeypatch):

@@ -61,7 +61,7 @@ from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
-from tableau_lab.numeric.kernels import LoopState, Pack, compiled_loop, run_shape
+from tableau_lab.numeric.kernels import PATTERNS, LoopState, Pack, coefficient_patterns, compiled_loop, run_shape
 from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
@@ -216,12 +216,14 @@ def _write_atomic(path: Path, text: str):
     os.replace(tmp, path)
 
 
-def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc") -> Path:
+def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc", patterns=()) -> Path:
     """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
-    -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d), compiled with
-    ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once, cached under build/ by a hash of
-    glm_loop.c, the generated headers, the shape, the flags, the kind and the compiler's version.  (Without
-    arguments: the pendulum at s = r = 1, a check that gcc works.)"""
+    -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d) and, as the numba
+    loop, the method's coefficient patterns (``kernels.coefficient_patterns``: ``-DNZ_A=..`` …;
+    () for none), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once,
+    cached under build/ by a hash of glm_loop.c, the generated headers, the shape, the patterns,
+    the flags, the kind and the compiler's version.  (Without arguments: the pendulum at s = r =
+    1, a check that gcc works.)"""
     P = get_problem(problem)
     s, r, d = (int(x) for x in shape)
     if d != P.dimension:
@@ -230,8 +232,12 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     flags = tuple(CFLAGS if cflags is None else cflags)
     lim, prob = limits_header(), problem_header(P)
     kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
+    if patterns and len(patterns) != len(PATTERNS):
+        raise ValueError(f"patterns: {len(PATTERNS)} bit masks, not {len(patterns)}")
+    known = tuple(f"-D{name}={int(mask)}ull" for name, mask in zip(PATTERNS, patterns))
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
                                         f"{s} {r} {d} {' '.join(flags)} {version} {cc}".encode()]
+                                       + ([" ".join(known).encode()] if known else [])
                                        + ([" ".join(kind).encode()] if shared else []))).hexdigest()[:16]
     tag = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in P.name)
     cct = "" if cc == "gcc" else f"{cc}_"
@@ -244,7 +250,7 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     _write_atomic(lim_h, lim)
     _write_atomic(prob_h, prob)
     tmp = BUILD / f".{exe.name}.{os.getpid()}"
-    cmd = [*compiler, *flags, *kind, f"-DS={s}", f"-DR={r}", f"-DD={d}", f'-DTL_LIMITS_HEADER="{lim_h}"',
+    cmd = [*compiler, *flags, *kind, f"-DS={s}", f"-DR={r}", f"-DD={d}", *known, f'-DTL_LIMITS_HEADER="{lim_h}"',
            f'-DTL_PROBLEM_HEADER="{prob_h}"',
            "-o", str(tmp), str(SOURCE), "-lm"]
     res = subprocess.run(cmd, capture_output=True, text=True)
@@ -258,12 +264,12 @@ _LIBS: dict = {}
 _NSTATS = 6                                # glm_run's stats: status, completed, step, nfev, sweeps, nvel
 
 
-def library(problem="pendulum", shape=(1, 1, 2), cflags=None, cc="gcc") -> ctypes.CDLL:
+def library(problem="pendulum", shape=(1, 1, 2), cflags=None, cc="gcc", patterns=()) -> ctypes.CDLL:
     """The shared library of :func:`build` (``shared=True``) loaded by ctypes, once per path and
     process, with the argument types of glm_run / glm_functions / glm_shape set, its compiled
     shape checked.  Each (problem, shape, flags) is its own file, loaded RTLD_LOCAL: the
     libraries' equal symbol names do not clash."""
-    path = build(problem, shape, cflags, shared=True, cc=cc)
+    path = build(problem, shape, cflags, shared=True, cc=cc, patterns=patterns)
     key = str(path)
     if key not in _LIBS:
         lib = ctypes.CDLL(key)
@@ -317,6 +323,7 @@ class Prepared:
             # mode=None: integrate's choice; else forced (check.py: FIXED, which no separable problem gets)
             self.mode = stage_iteration(solver, nm, cp, cp.y0, h, d) if mode is None else int(mode)
             self.pk = Pack(nm, cp, h, masks, mode=self.mode, compensated=compensated)
+            self.patterns = coefficient_patterns(self.pk)       # the numba loop's (kernels.run_shape)
             self.Y0 = np.ascontiguousarray(np.asarray(start_values(nm, cp, cp.y0, h, start), dtype=float))
 
 
@@ -377,7 +384,7 @@ def _run_lib(pr: Prepared, steps, reps, cflags, cc="gcc") -> tuple:
     """glm_run of the problem's shared library, in this process: (status, completed, final,
     [nfev, sweeps, nvel], seconds of each rep)."""
     (s, r, d), pk = pr.shape, pr.pk
-    lib = library(pr.cp.problem, pr.shape, cflags, cc)
+    lib = library(pr.cp.problem, pr.shape, cflags, cc, pr.patterns)
     f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
     i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
     args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
@@ -417,7 +424,7 @@ def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact
         status, completed, final, stats, times = _run_lib(pr, steps, reps, cflags, cc)
         _check(status, completed, "C", method_path, problem, check_status)
         return _result(times, steps, final, stats, status, completed, pr)
-    out = _run_exe(build(pr.cp.problem, pr.shape, cflags, cc=cc), _input_text(pr, steps, reps))
+    out = _run_exe(build(pr.cp.problem, pr.shape, cflags, cc=cc, patterns=pr.patterns), _input_text(pr, steps, reps))
     status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
     _check(status, completed, "C", method_path, problem, check_status)
     final = np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.shape[1], pr.shape[2])

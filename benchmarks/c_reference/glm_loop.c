@@ -69,6 +69,12 @@
 #endif
 
 #define SD (S * D)
+#ifndef NZ_A                    /* the method's nonzero coefficients (kernels.coefficient_patterns): */
+#define NZ_A 0ull               /* -DNZ_A=.. for A, B, U, V; 0: nothing known, every coefficient  */
+#define NZ_B 0ull               /* tested when the step runs                                       */
+#define NZ_U 0ull
+#define NZ_V 0ull
+#endif
 #define NC (TL_PROBLEM_NC > 0 ? TL_PROBLEM_NC : 1)
 #define MAXREPS 1000
 #define MAX(a, b) ((b) > (a) ? (b) : (a))       /* Python's (and numba's) max(a, b) */
@@ -166,16 +172,26 @@ static inline int converged(double size, double prev, double tol, double floor_)
     return (theta < 1.0 && theta / (1.0 - theta) * size <= tol) || (theta >= STALL_THETA && size <= floor_);
 }
 
+/* whether the coefficient a, bit `bit` of its matrix's pattern nz (nonzero in both classes),
+ * enters a sum: known when compiled for a nonzero, else a != 0 (stepcore.uses; the patterns are
+ * kernels.coefficient_patterns, -DNZ_A=.. by c_reference.py) */
+static inline int uses(uint64_t nz, int bit, double a)
+{
+    if ((nz >> bit) & 1u)
+        return 1;
+    return a != 0.0;
+}
+
 /* h sum_j A[cls[l]][i][j] F[j][l]: the stage sum of component l (Aq_i, Ap_i: row i of A[0], A[1];
- * also rows of B) */
-static inline double combine(double h, const double Aq_i[S], const double Ap_i[S], int cls_l,
-                             double F[S][D], int l)
+ * also rows of B; nz: the matrix's nonzero pattern) */
+static inline double combine(double h, const double Aq_i[S], const double Ap_i[S], uint64_t nz,
+                             int i, int cls_l, double F[S][D], int l)
 {
     const double *a_i = cls_l == 0 ? Aq_i : Ap_i;
     double acc = 0.0;
     for (int j = 0; j < S; j++) {
         const double a = a_i[j];
-        if (a != 0.0)
+        if (uses(nz, i * S + j, a))
             acc = acc + a * F[j][l];
     }
     return h * acc;
@@ -186,7 +202,7 @@ static inline void stage_sums(double h, double A[2][S][S], const int cls[D], dou
 {
     for (int i = 0; i < S; i++)
         for (int l = 0; l < D; l++)
-            out[i][l] = combine(h, A[0][i], A[1][i], cls[l], F, l);
+            out[i][l] = combine(h, A[0][i], A[1][i], NZ_A, i, cls[l], F, l);
 }
 
 static inline void stage_input(double Ubar[S][D], double Z[S][D], int i, double Yst[D])
@@ -259,7 +275,7 @@ static inline void explicit_stages(Pack *P, Work *w)
             const int k = P->cls[l];
             for (int j = 0; j < i; j++) {
                 const double a = P->A[k][i][j];
-                if (a != 0.0)
+                if (uses(NZ_A, i * S + j, a))
                     acc = acc + (h * a) * w->F[j][l];
             }
             w->Yst[l] = acc;
@@ -438,7 +454,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)
             for (int l = 0; l < D; l++)
                 if (cls[l] == 1)
-                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], cls[l], w->W, l);
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->W, l);
         for (int j = 0; j < S; j++) {
             stage_input(w->Ubar, w->Z, j, w->Yst);
             fq_(w->Yst, P->c, w->F[j]);
@@ -447,7 +463,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)
             for (int l = 0; l < D; l++)
                 if (cls[l] == 0)
-                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
     }
     double prev = -1.0;
     for (int it = 0; it < STAGE_SWEEPS; it++) {
@@ -460,7 +476,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)         /* the p stages */
             for (int l = 0; l < D; l++)
                 if (cls[l] == 1) {
-                    const double z = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+                    const double z = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
                     dp = MAX(dp, fabs(z - w->Z[i][l]));
                     w->Z[i][l] = z;
                     pn = MAX(pn, fabs(w->Ubar[i][l] + z));
@@ -475,7 +491,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)         /* the new q stages */
             for (int l = 0; l < D; l++)
                 if (cls[l] == 0) {
-                    const double z = combine(h, P->A[0][i], P->A[1][i], cls[l], w->F, l);
+                    const double z = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
                     size = MAX(size, fabs(z - w->Z[i][l]));
                     w->Z[i][l] = z;
                     qn = MAX(qn, fabs(w->Ubar[i][l] + z));
@@ -510,11 +526,11 @@ static inline int primary_stages(Pack *P, Work *w)
 }
 
 /* sum_k m[k] Y[k][l] (zero coefficients skipped): a row of U or V times y^[n-1] */
-static inline double row_times(const double m[R], double Y[R][D], int l)
+static inline double row_times(const double m[R], uint64_t nz, int i, double Y[R][D], int l)
 {
     double acc = 0.0;
     for (int k = 0; k < R; k++)
-        if (m[k] != 0.0)
+        if (uses(nz, i * R + k, m[k]))
             acc = acc + m[k] * Y[k][l];
     return acc;
 }
@@ -524,7 +540,7 @@ static inline void stage_inputs(Pack *P, double Y[R][D], double Ubar[S][D])
 {
     for (int i = 0; i < S; i++)
         for (int l = 0; l < D; l++)
-            Ubar[i][l] = row_times(P->U[i], Y, l);
+            Ubar[i][l] = row_times(P->U[i], NZ_U, i, Y, l);
 }
 
 /* y^[n] = V y^[n-1] + h B F (Kahan on the principal value); 0, or 2 (not finite) */
@@ -532,8 +548,8 @@ static inline int finish_step(Pack *P, Work *w, double Y[R][D])
 {
     for (int k = 0; k < R; k++)
         for (int l = 0; l < D; l++) {
-            const double acc = row_times(P->V[k], Y, l);
-            double x = combine(P->h, P->B[0][k], P->B[1][k], P->cls[l], w->F, l);
+            const double acc = row_times(P->V[k], NZ_V, k, Y, l);
+            double x = combine(P->h, P->B[0][k], P->B[1][k], NZ_B, k, P->cls[l], w->F, l);
             if (k == 0 && w->flags[F_COMPENSATE] == 1) {  /* Kahan: y1 + (increment + carry) */
                 x = x + w->comp[l];
                 const double y1 = acc + x;

@@ -45,7 +45,7 @@ import numpy as np
 from ..files import atomic_write_text
 from . import limits as L
 
-__all__ = ["available", "cache_dir", "Shape", "loop_shape", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
+__all__ = ["available", "cache_dir", "Shape", "loop_shape", "coefficient_patterns", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
 _MODULES: dict = {}        # module file -> module (the cache folder may change: TABLEAU_LAB_CACHE)
@@ -64,32 +64,59 @@ def cache_dir() -> Path:
     return Path(root) / "kernels"
 
 
+PATTERNS = ("NZ_A", "NZ_B", "NZ_U", "NZ_V")     # stepcore's names
+
+
 class Shape(NamedTuple):
     """What a compiled loop is specialised to: the method's shape (s stages, r values, dimension
     d; the small loops unroll), the stage iteration (limits.EXPLICIT, NEWTON, FIXED or SPLIT:
-    the others' code is not compiled) and whether the run projects (1 or 0)."""
+    the others' code is not compiled), whether the run projects (1 or 0), and the method's nonzero
+    patterns (:func:`coefficient_patterns`; () for none: every coefficient tested in the step)."""
     s: int
     r: int
     d: int
     mode: int
     projects: int
+    patterns: tuple = ()
 
 
-def loop_shape(s: int, r: int, d: int, mode: int, projects: bool = False):
+def loop_shape(s: int, r: int, d: int, mode: int, projects: bool = False, patterns: tuple = ()):
     """The :class:`Shape` a compiled loop is specialised to, or None (one loop for any shape
     and run per problem) when the environment variable TABLEAU_LAB_SPECIALISE is "0"."""
     if os.environ.get("TABLEAU_LAB_SPECIALISE", "1") == "0":
         return None
     if mode not in (L.EXPLICIT, L.NEWTON, L.FIXED, L.SPLIT):
         raise ValueError(f"a loop is specialised to an explicit method, NEWTON, FIXED or SPLIT, not mode {mode}")
-    return Shape(int(s), int(r), int(d), int(mode), int(bool(projects)))
+    if patterns and len(patterns) != len(PATTERNS):
+        raise ValueError(f"patterns: {len(PATTERNS)} bit masks ({', '.join(PATTERNS)}), not {len(patterns)}")
+    return Shape(int(s), int(r), int(d), int(mode), int(bool(projects)), tuple(int(x) for x in patterns))
+
+
+def _mask(M) -> int:
+    """The entries of M (classes × rows × columns, or rows × columns) nonzero in every class as a
+    bit mask, bit i·columns + j for entry (i, j); 0 beyond PATTERN_BITS entries."""
+    nz = np.asarray(M) != 0
+    nz = nz.reshape((-1,) + nz.shape[-2:])
+    if nz.shape[1] * nz.shape[2] > L.PATTERN_BITS:
+        return 0
+    return sum(1 << k for k, x in enumerate(nz.all(axis=0).reshape(-1)) if x)
+
+
+def coefficient_patterns(pk: "Pack") -> tuple:
+    """The bit masks of stepcore's ``PATTERNS`` for the method of ``pk``: the coefficients of A
+    (both classes), B, U and V known to be nonzero, which the compiled step uses without testing
+    (or selecting on) them.  Zeros stay tested when the step runs: skipping them when compiled
+    made some loops slower (docs/speed.md).  Double-double coefficients are zero when their
+    leading part is."""
+    lead = (lambda M: np.asarray(M)[..., 0]) if pk.kind == "dd" else np.asarray     # noqa: E731
+    return tuple(_mask(lead(M)) for M in (pk.A, pk.B, pk.U, pk.V))
 
 
 def run_shape(pk: "Pack"):
     """The :class:`Shape` of a run with the loop arrays ``pk`` (or None, as :func:`loop_shape`)."""
     mode = L.EXPLICIT if pk.flags[L.F_EXPLICIT] == 1 else int(pk.flags[L.F_MODE])
     s, r, d = pk.A.shape[1], pk.U.shape[1], pk.cls.shape[0]
-    return loop_shape(s, r, d, mode, len(pk.proj) > 0)
+    return loop_shape(s, r, d, mode, len(pk.proj) > 0, coefficient_patterns(pk))
 
 
 def invariant_index(prob) -> dict:
@@ -160,6 +187,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     if shape is not None:
         text += (f"\n\n@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n\n\n"
                  f"LOOP_MODE = {shape.mode}\nLOOP_PROJECTS = {shape.projects}\n")
+        text += "".join(f"{name} = {mask}\n" for name, mask in zip(PATTERNS, shape.patterns))
     return text
 
 
