@@ -196,3 +196,21 @@ def test_stage_iteration_choice_and_switch_to_newton():
     newton = integrate(nm, fpu, fpu.y0, 0.05, 200, solver="newton", kernel="compiled")
     assert forced.fallbacks >= limits.SWITCH_AFTER and newton.fallbacks == 0
     assert np.max(np.abs(forced.final - newton.final)) < 1e-10
+
+
+def test_arrays_that_do_not_fit_the_compiled_shape_are_refused(monkeypatch):
+    """stepcore.fits: a loop specialised to s = 3 given the arrays of a 2-stage method takes no
+    step (status 5) and the driver raises; with its own shape the same run goes."""
+    from tableau_lab.numeric.integrate import component_masks, start_values
+    from tableau_lab.numeric.kernels import LoopState, Pack, drive, run_shape
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "1")
+    nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("pendulum")
+    pk = Pack(nm, cp, 0.01, component_masks(cp, 2), mode=limits.SPLIT)
+    Y = np.asarray(start_values(nm, cp, cp.y0, 0.01), dtype=float)
+    wrong = compiled_loop(cp.problem, "f64", run_shape(pk)._replace(s=3))
+    st = LoopState(wrong, pk, Y.copy(), 10, 10)
+    assert wrong.run(*st.args(0, 10)) == 5 and st.stats[limits.S_DONE] == 0
+    with pytest.raises(RuntimeError, match="do not fit"):
+        drive(wrong, pk, Y.copy(), 10, 10, record=lambda n, y: None)
+    assert drive(compiled_loop(cp.problem, "f64", run_shape(pk)), pk, Y.copy(), 10, 10,
+                 record=lambda n, y: None).completed == 10

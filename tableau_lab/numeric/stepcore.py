@@ -49,7 +49,8 @@ The principal increment is summed with compensation (Kahan) when V's first row i
 (``flags[F_COMPENSATE]``).  Projection moves y^[n]₁ onto {I_k = I_k(y₀)} by Newton on the
 multipliers, y = ỹ + ∇g(ỹ)λ.  Statuses of :func:`run`: 0 done, 1 stage equations not solved,
 2 non-finite state, 3 projection failed, 4 the stage iteration failed (for ``rescue_step``; the
-state is that before the failing step).
+state is that before the failing step), 5 the arrays passed do not have the shape (s, r, d) of
+:func:`dims` (:func:`fits`; a bug of the caller, no step taken).
 """
 import numpy as np
 
@@ -711,6 +712,27 @@ def after_step(n, track_due, record_due, Y, c, track, ttarget, tmax, rec, recn, 
     return nrec
 
 
+@helper
+def fits(Y, A, U, B, V, E, Ainv, Fh, comp, stages, s, r, d):
+    """Whether the loop's arrays have the shapes that (s, r, d) give them.  In a module specialised
+    to one shape (s, r, d constants) this test also tells LLVM the arrays' row lengths: numba
+    indexes a row-major array through its shape, which LLVM otherwise takes for an unknown, so it
+    cannot tell a store to F[1, l] from F[0, l] and reloads every stage value after every store
+    (the C loop's static arrays have constant rows).  After the test the shape is that constant."""
+    Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
+    sd = s * d
+    return (Y.shape[0] == r and Y.shape[1] == d and Yout.shape[0] == r and Yout.shape[1] == d
+            and Ubar.shape[0] == s and Ubar.shape[1] == d and F.shape[0] == s and F.shape[1] == d
+            and Z.shape[0] == s and Z.shape[1] == d and W.shape[0] == s and W.shape[1] == d
+            and Yst.shape[0] == d and comp.shape[0] == d and J.shape[0] == d and J.shape[1] == d
+            and M.shape[0] == sd and M.shape[1] == sd and piv.shape[0] == sd and R.shape[0] == sd
+            and A.shape[0] == 2 and A.shape[1] == s and A.shape[2] == s
+            and Ainv.shape[0] == 2 and Ainv.shape[1] == s and Ainv.shape[2] == s
+            and B.shape[0] == 2 and B.shape[1] == r and B.shape[2] == s and U.shape[0] == s and U.shape[1] == r
+            and V.shape[0] == r and V.shape[1] == r and E.shape[0] == s and E.shape[1] == s
+            and Fh.shape[0] == HISTORY and Fh.shape[1] == s and Fh.shape[2] == d)
+
+
 @alloc
 def workspace(s, r, d, m):
     """The loop's arrays (stage values and derivatives, Newton matrix, projection), allocated by
@@ -731,6 +753,8 @@ def run(Y, h, hinv, n0, n1, steps, every, A, U, B, V, cls, E, Ainv, flags, c, ep
     4: the stage iteration failed at step stats[S_STEP] (Y is y^[n−1]), for :func:`rescue_step`.
     ``stages``, ``work``: the arrays of :func:`workspace` (the loop allocates nothing)."""
     s, r, d = dims(A, Y)
+    if not fits(Y, A, U, B, V, E, Ainv, Fh, comp, stages, s, r, d):
+        return 5
     Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
     nrec = 0
     to_record = every - n0 % every          # countdowns: no division per step
@@ -766,6 +790,8 @@ def rescue_step(Y, h, hinv, n0, n, steps, every, A, U, B, V, cls, E, Ainv, flags
     """Step n (= n0 + 1; :func:`run`'s arguments) after the loop's stage iteration failed on it
     (:func:`fallback_stages`): 0, or the status of :func:`run`; its record (if due) into rec[0]."""
     s, r, d = dims(A, Y)
+    if not fits(Y, A, U, B, V, E, Ainv, Fh, comp, stages, s, r, d):
+        return 5
     Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
     stats[S_NREC] = 0
     stage_inputs(U, Y, Ubar, s, r, d)
