@@ -219,8 +219,8 @@ def _write_atomic(path: Path, text: str):
 def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc", patterns=()) -> Path:
     """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
     -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d) and, as the numba
-    loop, the method's coefficient patterns (``kernels.coefficient_patterns``: ``-DNZ_A=..`` …;
-    () for none), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once,
+    loop, which of the method's matrices have no zero (``kernels.coefficient_patterns``:
+    ``-DDENSE_A=..`` …; () for none known), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once,
     cached under build/ by a hash of glm_loop.c, the generated headers, the shape, the patterns,
     the flags, the kind and the compiler's version.  (Without arguments: the pendulum at s = r =
     1, a check that gcc works.)"""
@@ -233,8 +233,8 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     lim, prob = limits_header(), problem_header(P)
     kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
     if patterns and len(patterns) != len(PATTERNS):
-        raise ValueError(f"patterns: {len(PATTERNS)} bit masks, not {len(patterns)}")
-    known = tuple(f"-D{name}={int(mask)}ull" for name, mask in zip(PATTERNS, patterns))
+        raise ValueError(f"patterns: {len(PATTERNS)} flags, not {len(patterns)}")
+    known = tuple(f"-D{name}={int(dense)}" for name, dense in zip(PATTERNS, patterns))
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
                                         f"{s} {r} {d} {' '.join(flags)} {version} {cc}".encode()]
                                        + ([" ".join(known).encode()] if known else [])

@@ -69,11 +69,11 @@
 #endif
 
 #define SD (S * D)
-#ifndef NZ_A                    /* the method's nonzero coefficients (kernels.coefficient_patterns): */
-#define NZ_A 0ull               /* -DNZ_A=.. for A, B, U, V; 0: nothing known, every coefficient  */
-#define NZ_B 0ull               /* tested when the step runs                                       */
-#define NZ_U 0ull
-#define NZ_V 0ull
+#ifndef DENSE_A                 /* which matrices have no zero (kernels.coefficient_patterns): */
+#define DENSE_A 0               /* -DDENSE_A=1 .. for A, B, U, V; 0: every coefficient tested  */
+#define DENSE_B 0               /* for zero when the step runs                                 */
+#define DENSE_U 0
+#define DENSE_V 0
 #endif
 #define NC (TL_PROBLEM_NC > 0 ? TL_PROBLEM_NC : 1)
 #define MAXREPS 1000
@@ -172,26 +172,24 @@ static inline int converged(double size, double prev, double tol, double floor_)
     return (theta < 1.0 && theta / (1.0 - theta) * size <= tol) || (theta >= STALL_THETA && size <= floor_);
 }
 
-/* whether the coefficient a, bit `bit` of its matrix's pattern nz (nonzero in both classes),
- * enters a sum: known when compiled for a nonzero, else a != 0 (stepcore.uses; the patterns are
- * kernels.coefficient_patterns, -DNZ_A=.. by c_reference.py) */
-static inline int uses(uint64_t nz, int bit, double a)
+/* whether the coefficient a of a matrix enters a sum: always if the matrix has no zero (dense,
+ * known when compiled), else a != 0 (stepcore.uses; -DDENSE_A=.. by c_reference.py from
+ * kernels.coefficient_patterns) */
+static inline int uses(int dense, double a)
 {
-    if ((nz >> bit) & 1u)
-        return 1;
-    return a != 0.0;
+    return dense || a != 0.0;
 }
 
 /* h sum_j A[cls[l]][i][j] F[j][l]: the stage sum of component l (Aq_i, Ap_i: row i of A[0], A[1];
- * also rows of B; nz: the matrix's nonzero pattern) */
-static inline double combine(double h, const double Aq_i[S], const double Ap_i[S], uint64_t nz,
-                             int i, int cls_l, double F[S][D], int l)
+ * also rows of B; dense: the matrix has no zero) */
+static inline double combine(double h, const double Aq_i[S], const double Ap_i[S], int dense,
+                             int cls_l, double F[S][D], int l)
 {
     const double *a_i = cls_l == 0 ? Aq_i : Ap_i;
     double acc = 0.0;
     for (int j = 0; j < S; j++) {
         const double a = a_i[j];
-        if (uses(nz, i * S + j, a))
+        if (uses(dense, a))
             acc = acc + a * F[j][l];
     }
     return h * acc;
@@ -202,7 +200,7 @@ static inline void stage_sums(double h, double A[2][S][S], const int cls[D], dou
 {
     for (int i = 0; i < S; i++)
         for (int l = 0; l < D; l++)
-            out[i][l] = combine(h, A[0][i], A[1][i], NZ_A, i, cls[l], F, l);
+            out[i][l] = combine(h, A[0][i], A[1][i], DENSE_A, cls[l], F, l);
 }
 
 static inline void stage_input(double Ubar[S][D], double Z[S][D], int i, double Yst[D])
@@ -275,7 +273,7 @@ static inline void explicit_stages(Pack *P, Work *w)
             const int k = P->cls[l];
             for (int j = 0; j < i; j++) {
                 const double a = P->A[k][i][j];
-                if (uses(NZ_A, i * S + j, a))
+                if (uses(DENSE_A, a))
                     acc = acc + (h * a) * w->F[j][l];
             }
             w->Yst[l] = acc;
@@ -454,7 +452,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)
             for (int l = 0; l < D; l++)
                 if (cls[l] == 1)
-                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->W, l);
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], DENSE_A, cls[l], w->W, l);
         for (int j = 0; j < S; j++) {
             stage_input(w->Ubar, w->Z, j, w->Yst);
             fq_(w->Yst, P->c, w->F[j]);
@@ -463,7 +461,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)
             for (int l = 0; l < D; l++)
                 if (cls[l] == 0)
-                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
+                    w->Z[i][l] = combine(h, P->A[0][i], P->A[1][i], DENSE_A, cls[l], w->F, l);
     }
     double prev = -1.0;
     for (int it = 0; it < STAGE_SWEEPS; it++) {
@@ -476,7 +474,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)         /* the p stages */
             for (int l = 0; l < D; l++)
                 if (cls[l] == 1) {
-                    const double z = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
+                    const double z = combine(h, P->A[0][i], P->A[1][i], DENSE_A, cls[l], w->F, l);
                     dp = MAX(dp, fabs(z - w->Z[i][l]));
                     w->Z[i][l] = z;
                     pn = MAX(pn, fabs(w->Ubar[i][l] + z));
@@ -491,7 +489,7 @@ static int split_stages(Pack *P, Work *w)
         for (int i = 0; i < S; i++)         /* the new q stages */
             for (int l = 0; l < D; l++)
                 if (cls[l] == 0) {
-                    const double z = combine(h, P->A[0][i], P->A[1][i], NZ_A, i, cls[l], w->F, l);
+                    const double z = combine(h, P->A[0][i], P->A[1][i], DENSE_A, cls[l], w->F, l);
                     size = MAX(size, fabs(z - w->Z[i][l]));
                     w->Z[i][l] = z;
                     qn = MAX(qn, fabs(w->Ubar[i][l] + z));
@@ -526,11 +524,11 @@ static inline int primary_stages(Pack *P, Work *w)
 }
 
 /* sum_k m[k] Y[k][l] (zero coefficients skipped): a row of U or V times y^[n-1] */
-static inline double row_times(const double m[R], uint64_t nz, int i, double Y[R][D], int l)
+static inline double row_times(const double m[R], int dense, double Y[R][D], int l)
 {
     double acc = 0.0;
     for (int k = 0; k < R; k++)
-        if (uses(nz, i * R + k, m[k]))
+        if (uses(dense, m[k]))
             acc = acc + m[k] * Y[k][l];
     return acc;
 }
@@ -540,7 +538,7 @@ static inline void stage_inputs(Pack *P, double Y[R][D], double Ubar[S][D])
 {
     for (int i = 0; i < S; i++)
         for (int l = 0; l < D; l++)
-            Ubar[i][l] = row_times(P->U[i], NZ_U, i, Y, l);
+            Ubar[i][l] = row_times(P->U[i], DENSE_U, Y, l);
 }
 
 /* y^[n] = V y^[n-1] + h B F (Kahan on the principal value); 0, or 2 (not finite) */
@@ -548,8 +546,8 @@ static inline int finish_step(Pack *P, Work *w, double Y[R][D])
 {
     for (int k = 0; k < R; k++)
         for (int l = 0; l < D; l++) {
-            const double acc = row_times(P->V[k], NZ_V, k, Y, l);
-            double x = combine(P->h, P->B[0][k], P->B[1][k], NZ_B, k, P->cls[l], w->F, l);
+            const double acc = row_times(P->V[k], DENSE_V, Y, l);
+            double x = combine(P->h, P->B[0][k], P->B[1][k], DENSE_B, P->cls[l], w->F, l);
             if (k == 0 && w->flags[F_COMPENSATE] == 1) {  /* Kahan: y1 + (increment + carry) */
                 x = x + w->comp[l];
                 const double y1 = acc + x;

@@ -64,14 +64,15 @@ def cache_dir() -> Path:
     return Path(root) / "kernels"
 
 
-PATTERNS = ("NZ_A", "NZ_B", "NZ_U", "NZ_V")     # stepcore's names
+PATTERNS = ("DENSE_A", "DENSE_B", "DENSE_U", "DENSE_V")     # stepcore's names
 
 
 class Shape(NamedTuple):
     """What a compiled loop is specialised to: the method's shape (s stages, r values, dimension
     d; the small loops unroll), the stage iteration (limits.EXPLICIT, NEWTON, FIXED or SPLIT:
-    the others' code is not compiled), whether the run projects (1 or 0), and the method's nonzero
-    patterns (:func:`coefficient_patterns`; () for none: every coefficient tested in the step)."""
+    the others' code is not compiled), whether the run projects (1 or 0), and which of the
+    method's matrices have no zero (:func:`coefficient_patterns`; () for none known: every
+    coefficient tested in the step)."""
     s: int
     r: int
     d: int
@@ -88,28 +89,18 @@ def loop_shape(s: int, r: int, d: int, mode: int, projects: bool = False, patter
     if mode not in (L.EXPLICIT, L.NEWTON, L.FIXED, L.SPLIT):
         raise ValueError(f"a loop is specialised to an explicit method, NEWTON, FIXED or SPLIT, not mode {mode}")
     if patterns and len(patterns) != len(PATTERNS):
-        raise ValueError(f"patterns: {len(PATTERNS)} bit masks ({', '.join(PATTERNS)}), not {len(patterns)}")
+        raise ValueError(f"patterns: {len(PATTERNS)} flags ({', '.join(PATTERNS)}), not {len(patterns)}")
     return Shape(int(s), int(r), int(d), int(mode), int(bool(projects)), tuple(int(x) for x in patterns))
 
 
-def _mask(M) -> int:
-    """The entries of M (classes × rows × columns, or rows × columns) nonzero in every class as a
-    bit mask, bit i·columns + j for entry (i, j); 0 beyond PATTERN_BITS entries."""
-    nz = np.asarray(M) != 0
-    nz = nz.reshape((-1,) + nz.shape[-2:])
-    if nz.shape[1] * nz.shape[2] > L.PATTERN_BITS:
-        return 0
-    return sum(1 << k for k, x in enumerate(nz.all(axis=0).reshape(-1)) if x)
-
-
 def coefficient_patterns(pk: "Pack") -> tuple:
-    """The bit masks of stepcore's ``PATTERNS`` for the method of ``pk``: the coefficients of A
-    (both classes), B, U and V known to be nonzero, which the compiled step uses without testing
-    (or selecting on) them.  Zeros stay tested when the step runs: skipping them when compiled
-    made some loops slower (docs/speed.md).  Double-double coefficients are zero when their
-    leading part is."""
+    """stepcore's ``PATTERNS`` for the method of ``pk``: 1 for each of A (both classes), B, U and V
+    without a zero entry, whose coefficients the compiled step uses without testing (or
+    selecting on) them; 0 for the others, tested coefficient by coefficient when the step runs.
+    (Per-coefficient masks, tried, cost a shift and a test where LLVM does not unroll the loop:
+    docs/speed.md.)  Double-double coefficients are zero when their leading part is."""
     lead = (lambda M: np.asarray(M)[..., 0]) if pk.kind == "dd" else np.asarray     # noqa: E731
-    return tuple(_mask(lead(M)) for M in (pk.A, pk.B, pk.U, pk.V))
+    return tuple(int(bool(np.all(lead(M) != 0))) for M in (pk.A, pk.B, pk.U, pk.V))
 
 
 def run_shape(pk: "Pack"):

@@ -53,7 +53,6 @@ HUGE = 1e300               # a value beyond this is overflow at every precision 
 TRACK_EVERY = 1             # default stride of the invariant tracking: every step (its cost: docs/speed.md)
 INLINE_LINEAR_ALGEBRA = 16  # s·d up to which a compiled loop inlines (unrolls) the Newton matrix's LU
 INLINE_PROBLEM_DIMENSION = 12   # d up to which f (and the q-, p-rates) are inlined into the loop
-PATTERN_BITS = 62           # entries of a coefficient matrix up to which a loop knows its zeros when compiled
 CHUNK = 1 << 16             # steps per call of a compiled loop (records, progress, Ctrl-C between)
 PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 

@@ -16,7 +16,7 @@ arithmetic module and the problem's generated functions into one module that num
 loop: the reference, and mpmath at any precision).  ``dims`` is replaced by constants in a
 module specialised to one method shape (s, r, d), so that the small loops unroll, and a
 specialised module sets ``LOOP_MODE`` and ``LOOP_PROJECTS`` (the run's stage iteration, its
-projection) and the method's nonzero coefficients ``NZ_A`` … (:func:`uses`): numba prunes the branches these decide before it compiles, so a fixed-point loop
+projection) and which of the method's matrices have no zero, ``DENSE_A`` … (:func:`uses`): numba prunes the branches these decide before it compiles, so a fixed-point loop
 holds no Newton code and a loop without projection no projection (a third of the compile time
 and of the code).  The decorators (:mod:`jit`) say how numba compiles each function: ``kernel``
 (an entry point, without reference counting: nothing here allocates; its arrays do not alias),
@@ -102,19 +102,18 @@ def grad_(k, y, c, out, i):
 # fixed-point loop, the projection of a run without it are never compiled).  ANY: the flags decide.
 LOOP_MODE = ANY         # EXPLICIT, NEWTON, FIXED or SPLIT
 LOOP_PROJECTS = ANY     # 1: projection on, 0: off
-# The method's nonzero coefficients, set by a module specialised to one method: bit i·n + j of
-# NZ_X is set where entry (i, j) of X (n columns) is nonzero in both classes
-# (:func:`kernels.coefficient_patterns`).  Those are used without a test in the step; the others
-# (all, here: nothing known) are tested for zero when it runs.
-NZ_A = NZ_B = NZ_U = NZ_V = 0
+# Which of the method's matrices have no zero entry (both classes), set by a module specialised
+# to one method (:func:`kernels.coefficient_patterns`): their coefficients are used without a
+# test in the step; the others' (all, here: nothing known) are tested for zero when it runs.
+DENSE_A = DENSE_B = DENSE_U = DENSE_V = 0
 
 
 @helper
-def uses(nz, bit, a):
-    """Whether the coefficient ``a``, bit ``bit`` of its matrix's nonzero pattern ``nz``, enters a
-    sum: known when compiled for a nonzero of a specialised module (LLVM folds the test away; a
-    test that stays becomes a select on the step's critical path, docs/speed.md), else a ≠ 0."""
-    if (nz >> bit) & 1 == 1:
+def uses(dense, a):
+    """Whether the coefficient ``a`` of a matrix enters a sum: always when the specialised module
+    knows the matrix has no zero (``dense``: LLVM folds the test away; a test that stays becomes a
+    select on the step's critical path, docs/speed.md), else when a ≠ 0."""
+    if dense == 1:
         return True
     return isnz(a)
 
@@ -188,13 +187,13 @@ def converged(size, prev, tol, floor):
 
 
 @helper
-def combine(h, A, nz, cls, i, F, l, s):
-    """h Σⱼ A[cls[l], i, j] F[j, l]: the stage sum of component l (nz: A's nonzero pattern)."""
+def combine(h, A, dense, cls, i, F, l, s):
+    """h Σⱼ A[cls[l], i, j] F[j, l]: the stage sum of component l (``dense``: A has no zero)."""
     k = cls[l]
     acc = wzero()
     for j in range(s):
         a = g3(A, k, i, j)
-        if uses(nz, i * s + j, a):
+        if uses(dense, a):
             acc = wmadd(acc, a, g2(F, j, l))
     return wmul(h, acc)
 
@@ -203,7 +202,7 @@ def combine(h, A, nz, cls, i, F, l, s):
 def stage_sums(h, A, cls, F, out, s, d):
     for i in range(s):
         for l in range(d):
-            p2(out, i, l, combine(h, A, NZ_A, cls, i, F, l, s))
+            p2(out, i, l, combine(h, A, DENSE_A, cls, i, F, l, s))
 
 
 @helper
@@ -271,7 +270,7 @@ def explicit_stages(Ubar, h, A, cls, c, Yst, F, stats, s, d):
             k = cls[l]
             for j in range(i):
                 a = g3(A, k, i, j)
-                if uses(NZ_A, i * s + j, a):
+                if uses(DENSE_A, a):
                     acc = wadd(acc, wmul(wmul(h, a), g2(F, j, l)))
             p1(Yst, l, acc)
         f_(Yst, c, F, i)
@@ -439,7 +438,7 @@ def advance(h, A, cls, k, F, Ubar, Z, s, d):
     for i in range(s):
         for l in range(d):
             if cls[l] == k:
-                z = combine(h, A, NZ_A, cls, i, F, l, s)
+                z = combine(h, A, DENSE_A, cls, i, F, l, s)
                 change = max(change, abs(wlo(wsub(z, g2(Z, i, l)))))
                 p2(Z, i, l, z)
                 size = max(size, abs(wlo(wadd(g2(Ubar, i, l), z))))
@@ -634,12 +633,12 @@ def project(y, c, proj, target, eps, tol, G, Gz, GtG, gpiv, g, lam, z, tmp, stat
 
 
 @helper
-def row_times(M, nz, i, Y, l, r):
+def row_times(M, dense, i, Y, l, r):
     """Σₖ M[i, k] Y[k, l] (zero coefficients skipped): U y^[n−1] and V y^[n−1]."""
     acc = wzero()
     for k in range(r):
         m = g2(M, i, k)
-        if uses(nz, i * r + k, m):
+        if uses(dense, m):
             acc = wmadd(acc, m, g2(Y, k, l))
     return acc
 
@@ -649,7 +648,7 @@ def stage_inputs(U, Y, Ubar, s, r, d):
     """Ū = U y^[n−1]."""
     for i in range(s):
         for l in range(d):
-            p2(Ubar, i, l, row_times(U, NZ_U, i, Y, l, r))
+            p2(Ubar, i, l, row_times(U, DENSE_U, i, Y, l, r))
 
 
 @helper
@@ -659,8 +658,8 @@ def finish_step(Y, h, B, V, cls, flags, c, eps, tol, proj, target, comp, F, Yout
     G, Gz, GtG, gpiv, g, lam, zp, tmp, yfirst = work
     for k in range(r):
         for l in range(d):
-            acc = row_times(V, NZ_V, k, Y, l, r)
-            x = combine(h, B, NZ_B, cls, k, F, l, s)
+            acc = row_times(V, DENSE_V, k, Y, l, r)
+            x = combine(h, B, DENSE_B, cls, k, F, l, s)
             if k == 0 and flags[F_COMPENSATE] == 1:     # Kahan: y₁ + (increment + carry)
                 x = wadd(x, g1(comp, l))
                 y1 = wadd(acc, x)
