@@ -119,18 +119,18 @@ def test_specialised_loop_equals_generic(monkeypatch, name, problem, h, kw):
 
 
 @pytest.mark.parametrize("name", ["glm43", "symplectic_euler", "gauss2", "example4_glm", "sdirk34"])
-def test_coefficient_patterns_are_the_exact_zeros(name):
-    """kernels.coefficient_patterns (the matrices whose coefficients a specialised loop uses
+def test_dense_matrices_are_the_exact_zeros(name):
+    """kernels.dense_matrices (the matrices whose coefficients a specialised loop uses
     without a zero test) against the exact method: DENSE_X is 1 iff no entry of X is 0 in either
     class (A_q and A_p, B_q and B_p); the double-double arrays give the same flags."""
     import sympy as sp
     from tableau_lab.numeric.integrate import component_masks
-    from tableau_lab.numeric.kernels import PATTERNS, Pack, coefficient_patterns
+    from tableau_lab.numeric.kernels import DENSE, Pack, dense_matrices
     m = load(METHODS / f"{name}.json")
     cp = compile_problem("kepler")
     masks = component_masks(cp, 4)
-    got = [coefficient_patterns(Pack(to_numeric(m, prec), cp, 0.01, masks, mode=limits.SPLIT)) for prec in ("float64", "dd")]
-    assert got[0] == got[1] and len(got[0]) == len(PATTERNS)
+    got = [dense_matrices(Pack(to_numeric(m, prec), cp, 0.01, masks, mode=limits.SPLIT)) for prec in ("float64", "dd")]
+    assert got[0] == got[1] and len(got[0]) == len(DENSE)
     if m.kind in ("rk", "prk"):               # one step: U = 1, V = [1], B = bᵀ; a PRK's second tableau is Â, b̂
         A2, b2 = (m.Ahat, m.bhat) if m.kind == "prk" else (m.A, m.b)
         exact = {"A": (m.A, A2), "B": (m.b.T, b2.T), "U": (sp.ones(m.s, 1),) * 2, "V": (sp.Matrix([[1]]),) * 2}

@@ -61,7 +61,7 @@ from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
-from tableau_lab.numeric.kernels import PATTERNS, LoopState, Pack, coefficient_patterns, compiled_loop, run_shape
+from tableau_lab.numeric.kernels import DENSE, LoopState, Pack, dense_matrices, compiled_loop, run_shape
 from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
@@ -216,12 +216,12 @@ def _write_atomic(path: Path, text: str):
     os.replace(tmp, path)
 
 
-def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc", patterns=()) -> Path:
+def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gcc", dense=()) -> Path:
     """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
     -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d) and, as the numba
-    loop, which of the method's matrices have no zero (``kernels.coefficient_patterns``:
+    loop, which of the method's matrices have no zero (``kernels.dense_matrices``:
     ``-DDENSE_A=..`` …; () for none known), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once,
-    cached under build/ by a hash of glm_loop.c, the generated headers, the shape, the patterns,
+    cached under build/ by a hash of glm_loop.c, the generated headers, the shape, the dense flags,
     the flags, the kind and the compiler's version.  (Without arguments: the pendulum at s = r =
     1, a check that gcc works.)"""
     P = get_problem(problem)
@@ -232,9 +232,9 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     flags = tuple(CFLAGS if cflags is None else cflags)
     lim, prob = limits_header(), problem_header(P)
     kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
-    if patterns and len(patterns) != len(PATTERNS):
-        raise ValueError(f"patterns: {len(PATTERNS)} flags, not {len(patterns)}")
-    known = tuple(f"-D{name}={int(dense)}" for name, dense in zip(PATTERNS, patterns))
+    if dense and len(dense) != len(DENSE):
+        raise ValueError(f"dense: {len(DENSE)} flags, not {len(dense)}")
+    known = tuple(f"-D{name}={int(dense)}" for name, dense in zip(DENSE, dense))
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
                                         f"{s} {r} {d} {' '.join(flags)} {version} {cc}".encode()]
                                        + ([" ".join(known).encode()] if known else [])
@@ -264,12 +264,12 @@ _LIBS: dict = {}
 _NSTATS = 6                                # glm_run's stats: status, completed, step, nfev, sweeps, nvel
 
 
-def library(problem="pendulum", shape=(1, 1, 2), cflags=None, cc="gcc", patterns=()) -> ctypes.CDLL:
+def library(problem="pendulum", shape=(1, 1, 2), cflags=None, cc="gcc", dense=()) -> ctypes.CDLL:
     """The shared library of :func:`build` (``shared=True``) loaded by ctypes, once per path and
     process, with the argument types of glm_run / glm_functions / glm_shape set, its compiled
     shape checked.  Each (problem, shape, flags) is its own file, loaded RTLD_LOCAL: the
     libraries' equal symbol names do not clash."""
-    path = build(problem, shape, cflags, shared=True, cc=cc, patterns=patterns)
+    path = build(problem, shape, cflags, shared=True, cc=cc, dense=dense)
     key = str(path)
     if key not in _LIBS:
         lib = ctypes.CDLL(key)
@@ -323,7 +323,7 @@ class Prepared:
             # mode=None: integrate's choice; else forced (check.py: FIXED, which no separable problem gets)
             self.mode = stage_iteration(solver, nm, cp, cp.y0, h, d) if mode is None else int(mode)
             self.pk = Pack(nm, cp, h, masks, mode=self.mode, compensated=compensated)
-            self.patterns = coefficient_patterns(self.pk)       # the numba loop's (kernels.run_shape)
+            self.dense = dense_matrices(self.pk)       # the numba loop's (kernels.run_shape)
             self.Y0 = np.ascontiguousarray(np.asarray(start_values(nm, cp, cp.y0, h, start), dtype=float))
 
 
@@ -384,7 +384,7 @@ def _run_lib(pr: Prepared, steps, reps, cflags, cc="gcc") -> tuple:
     """glm_run of the problem's shared library, in this process: (status, completed, final,
     [nfev, sweeps, nvel], seconds of each rep)."""
     (s, r, d), pk = pr.shape, pr.pk
-    lib = library(pr.cp.problem, pr.shape, cflags, cc, pr.patterns)
+    lib = library(pr.cp.problem, pr.shape, cflags, cc, pr.dense)
     f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
     i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
     args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
@@ -424,7 +424,7 @@ def run_c(method_path, problem, h, steps, reps=5, *, solver="auto", start="exact
         status, completed, final, stats, times = _run_lib(pr, steps, reps, cflags, cc)
         _check(status, completed, "C", method_path, problem, check_status)
         return _result(times, steps, final, stats, status, completed, pr)
-    out = _run_exe(build(pr.cp.problem, pr.shape, cflags, cc=cc, patterns=pr.patterns), _input_text(pr, steps, reps))
+    out = _run_exe(build(pr.cp.problem, pr.shape, cflags, cc=cc, dense=pr.dense), _input_text(pr, steps, reps))
     status, completed = int(out["status"][0][0]), int(out["completed"][0][0])
     _check(status, completed, "C", method_path, problem, check_status)
     final = np.array([float(x) for x in out["final"][0][1:]]).reshape(pr.shape[1], pr.shape[2])

@@ -69,7 +69,7 @@
 #endif
 
 #define SD (S * D)
-#ifndef DENSE_A                 /* which matrices have no zero (kernels.coefficient_patterns): */
+#ifndef DENSE_A                 /* which matrices have no zero (kernels.dense_matrices): */
 #define DENSE_A 0               /* -DDENSE_A=1 .. for A, B, U, V; 0: every coefficient tested  */
 #define DENSE_B 0               /* for zero when the step runs                                 */
 #define DENSE_U 0
@@ -174,7 +174,7 @@ static inline int converged(double size, double prev, double tol, double floor_)
 
 /* whether the coefficient a of a matrix enters a sum: always if the matrix has no zero (dense,
  * known when compiled), else a != 0 (stepcore.uses; -DDENSE_A=.. by c_reference.py from
- * kernels.coefficient_patterns) */
+ * kernels.dense_matrices) */
 static inline int uses(int dense, double a)
 {
     return dense || a != 0.0;

@@ -45,7 +45,7 @@ import numpy as np
 from ..files import atomic_write_text
 from . import limits as L
 
-__all__ = ["available", "cache_dir", "Shape", "loop_shape", "coefficient_patterns", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
+__all__ = ["available", "cache_dir", "Shape", "loop_shape", "dense_matrices", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
 _MODULES: dict = {}        # module file -> module (the cache folder may change: TABLEAU_LAB_CACHE)
@@ -64,37 +64,37 @@ def cache_dir() -> Path:
     return Path(root) / "kernels"
 
 
-PATTERNS = ("DENSE_A", "DENSE_B", "DENSE_U", "DENSE_V")     # stepcore's names
+DENSE = ("DENSE_A", "DENSE_B", "DENSE_U", "DENSE_V")     # stepcore's names
 
 
 class Shape(NamedTuple):
     """What a compiled loop is specialised to: the method's shape (s stages, r values, dimension
     d; the small loops unroll), the stage iteration (limits.EXPLICIT, NEWTON, FIXED or SPLIT:
     the others' code is not compiled), whether the run projects (1 or 0), and which of the
-    method's matrices have no zero (:func:`coefficient_patterns`; () for none known: every
+    method's matrices have no zero (:func:`dense_matrices`; () for none known: every
     coefficient tested in the step)."""
     s: int
     r: int
     d: int
     mode: int
     projects: int
-    patterns: tuple = ()
+    dense: tuple = ()
 
 
-def loop_shape(s: int, r: int, d: int, mode: int, projects: bool = False, patterns: tuple = ()):
+def loop_shape(s: int, r: int, d: int, mode: int, projects: bool = False, dense: tuple = ()):
     """The :class:`Shape` a compiled loop is specialised to, or None (one loop for any shape
     and run per problem) when the environment variable TABLEAU_LAB_SPECIALISE is "0"."""
     if os.environ.get("TABLEAU_LAB_SPECIALISE", "1") == "0":
         return None
     if mode not in (L.EXPLICIT, L.NEWTON, L.FIXED, L.SPLIT):
         raise ValueError(f"a loop is specialised to an explicit method, NEWTON, FIXED or SPLIT, not mode {mode}")
-    if patterns and len(patterns) != len(PATTERNS):
-        raise ValueError(f"patterns: {len(PATTERNS)} flags ({', '.join(PATTERNS)}), not {len(patterns)}")
-    return Shape(int(s), int(r), int(d), int(mode), int(bool(projects)), tuple(int(x) for x in patterns))
+    if dense and len(dense) != len(DENSE):
+        raise ValueError(f"dense: {len(DENSE)} flags ({', '.join(DENSE)}), not {len(dense)}")
+    return Shape(int(s), int(r), int(d), int(mode), int(bool(projects)), tuple(int(x) for x in dense))
 
 
-def coefficient_patterns(pk: "Pack") -> tuple:
-    """stepcore's ``PATTERNS`` for the method of ``pk``: 1 for each of A (both classes), B, U and V
+def dense_matrices(pk: "Pack") -> tuple:
+    """stepcore's ``DENSE`` for the method of ``pk``: 1 for each of A (both classes), B, U and V
     without a zero entry, whose coefficients the compiled step uses without testing (or
     selecting on) them; 0 for the others, tested coefficient by coefficient when the step runs.
     (Per-coefficient masks, tried, cost a shift and a test where LLVM does not unroll the loop:
@@ -107,7 +107,7 @@ def run_shape(pk: "Pack"):
     """The :class:`Shape` of a run with the loop arrays ``pk`` (or None, as :func:`loop_shape`)."""
     mode = L.EXPLICIT if pk.flags[L.F_EXPLICIT] == 1 else int(pk.flags[L.F_MODE])
     s, r, d = pk.A.shape[1], pk.U.shape[1], pk.cls.shape[0]
-    return loop_shape(s, r, d, mode, len(pk.proj) > 0, coefficient_patterns(pk))
+    return loop_shape(s, r, d, mode, len(pk.proj) > 0, dense_matrices(pk))
 
 
 def invariant_index(prob) -> dict:
@@ -178,7 +178,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     if shape is not None:
         text += (f"\n\n@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n\n\n"
                  f"LOOP_MODE = {shape.mode}\nLOOP_PROJECTS = {shape.projects}\n")
-        text += "".join(f"{name} = {mask}\n" for name, mask in zip(PATTERNS, shape.patterns))
+        text += "".join(f"{name} = {flag}\n" for name, flag in zip(DENSE, shape.dense))
     return text
 
 

@@ -103,7 +103,7 @@ def grad_(k, y, c, out, i):
 LOOP_MODE = ANY         # EXPLICIT, NEWTON, FIXED or SPLIT
 LOOP_PROJECTS = ANY     # 1: projection on, 0: off
 # Which of the method's matrices have no zero entry (both classes), set by a module specialised
-# to one method (:func:`kernels.coefficient_patterns`): their coefficients are used without a
+# to one method (:func:`kernels.dense_matrices`): their coefficients are used without a
 # test in the step; the others' (all, here: nothing known) are tested for zero when it runs.
 DENSE_A = DENSE_B = DENSE_U = DENSE_V = 0
 
