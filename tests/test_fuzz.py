@@ -1,5 +1,5 @@
 """Fuzzing (issue 16, item 4): the entry grammar (tableau and problem dialects), the tableau JSON
-loader and the scene loader, each for a bounded time (``TABLEAU_LAB_FUZZ_SECONDS``, default 20 s
+loader and the scene loader, each for a bounded time (``TABLEAU_LAB_FUZZ_SECONDS``, default 12 s
 per target), with hypothesis.  Every input either gives a value or the project's own input error
 (``errors.InputError``: the message names the file and entry); any other exception fails, and so
 does one input slower than ``SLOW`` s.  The seed corpus (tests/data/fuzz_seeds.json: inputs that
@@ -21,7 +21,7 @@ from tableau_lab.exact.tableau_json import loads
 from tableau_lab.experiments.scene import load_scene
 from tableau_lab.numeric.expressions import parse_expression
 
-SECONDS = float(os.environ.get("TABLEAU_LAB_FUZZ_SECONDS", "20"))
+SECONDS = float(os.environ.get("TABLEAU_LAB_FUZZ_SECONDS", "12"))
 SLOW = 10.0          # seconds one input may take (the grammar's limits keep each entry small)
 SEEDS = json.loads((Path(__file__).parent / "data" / "fuzz_seeds.json").read_text(encoding="utf-8"))
 

@@ -150,3 +150,39 @@ def test_effective_order_realised_by_processing_and_lost_without():
     n = convergence(METHODS / "butcher_effective5.json", "pendulum", T=10, start="naive")
     assert (c.order, n.order) == (5, 4)
     assert abs(c.slope - 5) <= 0.2 and abs(n.slope - 4) <= 0.2
+
+
+@pytest.mark.parametrize("at", range(1, 6))
+def test_ctrl_c_inside_a_record_leaves_equal_records(monkeypatch, at):
+    """A Ctrl-C that lands inside ``record`` (between the appends of one record) leaves the run's
+    per-record lists of equal length (the incomplete file and its plots need that): after each of
+    the first appends of the 4th record of a GLM with two invariants, states and parasitic
+    components."""
+    from tableau_lab.numeric import integrate as I
+    from tableau_lab.numeric.codegen import compile_problem
+    from tableau_lab.numeric.export import to_numeric
+    nm, cp = to_numeric(load(METHODS / "glm43.json")), compile_problem("kepler")
+    hits = [0]
+
+    class Counting(list):                      # Ctrl-C after the at-th append that makes a 4th entry
+        def append(self, x):
+            super().append(x)
+            if len(self) == 4:
+                hits[0] += 1
+                if hits[0] == at:
+                    raise KeyboardInterrupt
+
+    real_init = I._Monitor.__init__
+
+    def monitor_init(self, *args, **kw):       # made before the first record: swap the lists
+        real_init(self, *args, **kw)
+        run = self.run
+        run.times, run.parasitic, run.values = Counting(), Counting(), Counting()
+        run.invariant_errors = {k: Counting() for k in run.invariant_errors}
+        run.parasitic_components = {k: Counting() for k in run.parasitic_components}
+    monkeypatch.setattr(I._Monitor, "__init__", monitor_init)
+    with pytest.raises(KeyboardInterrupt) as exc:
+        I.integrate(nm, cp, cp.y0, 0.01, 20, invariants=("H", "L"), record_every=1, record_states=True)
+    run = exc.value.partial
+    lists = [run.times, run.parasitic, run.values, *run.invariant_errors.values(), *run.parasitic_components.values()]
+    assert len(lists) >= 5 and {len(x) for x in lists} == {3}, [len(x) for x in lists]

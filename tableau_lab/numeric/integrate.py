@@ -309,6 +309,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             if out.status == 3:
                 raise projection_failed(project, n, t, out.projection_residual)
         except KeyboardInterrupt as exc:
+            _same_length([run.times, *([run.parasitic] if nm.r > 1 else []), *run.invariant_errors.values(),
+                          *([run.values] if record_states else []), *run.parasitic_components.values(),
+                          *run.predicted_growth.values()])
             exc.partial = run                      # the records so far, for a valid incomplete file
             raise
         except IntegrationError as exc:
@@ -324,6 +327,14 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             raise
         run.final = principal(out.Y)
     return run
+
+
+def _same_length(lists) -> None:
+    """Cut the per-record lists to their common length: a Ctrl-C that lands inside a record leaves
+    the lists appended before it one entry longer than the rest."""
+    n = min(len(x) for x in lists)
+    for x in lists:
+        del x[n:]
 
 
 def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
