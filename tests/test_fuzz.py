@@ -4,7 +4,7 @@ per target), with hypothesis.  Every input either gives a value or the project's
 (``errors.InputError``: the message names the file and entry); any other exception fails, and so
 does one input slower than ``SLOW`` s.  The seed corpus (tests/data/fuzz_seeds.json: inputs that
 once crashed or hung, and valid ones to mutate from) runs first, every time.  Each target prints
-its example count and its slowest input (``pytest -s``)."""
+its example count and its slowest input (``pytest -s -n 0``)."""
 import json
 import os
 import time

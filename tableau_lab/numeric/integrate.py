@@ -78,6 +78,16 @@ class Run:
         return {k: max([abs(float(x)) for x in v] + [self.tracked.get(k, 0.0)])
                 for k, v in self.invariant_errors.items()}
 
+    def even_records(self) -> None:
+        """Cut the per-record lists to their common length: a Ctrl-C that lands inside a record
+        leaves the lists appended before it one entry longer than the rest.  The lists a run
+        fills are those holding the first record (taken before the loop); the others stay empty."""
+        filled = [x for x in (self.times, self.values, self.parasitic, *self.invariant_errors.values(),
+                              *self.parasitic_components.values(), *self.predicted_growth.values()) if x]
+        n = min(len(x) for x in filled)
+        for x in filled:
+            del x[n:]
+
 
 def start_values(nm: NumericMethod, prob, y0, h, start: str = "exact"):
     """y^[0] (r × d): u y₀ plus, with ``start="exact"``, the starting method's B-series terms."""
@@ -309,9 +319,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             if out.status == 3:
                 raise projection_failed(project, n, t, out.projection_residual)
         except KeyboardInterrupt as exc:
-            _same_length([run.times, *([run.parasitic] if nm.r > 1 else []), *run.invariant_errors.values(),
-                          *([run.values] if record_states else []), *run.parasitic_components.values(),
-                          *run.predicted_growth.values()])
+            run.even_records()
             exc.partial = run                      # the records so far, for a valid incomplete file
             raise
         except IntegrationError as exc:
@@ -327,14 +335,6 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             raise
         run.final = principal(out.Y)
     return run
-
-
-def _same_length(lists) -> None:
-    """Cut the per-record lists to their common length: a Ctrl-C that lands inside a record leaves
-    the lists appended before it one entry longer than the rest."""
-    n = min(len(x) for x in lists)
-    for x in lists:
-        del x[n:]
 
 
 def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):

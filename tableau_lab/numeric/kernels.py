@@ -460,7 +460,7 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
             out.compile_seconds += _COMPILE[key]
         done[0] = 0
         status = int(getattr(loop, entry)(*st.args(n0, n1)))
-        if status == 5:                        # stepcore.fits: a bug here, not the user's input
+        if status == L.MISFIT:                 # stepcore.fits: a bug here, not the user's input
             raise RuntimeError(f"{loop.__name__}.{entry}: the arrays do not fit the shape the loop was compiled for "
                                "(stepcore.fits)")
         records()

@@ -61,6 +61,7 @@ F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS
 N_FLAGS = 10                # F_LOWER: A lower triangular (diagonally implicit): Newton's matrix block by block
 S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACKS, S_DONE = range(10)
 N_STATS = 10                # S_STEP: the step under way; S_DONE: the last step finished (a Ctrl-C keeps up to it)
+MISFIT = 5                  # the loop's status when its arrays do not fit its shape (stepcore.fits)
 
 __all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration"]
 

@@ -16,11 +16,11 @@ arithmetic module and the problem's generated functions into one module that num
 loop: the reference, and mpmath at any precision).  ``dims`` is replaced by constants in a
 module specialised to one method shape (s, r, d), so that the small loops unroll, and a
 specialised module sets ``LOOP_MODE`` and ``LOOP_PROJECTS`` (the run's stage iteration, its
-projection) and which of the method's matrices have no zero, ``DENSE_A`` … (:func:`uses`): numba prunes the branches these decide before it compiles, so a fixed-point loop
-holds no Newton code and a loop without projection no projection (a third of the compile time
-and of the code).  The decorators (:mod:`jit`) say how numba compiles each function: ``kernel``
-(an entry point, without reference counting: nothing here allocates; its arrays do not alias),
-``helper`` (inlined into its caller by LLVM), ``prim`` (small, left to LLVM to inline), ``heavy``
+projection) and which of the method's matrices have no zero, ``DENSE_A`` … (:func:`uses`):
+numba prunes the branches these decide before it compiles, so a fixed-point loop holds no Newton
+code and a loop without projection no projection (a third of the compile time and of the code).
+The decorators (:mod:`jit`) say how numba compiles each function: ``kernel`` (an entry point,
+without reference counting: nothing here allocates; its arrays do not alias), ``helper`` (inlined into its caller by LLVM), ``prim`` (small, left to LLVM to inline), ``heavy``
 (the Newton matrix's linear algebra: inlined for small s·d only), ``alloc`` (the workspace); in
 the pure loop they do nothing.
 
@@ -49,8 +49,8 @@ The principal increment is summed with compensation (Kahan) when V's first row i
 (``flags[F_COMPENSATE]``).  Projection moves y^[n]₁ onto {I_k = I_k(y₀)} by Newton on the
 multipliers, y = ỹ + ∇g(ỹ)λ.  Statuses of :func:`run`: 0 done, 1 stage equations not solved,
 2 non-finite state, 3 projection failed, 4 the stage iteration failed (for ``rescue_step``; the
-state is that before the failing step), 5 the arrays passed do not have the shape (s, r, d) of
-:func:`dims` (:func:`fits`; a bug of the caller, no step taken).
+state is that before the failing step), ``MISFIT`` (5) the arrays passed do not have the shape
+(s, r, d) of :func:`dims` (:func:`fits`; a bug of the caller, no step taken).
 """
 import numpy as np
 
@@ -58,7 +58,7 @@ from .ops_f64 import *  # noqa: F401,F403 -- the arithmetic; kernels.py binds on
 from .ops_f64 import alloc, g1, g2, g3, heavy, helper, prim, isnz, kernel, lofinite, lomat, lovec, p1, p2, p3, wadd, wint, wlo, \
     waddlo, wmadd, wmat, wmul, wsub, wvec, wzero
 from .limits import (ANY, DIVERGE_AFTER, EXPLICIT, F_COMPENSATE, F_EXPLICIT, F_HAS_E, F_HAS_INV, F_HAS_JAC, F_HPOS, F_LOWER, F_NHIST, F_PREDICT,
-                     HISTORY, HISTORY_WEIGHTS, SPLIT_TOL_ULPS,
+                     HISTORY, HISTORY_WEIGHTS, MISFIT, SPLIT_TOL_ULPS,
                      F_MODE, FIXED, FULL, FULL_NEWTON_SWEEPS, NEWTON, PROJECTION_ACCEPT, PROJECTION_ROUNDOFF,
                      PROJECTION_STALL, PROJECTION_SWEEPS, RESCUE_SWEEPS, ROUNDOFF_FLOOR, S_FALLBACKS, S_LAST,
                      S_DONE, S_NFEV, S_NREC, S_NVEL, S_PROJ, S_PROJ_RES, S_STEP, S_SWEEPS, SPLIT, STAGE_SWEEPS,
@@ -753,7 +753,7 @@ def run(Y, h, hinv, n0, n1, steps, every, A, U, B, V, cls, E, Ainv, flags, c, ep
     ``stages``, ``work``: the arrays of :func:`workspace` (the loop allocates nothing)."""
     s, r, d = dims(A, Y)
     if not fits(Y, A, U, B, V, E, Ainv, Fh, comp, stages, s, r, d):
-        return 5
+        return MISFIT
     Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
     nrec = 0
     to_record = every - n0 % every          # countdowns: no division per step
@@ -790,7 +790,7 @@ def rescue_step(Y, h, hinv, n0, n, steps, every, A, U, B, V, cls, E, Ainv, flags
     (:func:`fallback_stages`): 0, or the status of :func:`run`; its record (if due) into rec[0]."""
     s, r, d = dims(A, Y)
     if not fits(Y, A, U, B, V, E, Ainv, Fh, comp, stages, s, r, d):
-        return 5
+        return MISFIT
     Ubar, F, Z, W, Yst, J, M, piv, R, Yout = stages
     stats[S_NREC] = 0
     stage_inputs(U, Y, Ubar, s, r, d)
