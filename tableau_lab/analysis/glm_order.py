@@ -16,6 +16,13 @@ the tests), so the θ's are forced order by order and the sequential exact solve
 gives the **highest achievable order**.  Forcing θ ≡ 0 gives the order with the identity
 as first starting component; for an RK method the two are its effective and classical orders.
 
+The **stage order** q is Butcher's ([B16] Sec. 53; Butcher, Appl. Numer. Math. 11 (1993) for
+DIMSIMs): the largest q <= p with stages accurate to O(h^{q+1}), η(t) = c^|t|/γ(t) for |t| <= q,
+relative to a starting method that realises the order p.  The order fixes θ(s) for |s| < p; θ(t),
+|t| = p, first enters at order p + 1 and is chosen for the stages (a DIMSIM, the leapfrog and
+Nordsieck Adams methods get q = p), and the printed starting method is that one.  An RK method
+whose classical order is the order keeps the identity start (θ ≡ 0): its classical stage order.
+
 >>> from tableau_lab.exact.tableau_json import load
 >>> res = glm_order(load("methods/example4_glm.json"))
 >>> res.order, res.order_identity_start
@@ -76,7 +83,7 @@ class GLMOrderResult(Result):
         cap = " (at least: cap reached)" if self.capped else ""
         lines = [f"{self.method}: order {self.order}{cap} with a suitable starting method; "
                  f"{self.order_identity_start} with θ ≡ 0; stage order {self.stage_order}"]
-        lines.append("  starting method ξ(t) (y^[0]_i = B(ξ_i, y0)):")
+        lines.append("  starting method ξ(t) (y^[0]_i = B(ξ_i, y0); it realises the order and the stage order):")
         for t, xi in self.starting.items():
             lines.append(f"    {t:10s} " + ", ".join(str(format_entry(x)) for x in xi))
         if self.errors:
@@ -247,6 +254,35 @@ def _pivot_residuals(L, res, Tk, K):
     return out
 
 
+def _stage_order(solver, p, xi, eta, theta, free_top) -> int:
+    """The stage order q <= p: the stages accurate to O(h^{q+1}), η(t) = c^|t|/γ(t) for |t| <= q
+    ([B16] Sec. 53 with the starting method y^[0] = B(ξ, y₀) realising order p).
+
+    The order-p conditions fix θ(s) (ξ(s) = ξ₀(s) + θ(s)u) for |s| < p (θ(τ) by the abscissae c)
+    but leave θ(t), |t| = p, free: it first enters at order p + 1.  Adding θ(t)u to ξ(t) adds
+    θ(t)·Uu = θ(t)·1 to η(t), so with ``free_top`` stage order p holds when every
+    c^p/γ(t) − η(t) is a constant vector, and that constant becomes θ(t) in ``xi``, ``eta`` and
+    ``theta`` (updated in place): the starting method returned realises both p and q.  Without
+    ``free_top`` (an RK method with its identity start) θ stays 0: the classical stage order."""
+    K = solver.K
+    q = 0
+    for k in range(1, p + 1):
+        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e for e, ci in zip(eta[t], solver.c)]
+                for t in trees_of_order(k)}
+        if all(all(K.is_zero(g) for g in d) for d in gaps.values()):
+            q = k
+            continue
+        if k == p and free_top and all(all(K.is_zero(g - d[0]) for g in d) for d in gaps.values()):
+            for t, d in gaps.items():
+                if not K.is_zero(d[0]):
+                    theta[t] = theta.get(t, K.zero) + d[0]
+                    xi[t] = [a + d[0] * b for a, b in zip(xi[t], solver.u)]
+                    eta[t] = [a + d[0] for a in eta[t]]
+            q = k
+        break
+    return q
+
+
 def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     """The order of ``m`` (a GLM, or an RK method as a GLM) relative to the best starting
     method, the order with θ ≡ 0, the stage order, the starting method ξ(t) for |t| <= p,
@@ -267,12 +303,10 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
         p, xi, eta, theta, errors = p0, xi0, eta0, theta0, errors0
     else:
         p, xi, eta, theta, errors = solver.run(max_order, True, shift)
-    q = 0
-    for k in range(1, p + 1):
-        if all(all(K.is_zero(e - ci ** k * K.convert(sp.Rational(1, density(t)))) for e, ci in zip(eta[t], solver.c)) for t in trees_of_order(k)):
-            q = k
-        else:
-            break
+    # θ at order p is free unless the identity start is the RK convention or order p + 1 was not
+    # refuted (capped: the order-(p+1) solve has fixed it)
+    free_top = not (bound is not None and p0 >= bound) and bool(errors)
+    q = _stage_order(solver, p, xi, eta, theta, free_top)
     alpha = {t: solver.dot_w(xi[t]) for t in xi if t is not None}
     beta = inverse_coefficients(alpha, p)
     lift = K.to_sympy
