@@ -185,7 +185,14 @@ def element(K, e):
             if key not in _IMAGES:
                 _IMAGES[key] = K.from_sympy(key[1])
             base = _IMAGES[key]
-        return base ** p if p >= 0 else K.one / base ** (-p)
+        if p >= 0:
+            return base ** p
+        # an inverse in a field of high degree is a slow extended gcd: once per radical
+        # (G6245's U has ten entries over each of two nested square roots)
+        key = (K, sp.Pow(e.base, sp.Rational(-1, q)))
+        if key not in _IMAGES:
+            _IMAGES[key] = K.one / base
+        return _IMAGES[key] ** (-p)
     if isinstance(e, (sp.cos, sp.sin, sp.RootOf)) or e is sp.I:
         key = (K, e)
         if key not in _IMAGES:
