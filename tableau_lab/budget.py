@@ -13,6 +13,21 @@ process; elsewhere :func:`time_limit` runs the work unbounded (the size budgets 
 ...     with computing("a quick sum"):
 ...         sum(range(10))
 45
+
+Work that swallows the budget's error and raises its own is still stopped by the budget:
+
+>>> def wrapped():
+...     try:
+...         while True:
+...             pass
+...     except ValueError:
+...         raise RuntimeError("not in any domain")
+>>> with time_limit(0.05):
+...     with computing("a wrapped loop"):
+...         wrapped()
+Traceback (most recent call last):
+...
+tableau_lab.errors.BudgetError: a wrapped loop: time budget of 0.05 s exceeded; raise it with --timeout S
 """
 from __future__ import annotations
 
@@ -65,14 +80,24 @@ def time_limit(seconds: float | None, option: str = OPTION):
         yield
         return
 
+    fired: list = []
+
     def expire(signum, frame):
         signal.setitimer(signal.ITIMER_REAL, 0)
-        raise BudgetError("time", f"{seconds:g} s", current(), option)
+        fired.append(BudgetError("time", f"{seconds:g} s", current(), option))
+        raise fired[0]
 
     old = signal.signal(signal.SIGALRM, expire)
     signal.setitimer(signal.ITIMER_REAL, float(seconds))
     try:
         yield
+    except Exception as exc:
+        # library code that catches ValueError (the BudgetError) and raises its own error in its
+        # place (sympy's domain conversion: "CoercionFailed: ... is not in any domain") must not
+        # turn the budget into an internal error: once the budget fired, it is the cause
+        if fired and exc is not fired[0]:
+            raise fired[0] from exc
+        raise
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, old)

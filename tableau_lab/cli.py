@@ -928,8 +928,7 @@ def _hard_deadline(args) -> int:
             if time.monotonic() > deadline:
                 os.kill(pid, signal.SIGKILL)
                 os.waitpid(pid, 0)
-                files = ", ".join(getattr(args, "files", None) or [getattr(args, "file", "")])
-                print(f"tableau-lab: error: {args.command} of {files}: time budget of {args.timeout:g} s exceeded in "
+                print(f"tableau-lab: error: {_command_of(args)}: time budget of {args.timeout:g} s exceeded in "
                       f"a computation that could not be interrupted (stopped {HARD_GRACE:g} s later); raise it "
                       "with --timeout S", file=sys.stderr)
                 return EXIT_INPUT
@@ -947,6 +946,20 @@ def _entry_limits(args) -> None:
             if not re.fullmatch(r"[0-9]{1,9}", value.strip()):
                 raise EntryError(f"--entry-limit {item[:60]!r}: write KEY=N with N an integer, e.g. depth=100")
             raise_limit(key.strip(), int(value))
+
+
+def _command_of(args) -> str:
+    """The command and the inputs it was given (``verify of m.json, n.json``), for messages that
+    have no entry to name (a budget killed in FLINT, a MemoryError, a RecursionError)."""
+    names = []
+    for key in ("files", "file", "paths", "scenes", "suite_dir"):
+        v = getattr(args, key, None)
+        names += [str(x) for x in v] if isinstance(v, (list, tuple)) else [str(v)] if v else []
+    method = getattr(args, "method", None)
+    if method and not names:
+        names = [str(x) for x in method] if isinstance(method, (list, tuple)) else [str(method)]
+    from .inputs import printable
+    return printable(f"{args.command} of {', '.join(names)}" if names else args.command)
 
 
 def _dispatch(args) -> int:
@@ -969,7 +982,7 @@ def _dispatch(args) -> int:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     except (RecursionError, MemoryError) as exc:
-        print(f"tableau-lab: error: the input is too large or too deeply nested to analyse "
+        print(f"tableau-lab: error: {_command_of(args)}: the input is too large or too deeply nested to analyse "
               f"({type(exc).__name__})", file=sys.stderr)
         return EXIT_INPUT
     except BrokenPipeError:                 # the reader of our output went away

@@ -113,8 +113,9 @@ def _depth(text: str) -> int:
     return max(accumulate(1 if c in "[{" else -1 for c in brackets), default=0)
 
 
-def _check(value, source, error):
-    """Duplicate keys, refused numbers and bad characters, with the JSON path of the first."""
+def _check(value, source, error, name=json_path):
+    """Duplicate keys, refused numbers and bad characters, with the JSON path of the first
+    (``name``: parts → entry name; a tableau names its entries its own one-based way)."""
     path = []
 
     def walk(v):
@@ -123,12 +124,12 @@ def _check(value, source, error):
             if m:
                 c = m.group()
                 what = "a lone surrogate" if 0xD800 <= ord(c) <= 0xDFFF else "the control character"
-                raise _fail(error, source, f"{what} {_escaped(c)} is not text", json_path(path))
+                raise _fail(error, source, f"{what} {_escaped(c)} is not text", name(path))
         elif isinstance(v, _Refused):
-            raise _fail(error, source, v.reason, json_path(path))
+            raise _fail(error, source, v.reason, name(path))
         elif isinstance(v, dict):
             if isinstance(v, _Dict):
-                raise _fail(error, source, f"duplicate key {printable(v.dup)!r}", json_path(path + [v.dup]))
+                raise _fail(error, source, f"duplicate key {printable(v.dup)!r}", name(path + [v.dup]))
             for k, x in v.items():
                 path.append(k)
                 walk(k)
@@ -143,10 +144,11 @@ def _check(value, source, error):
 
 
 def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int = MAX_JSON_BYTES,
-               parse_float=_float, parse_int=_int, parse_constant=_constant):
+               parse_float=_float, parse_int=_int, parse_constant=_constant, name=json_path):
     """The value of JSON ``text`` (str or bytes) read strictly (see the module docstring);
     ``error``: the caller's error class (one message) or a function (source, reason, entry).
-    A caller may pass its own hooks (a tableau keeps floats and NaN to refuse them by entry)."""
+    A caller may pass its own hooks (a tableau keeps floats and NaN to refuse them by entry) and
+    its own ``name`` of an entry from its JSON path parts."""
     source = printable(source)
     if isinstance(text, bytes):
         if len(text) > max_bytes:
@@ -179,7 +181,7 @@ def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int =
     except ValueError as exc:
         raise _fail(error, source, f"not a valid {what}: {printable(exc)}") from None
     if duplicates or _SUSPECT.search(text):
-        _check(value, source, error)
+        _check(value, source, error, name)
     return value
 
 

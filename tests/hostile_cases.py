@@ -232,3 +232,30 @@ CASES += [Case("scene-duplicate-key", "scene", "json", ("run", "{d}/scene.json",
 CASES += [Case(f"entry-limit-{i}", "cli number", "range", ("verify", "{d}/m.json", "--entry-limit", v), {"m.json": GOOD}, 2,
                "--entry-limit") for i, v in enumerate(("bogus=3", "depth=x", "depth=0", "depth=999999", "depth", "=5",
                                                         "depth=١٠"))]
+
+# issue 29: exact core
+# a JSON number too large for a float is refused when read (it was expanded to 10**99999999 for the
+# hint of the message: a hang until the budget); JSON-level refusals name tableau entries one-based
+# (they were JSON paths: A[0][0]); 8th roots and nested square roots in GLMs analyse exactly
+_HUGE = '{"format": "tableau_lab/1", "name": "h", "kind": "rk", "A": [[1e99999999]], "b": ["1"], "c": ["0"]}'
+_ROOT8 = rk([["2**(1/8)/4", "0"], ["root(x**8 - 2, 1)/2", "1/4"]], b=["1/2", "1/2"],
+            c=["2**(1/8)/4", "root(x**8 - 2, 1)/2 + 1/4"])
+_NESTED_GLM = json.dumps({"format": "tableau_lab/1", "name": "nested", "kind": "glm",
+                          "A": [["sqrt(2 + sqrt(3))/4", "0"], ["1/2", "sqrt(2 - sqrt(3))/4"]],
+                          "U": [["1", "sqrt(2 + sqrt(3)) - sqrt(6)/2"], ["1", "sqrt(2)/2"]],
+                          "B": [["1/2", "1/2"], ["sqrt(3)/2", "-sqrt(3)/2"]], "V": [["1", "0"], ["0", "-1"]]})
+CASES += [Case("json-number-1e99999999", "method file", "size", ("--timeout", "20", "verify", "{d}/m.json"),
+               {"m.json": _HUGE}, 2, "A row 1, column 1: 1e99999999 is a floating-point number"),
+          Case("json-number-1e99999999-order", "method file", "size", ("--timeout", "20", "order", "{d}/m.json"),
+               {"m.json": _HUGE}, 2, "m.json: entry A row 1, column 1"),
+          Case("json-surrogate-one-based", "method file", "unicode", ("verify", "{d}/m.json"),
+               {"m.json": rk([["1", "0"], ["0", "\\ud800"]]).replace("\\\\ud800", "\\ud800")}, 2,
+               "entry A row 2, column 2: a lone surrogate"),
+          Case("json-duplicate-key-one-based", "method file", "shape", ("verify", "{d}/m.json"),
+               {"m.json": rk([["1"]]).replace('"b": ["1"]', '"b": [{"x": 1, "x": 2}]')}, 2, "entry b[1].x: duplicate key"),
+          Case("json-nan-number-one-based", "method file", "not a number", ("verify", "{d}/m.json"),
+               {"m.json": rk([["1"]]).replace('"b": ["1"]', '"b": [NaN]')}, 2, "entry b[1]: NaN")]
+CASES += [Case(f"root8-{cmd}", "entry", "size", ("--timeout", "60", cmd, "{d}/m.json"), {"m.json": _ROOT8}, 0, "")
+          for cmd in ("verify", "order", "stability")]
+CASES += [Case(f"nested-glm-{cmd}", "entry", "size", ("--timeout", "60", cmd, "{d}/m.json"), {"m.json": _NESTED_GLM},
+               code, "") for cmd, code in (("verify", 0), ("order", 0), ("stability", 0))]

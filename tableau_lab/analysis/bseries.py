@@ -30,6 +30,7 @@ True
 """
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -37,6 +38,7 @@ import sympy as sp
 from sympy import QQ
 
 from ..budget import SERIES_ORDER
+from ..errors import BudgetError, InputError
 from ..exact.field import FastField
 from . import tree_kinds as _kinds
 from .tree_kinds import PLAIN, TreeKind, partitions
@@ -44,7 +46,8 @@ from .trees import TreeError, parse_tree, trees_up_to
 
 __all__ = ["BSeries", "exact_flow", "identity", "compose", "inverse", "adjoint", "substitute",
            "modified_field", "modifying_field", "flow_of", "series_order",
-           "stage_derivative", "kept_cuts", "flow_cuts", "compose_coefficients", "inverse_coefficients"]
+           "stage_derivative", "kept_cuts", "flow_cuts", "compose_coefficients", "inverse_coefficients",
+           "check_series_order"]
 
 #: the largest order a B-series is built to here (budget.SERIES_ORDER)
 MAX_SERIES_ORDER = SERIES_ORDER
@@ -138,6 +141,27 @@ def _solve_substitution(target: dict, outer: dict, max_order: int, F, kind: Tree
 
 # ------------------------------------------------------------------ the public object
 
+def check_series_order(n, what: str, lowest: int = 1) -> None:
+    """Refuse a series order outside lowest … MAX_SERIES_ORDER: an InputError below (or not an
+    integer), the series-order budget (a :class:`~tableau_lab.errors.BudgetError` naming
+    budget.SERIES_ORDER) above.
+
+    >>> check_series_order(50, "the B-series of m")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.errors.BudgetError: the B-series of m to order 50: series order budget of 12 exceeded; raise it with budget.SERIES_ORDER
+    """
+    try:
+        k = operator.index(n)
+    except TypeError:
+        k = None
+    if k is None or k < lowest:
+        raise InputError(f"{what}: the order must be an integer between {lowest} and {MAX_SERIES_ORDER}, not {n!r}")
+    n = k
+    if n > MAX_SERIES_ORDER:
+        raise BudgetError("series order", MAX_SERIES_ORDER, f"{what} to order {n}", "budget.SERIES_ORDER")
+
+
 @dataclass(frozen=True, eq=False)
 class BSeries:
     """A truncated B-series with exact coefficients (see the module docstring).
@@ -153,8 +177,7 @@ class BSeries:
     kind: TreeKind = PLAIN       # BICOLOURED: a P-series of a partitioned method
 
     def __post_init__(self):
-        if not 0 <= self.max_order <= MAX_SERIES_ORDER:
-            raise ValueError(f"a B-series is built to order at most {MAX_SERIES_ORDER} here, not {self.max_order}")
+        check_series_order(self.max_order, f"the B-series {self.label or ''}".rstrip(), lowest=0)
 
     @classmethod
     def from_function(cls, fn, max_order: int, label: str = "", empty=1, K=QQ, kind: TreeKind = PLAIN) -> "BSeries":

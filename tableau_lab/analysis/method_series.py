@@ -35,7 +35,7 @@ from dataclasses import dataclass
 from ..exact.field import FastField, field_of
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, PartitionedRungeKutta
-from .bseries import MAX_SERIES_ORDER, BSeries, kept_cuts
+from .bseries import BSeries, check_series_order, kept_cuts
 from .glm_order import _Solver
 from .prk_order import weight_function as prk_weights
 from .rk_order import weight_function
@@ -122,8 +122,7 @@ def error_terms(phi: dict, n: int) -> list:
 
 def method_series(m: Method, max_order: int) -> MethodSeries:
     """The exact B-series of ``m`` to ``max_order`` (see the module docstring)."""
-    if not 1 <= max_order <= MAX_SERIES_ORDER:
-        raise ValueError(f"the order of a B-series must be between 1 and {MAX_SERIES_ORDER}, not {max_order}")
+    check_series_order(max_order, f"the B-series of {m.name}")
     if isinstance(m, PartitionedRungeKutta):        # a P-series over bicoloured trees
         K = field_of([m.A, m.b, m.Ahat, m.bhat])
         F, phi_of = FastField(K), prk_weights(m, K)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,7 @@ import sympy as sp
 
 from ..errors import InputError
 from ..files import atomic_write_text
-from ..inputs import parse_json, read_json
+from ..inputs import parse_json, printable, read_json
 from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .library import FamilyError, family, is_family, library_path
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
@@ -49,6 +50,7 @@ CLAIMS = {
 }
 
 META = {"format", "name", "kind", "source", "notes", "claims", "constants"}
+MATRICES = {k for _, req, opt in KINDS.values() for k, shape in {**req, **opt}.items() if shape == "matrix"}
 MAX_CONSTANTS = 64          # named numbers in one file
 
 
@@ -91,7 +93,25 @@ def _int(text: str):
     return _BigInt(text) if len(text) > LIMITS["integer_digits"] + 1 else int(text)
 
 
-_HOOKS = {"parse_float": _Float, "parse_int": _int, "parse_constant": _Constant}
+def entry_name(parts) -> str:
+    """A tableau's one-based name of the JSON entry at ``parts`` (as in every tableau message):
+    ``("A", 0, 1)`` → ``A row 1, column 2``, ``("b", 2)`` → ``b[3]``, ``("claims", "order")`` →
+    ``claims.order``.
+
+    >>> entry_name(("A", 0, 1)), entry_name(("b", 2)), entry_name(("claims", "order"))
+    ('A row 1, column 2', 'b[3]', 'claims.order')
+    """
+    parts = list(parts)
+    if len(parts) >= 3 and isinstance(parts[1], int) and isinstance(parts[2], int) and parts[0] in MATRICES:
+        head, rest = f"{parts[0]} row {parts[1] + 1}, column {parts[2] + 1}", parts[3:]
+    else:
+        head, rest = "", parts
+    for p in rest:
+        head += f"[{p + 1}]" if isinstance(p, int) else (f".{p}" if head else str(p))
+    return printable(head) or "(top level)"
+
+
+_HOOKS = {"parse_float": _Float, "parse_int": _int, "parse_constant": _Constant, "name": entry_name}
 
 
 def _entry(value, source, where, consts=None):
@@ -127,9 +147,15 @@ def _constants(value, source) -> dict:
     return out
 
 
+_SMALL_DECIMAL = re.compile(r"-?[0-9]{0,20}(?:\.[0-9]{0,20})?(?:[eE][+-]?[0-9]{1,2})?")
+
+
 def _hint(text):
+    """The float's exact value as a hint, when it is short (``1e99999999`` is not expanded)."""
+    if not _SMALL_DECIMAL.fullmatch(text):
+        return "1/2"
     try:
-        return str(sp.Rational(text)) if len(text) < 30 else "1/2"
+        return str(sp.Rational(text))
     except (TypeError, ValueError):
         return "1/2"
 
@@ -235,6 +261,9 @@ def parse(text: str | bytes, source: str = "<tableau>") -> dict:
     """The JSON object of a tableau text, read by the strict reader of :mod:`~tableau_lab.inputs`
     with the tableau's size limit; floats, NaN and long integers are kept to be refused by entry
     (entries are not parsed yet: :func:`from_dict` does that)."""
+    if not isinstance(text, (str, bytes)):
+        raise TableauError(str(source), f"a tableau text is a str or bytes (the JSON text), not {type(text).__name__}: "
+                                        "load(path) reads a file, from_dict(obj) takes a parsed object")
     return parse_json(text, source, _error, "tableau", max_bytes=MAX_BYTES, **_HOOKS)
 
 
