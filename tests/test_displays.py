@@ -130,12 +130,12 @@ def _results() -> list:
            growth_parameters(m["example4_glm"]), growth_parameters(m["gauss2"]), *reports, *parts,
            verify(m["example4_glm"]), method_series(m["example4_glm"], 3), modified_equation(m["rk4"], 5),
            modified_hamiltonian(modified_field(method_series(m["implicit_midpoint"], 5).phi)),
-           structure(method_series(m["gauss2"], 4).phi), symmetric(m["example4_glm"]), symmetric(m["rk4"]), design,
+           structure(method_series(m["gauss2"], 4).phi), structure(method_series(m["stormer_verlet"], 3).phi), symmetric(m["example4_glm"]), symmetric(m["rk4"]), design,
            RepairResult(name="e_2", suspects=("A[2,1]",), printed={"A[2,1]": sp.Integer(2)}, design=design),
            RepairResult(name="e_2", suspects=(), printed={}, design=None),
            SearchResult(family="rk_2<x>", free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
                         constraints=("order=2",), candidates=(), evaluations=0)]
-    return out + [Combined((out[7], out[-9]), ("parasitism", "series")), Combined((out[0], out[7]))]
+    return out + [Combined((out[7], out[-10]), ("parasitism", "series")), Combined((out[0], out[7]))]
 
 
 @pytest.fixture(scope="module")

@@ -196,3 +196,33 @@ def test_modified_command_and_report_of_example4_and_glm43(name, tmp_path, capsy
     power, body = _section(tex, r"\tilde H")
     assert power == 4
     assert not same(read_latex_sum(body, {f"H({tree_tex(mh.kind, key)})": key for key in mh.beta}), dict(mh.terms(5)))
+
+
+@pytest.mark.parametrize("name", ["stormer_verlet", "symplectic_euler", "lobatto_iiia3"])
+def test_structure_of_a_partitioned_method_prints_the_equation_and_what_does_not_apply(name, capsys):
+    """Issue 29, item 5: ``modified --structure`` on a partitioned method exited 2 ("the structure
+    checks are written for B-series"); now the modified equation, then the modified energy's
+    order — symplectic PRK methods have one to every order ([HLW06] IX.3, Thm 3.1) — and the
+    checks that do not apply (an RK method keeps its B-series checks)."""
+    from tableau_lab.cli import main
+    assert main(["modified", str(library_path(name)), "--order", "4", "--structure"]) == 0
+    out = capsys.readouterr().out
+    assert "modified equation, trees to order 4" in out
+    if name == "lobatto_iiia3":
+        assert "symplectic            to order" in out and "P-series" not in out
+    else:
+        assert "modified energy (H-series over bicoloured free trees) to order ≥ 4 (budget)" in out
+        assert "not checked: symplectic, conjugate-symplectic, symmetric, energy-preserving" in out
+
+
+def test_a_partitioned_method_without_modified_energy_is_told_apart():
+    """Explicit Euler in both partitions has no modified energy beyond the first order: its h-term
+    −½ f′f has b([τ]) = −1/2, and a Hamiltonian field needs b(u∘v) + b(v∘u) = 0, here 2b([τ]) = 0
+    ([HLW06] IX.9.3), so the conditions fail at order 2."""
+    from tableau_lab.analysis.method_series import method_series
+    from tableau_lab.analysis.series_structure import structure
+    from tableau_lab.exact.methods import PartitionedRungeKutta
+    euler = PartitionedRungeKutta.from_lists([[0]], [1], [[0]], [1], name="Euler, both parts")
+    s = structure(method_series(euler, 4).phi)
+    assert s.energy == 1 and "the conditions fail at order 2" in str(s)
+    assert s.to_json()["not_checked"] == ["symplectic", "conjugate-symplectic", "symmetric", "energy-preserving"]
