@@ -226,3 +226,16 @@ def test_a_partitioned_method_without_modified_energy_is_told_apart():
     s = structure(method_series(euler, 4).phi)
     assert s.energy == 1 and "the conditions fail at order 2" in str(s)
     assert s.to_json()["not_checked"] == ["symplectic", "conjugate-symplectic", "symmetric", "energy-preserving"]
+
+
+def test_every_file_a_method_source_names_is_in_the_repository():
+    """Issue 29, item 10: a method's ``source`` (printed in the report's Source section and the
+    notebook repr) named a developer's path, ``shared/seed/…txt``, that is not in the repository;
+    a source is a citation, and a file it names is one a user has."""
+    import json
+    from pathlib import Path
+    root = Path(__file__).resolve().parents[1]
+    for path in sorted((root / "methods").rglob("*.json")):
+        source = json.loads(path.read_text()).get("source", "")      # design files need not load
+        for named in re.findall(r"[\w.-]+(?:/[\w.-]+)+\.\w+", source):
+            assert (root / named).is_file(), (path.name, named)

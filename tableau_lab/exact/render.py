@@ -24,12 +24,13 @@ literal (CommonMark backslash escapes; the backslash and ``$`` escaped once more
 whose ``processEscapes`` reads ``\\`` and ``\$``; control characters shown as escapes):
 
 >>> print(markdown_literal(r"\\<img src=x> $a$ *b*"))
-\\\\\\\\\<img src\=x\> \\\$a\\\$ \*b\*
+\\\\\\\\\<img src=x\> \\\$a\\\$ \*b\*
 >>> print(latex_text("a_b $x$ 50% \\"))
 a\_b \$x\$ 50\% \textbackslash{}
 """
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterable
 from typing import NamedTuple
 
@@ -116,26 +117,37 @@ def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = 
 
 # ------------------------------------------------------------------ plain text, literally
 
-_PUNCTUATION = frozenset("!\"#%&'()*+,-./:;<=>?@[]^_`{|}~")       # CommonMark's escapable ASCII punctuation
+_ALWAYS = frozenset("\\`*_[]<>&~|#$")      # markup anywhere in a line (CommonMark, GFM tables and strikethrough)
+_LINE_START = re.compile(r"^([ \t]*)(?:(\d{1,9})([.)])|([-+=>.)]))", re.M)  # list items, headings, quotes
 
 
 def _visible(ch: str) -> str:
     """A control character as the escape a reader recognises (\\n, \\t, \\x1b, …)."""
-    return repr(ch)[1:-1] if ch not in "\n\t\r" else {"\n": r"\n", "\t": r"\t", "\r": r"\r"}[ch]
+    return {"\n": r"\n", "\t": r"\t", "\r": r"\r"}.get(ch) or repr(ch)[1:-1]
 
 
-def markdown_literal(text: str) -> str:
-    """Plain text as Markdown that renders as exactly that text, on one line, with nothing live:
-    each ASCII punctuation character backslash-escaped (CommonMark), the backslash and ``$``
-    escaped once more so that the HTML holds ``\\\\`` and ``\\$``, MathJax's literal backslash and
-    dollar; control characters (newlines included) shown as their escapes."""
+def markdown_literal(text: str, lines: bool = False, line_start: bool = True) -> str:
+    """Plain text as Markdown that renders as exactly that text, with nothing live: the characters
+    that are markup anywhere (``\\ ` * _ [ ] < > & ~ | # $``) backslash-escaped (CommonMark),
+    the backslash and ``$`` once more so that the HTML holds ``\\\\`` and ``\\$``, MathJax's
+    literal backslash and dollar (``processEscapes``); what would open a block at the start of a
+    line (``-``, ``+``, ``1.``, ``>``, …) escaped there.  Control characters are shown as their
+    escapes — newlines too, unless ``lines`` (prose keeps its lines); ``line_start`` False: the
+    text continues a line (its first character is not at a line start)."""
     out = []
     for ch in str(text):
-        if ch.isprintable() or ch == " ":
-            out.append(r"\\\\" if ch == "\\" else r"\\\$" if ch == "$" else "\\" + ch if ch in _PUNCTUATION else ch)
-        else:
+        if lines and ch == "\n":
+            out.append(ch)
+        elif not (ch.isprintable() or ch == " "):
             out.append(markdown_literal(_visible(ch)))
-    return "".join(out)
+        elif ch == "\\":
+            out.append(r"\\\\")
+        elif ch == "$":
+            out.append(r"\\\$")
+        else:
+            out.append("\\" + ch if ch in _ALWAYS else ch)
+    return _LINE_START.sub(lambda m: m[0] if m.start() == 0 and not line_start else
+                           m[1] + (f"{m[2]}\\{m[3]}" if m[2] else "\\" + m[4]), "".join(out))
 
 
 _LATEX_TEXT = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
