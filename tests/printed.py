@@ -91,8 +91,10 @@ def latex_to_grammar(tex: str) -> str:
                 n = seq("]")
                 return f"(({group()})^(1/({n})))"
             return f"sqrt({group()})"
-        if t in (r"\cos", r"\sin"):
-            return t[1:] + group()
+        if t in (r"\cos", r"\sin"):                   # \cos^{2}{\left(…\right)} is cos(…)^2
+            power = take() and group() if toks[pos] == "^" else None
+            call = t[1:] + group()
+            return call if power is None else f"({call})^{power}"
         if t == r"\pi":
             return "pi"
         if t == r"\kappa":

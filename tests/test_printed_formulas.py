@@ -1,8 +1,8 @@
 """A printed formula is a claim (issue 29, item 1): every modified equation, modified Hamiltonian,
-error term and stability function the library's methods print — text, LaTeX, JSON and the PDF
-report's .tex — is read back with the project's grammar (tests/printed.py) and compared exactly
-with the series or polynomial it was printed from; each term carries exactly one elementary
-differential.  On 5ea0488 a coefficient in ℚ(√3) lost its parentheses
+error term and stability function the library's methods print — text, LaTeX, the notebook's
+Markdown, JSON and the PDF report's .tex — is read back with the project's grammar
+(tests/printed.py) and compared exactly with the series or polynomial it was printed from; each
+term carries exactly one elementary differential.  On 5ea0488 a coefficient in ℚ(√3) lost its parentheses
 (``+ 1/45 + sqrt(3)/72 f''(f, f''(f, f))``) and these comparisons fail."""
 import re
 
@@ -84,10 +84,12 @@ def test_modified_equation_text_latex_json_reparse_to_the_series(equations, name
     tex = me.to_latex()
     zeroth = tex.split(" = ", 1)[1].split(r" \\ &\quad + ", 1)[0]
     assert not same(read_latex_sum(zeroth, tex_vocab) if zeroth != "0" else {}, expected.get(0, {})), name
-    groups = _groups(tex, "h")
-    assert {n for n, _ in groups} == expected.keys() - {0}
-    for n, body in groups:
-        assert not same(read_latex_sum(body, tex_vocab), expected[n]), (name, n)
+    math = re.search(r"\$\$(.*)\$\$", me._repr_markdown_(), re.S)[1]      # the notebook's Markdown
+    for shown in (tex, math):
+        groups = _groups(shown, "h")
+        assert {n for n, _ in groups} == expected.keys() - {0}
+        for n, body in groups:
+            assert not same(read_latex_sum(body, tex_vocab), expected[n]), (name, n)
     terms = me.to_json()["terms"]
     assert len(terms) == sum(map(len, expected.values()))
     for term in terms:
@@ -154,6 +156,8 @@ def test_stability_function_and_polynomial_reparse(name):
     if r.kind == "rk":
         R = r.stability_function.xreplace(real)
         assert _zero_rational_function(parse_entry(printed["R(z)"]) - R), name
+        tex = re.search(r"R\(z\) = (.*?), \\qquad", r.to_latex())[1]
+        assert _zero_rational_function(parse_entry(latex_to_grammar(tex)).xreplace(real) - R), name
         json_r = r.to_json()["stability_function"]
         assert _zero_rational_function(parse_entry(json_r["R"]) - R)
         assert _zero_rational_function(parse_entry(json_r["N"]) / parse_entry(json_r["D"]) - R)
