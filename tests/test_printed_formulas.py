@@ -99,11 +99,10 @@ def test_modified_equation_text_latex_json_reparse_to_the_series(equations, name
 
 @pytest.mark.parametrize("name", NAMES)
 def test_modified_hamiltonian_text_and_latex_reparse_to_beta(equations, name):
-    from tableau_lab.analysis.modified_hamiltonian import tree_tex
     mh = modified_hamiltonian(equations[name].field)
     k = mh.kind
     vocab = {f"H({k.bracket(key)})": key for key in mh.beta}
-    tex_vocab = {f"H({tree_tex(k, key)})": key for key in mh.beta}
+    tex_vocab = {f"H({k.tex(key)})": key for key in mh.beta}
     expected = {n: dict(mh.terms(n)) for n in range(2, mh.order + 1) if mh.terms(n)}
     found = {}
     for line in str(mh).splitlines()[1:]:
@@ -195,11 +194,10 @@ def test_modified_command_and_report_of_example4_and_glm43(name, tmp_path, capsy
     power, body = _section(tex, r"\tilde f")
     assert power == 4
     assert not same(read_latex_sum(body, {k.differential(t, tex=True): t for t in trees}), expected[4])
-    from tableau_lab.analysis.modified_hamiltonian import tree_tex
     mh = modified_hamiltonian(me.field)
     power, body = _section(tex, r"\tilde H")
     assert power == 4
-    assert not same(read_latex_sum(body, {f"H({tree_tex(mh.kind, key)})": key for key in mh.beta}), dict(mh.terms(5)))
+    assert not same(read_latex_sum(body, {f"H({mh.kind.tex(key)})": key for key in mh.beta}), dict(mh.terms(5)))
 
 
 @pytest.mark.parametrize("name", ["stormer_verlet", "symplectic_euler", "lobatto_iiia3"])
@@ -243,3 +241,19 @@ def test_every_file_a_method_source_names_is_in_the_repository():
         source = json.loads(path.read_text()).get("source", "")      # design files need not load
         for named in re.findall(r"[\w.-]+(?:/[\w.-]+)+\.\w+", source):
             assert (root / named).is_file(), (path.name, named)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_method_series_latex_reparses(name):
+    """The B-/P-series Φ(t) table in LaTeX (the notebook display): each value, read back, is Φ(t)
+    (on 5ea0488 it held grammar text, sqrt(3)/6, which LaTeX reads as s·q·r·t·3/6)."""
+    from tableau_lab.analysis.method_series import method_series
+    ms = method_series(load(library_path(name)), 3)
+    k = ms.phi.kind
+    trees = {k.tex(t): t for t, _ in ms.phi.items()}
+    body = re.fullmatch(r"\\begin\{array\}\{c\|c\} t & \\Phi\(t\) \\\\ \\hline (.*) \\end\{array\}", ms.to_latex(), re.S)[1]
+    rows = [r.strip() for r in body.split(r" \\") if r.strip()]
+    assert len(rows) == len(trees)
+    for row in rows:
+        tree, value = row.split(" & ")
+        assert is_zero(parse_entry(latex_to_grammar(value)) - ms.phi[trees[tree]]), (name, row)

@@ -41,9 +41,8 @@ from .bseries import BSeries
 from .free_trees import free_tree, rootings
 from .results import Result
 from .tree_kinds import PLAIN, TreeKind, graft
-from .trees import latex
 
-__all__ = ["modified_hamiltonian", "ModifiedHamiltonian", "tree_tex", "elementary_hamiltonian", "elementary_differential"]
+__all__ = ["modified_hamiltonian", "ModifiedHamiltonian", "elementary_hamiltonian", "elementary_differential"]
 
 
 @lru_cache(maxsize=None)
@@ -106,7 +105,7 @@ class ModifiedHamiltonian(Result):
     def sum(self, n: int, notation=TEXT, number=None, **rows) -> str:
         """The h^(n−1) term Σ β(π) H(π) printed in ``notation`` (TEXT or LATEX; ``number``: the
         writer of values, e.g. the report's named constants; ``rows``: :func:`exact_sum`'s)."""
-        tree = (lambda k: tree_tex(self.kind, k)) if notation is LATEX else self.kind.bracket
+        tree = self.kind.tex if notation is LATEX else self.kind.bracket
         pairs = [(v, f"H({tree(k)})") for k, v in self.terms(n)]
         return exact_sum(pairs, notation if number is None else notation.using(number), **rows)
 
@@ -117,11 +116,6 @@ class ModifiedHamiltonian(Result):
     def to_latex(self):
         parts = [f"h^{{{n - 1}}}\\left({self.sum(n, LATEX)}\\right)" for n in range(2, self.order + 1) if self.terms(n)]
         return r"\tilde H = H + " + " + ".join(parts) if parts else r"\tilde H = H"
-
-
-def tree_tex(kind: TreeKind, t) -> str:
-    """A (free or rooted) tree in LaTeX: nested brackets of τ, or of bullets for bicoloured trees."""
-    return latex(t) if not kind.coloured else kind.bracket(t).replace("●", r"\bullet ").replace("○", r"\circ ")
 
 
 def modified_hamiltonian(b: BSeries) -> ModifiedHamiltonian:

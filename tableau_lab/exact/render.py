@@ -43,19 +43,21 @@ __all__ = ["Notation", "TEXT", "LATEX", "signed_term", "exact_sum", "is_sum", "m
 
 class Notation(NamedTuple):
     """How a sum is written: ``number`` writes an exact value, ``times`` stands between a
-    coefficient and its term, ``left``/``right`` enclose a coefficient that is a sum."""
+    coefficient and its term, ``left``/``right`` enclose a coefficient that is a sum, ``minus``
+    leads a sum whose first term is negative."""
     number: Callable
     times: str
     left: str
     right: str
+    minus: str
 
     def using(self, number: Callable) -> "Notation":
         """The same notation with another writer of values (the report's named constants)."""
         return self._replace(number=number)
 
 
-TEXT = Notation(lambda e: str(format_entry(e)), " ", "(", ")")
-LATEX = Notation(sp.latex, r"\, ", r"\left(", r"\right)")
+TEXT = Notation(lambda e: str(format_entry(e)), " ", "(", ")", "-")
+LATEX = Notation(sp.latex, r"\, ", r"\left(", r"\right)", "- ")
 
 _OPEN, _CLOSE = "([{", ")]}"
 
@@ -106,9 +108,9 @@ def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = 
     out = []
     for i, (negative, body) in enumerate(terms):
         if i == 0:
-            out.append(("-" if notation.times == " " else "- ") + body if negative else body)
+            out.append(notation.minus + body if negative else body)
             continue
-        sep = f" {newline}" if per_row and i % per_row == 0 and newline else " "
+        sep = f" {newline} " if per_row and i % per_row == 0 and newline else " "
         out.append(f"{sep}{'-' if negative else '+'} {body}")
     if cut:
         out.append(f" + {more}")
