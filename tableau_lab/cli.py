@@ -85,7 +85,7 @@ def _modified(args) -> int:
                 from .analysis.method_series import method_series
                 from .analysis.series_structure import structure
                 res = Combined((res, structure(method_series(method, args.order).phi)), ("", "structure"))
-        except ValueError as exc:          # a PRK (P-series), a GLM without a simple eigenvalue 1 of V
+        except ValueError as exc:          # a GLM without a simple eigenvalue 1 of V
             raise TableauError(path, str(exc)) from None
         return res, ()
     return _each_method(args, analyse)
@@ -638,14 +638,17 @@ def build_parser() -> argparse.ArgumentParser:
                                     "(Hairer, Lubich & Wanner, Geometric Numerical Integration, IX). Prints the "
                                     "coefficients b(t)/σ(t) by powers of h for every tree of order ≤ N. "
                                     "--structure adds the orders to which the series is symplectic, "
-                                    "conjugate-symplectic, symmetric and energy-preserving.")
+                                    "conjugate-symplectic, symmetric and energy-preserving (for a partitioned "
+                                    "method, a P-series: the order to which a modified energy exists, and which "
+                                    "of the B-series checks do not apply).")
     md.add_argument("files", nargs="+", metavar="FILE")
     md.add_argument("--order", type=_count(1, MODIFIED_MAX_ORDER), default=5, metavar="N",
                     help=f"trees of order ≤ N, terms up to h^(N−1) (default 5, at most {MODIFIED_MAX_ORDER})")
     md.add_argument("--modifying", action="store_true",
                     help="the modifying integrator: the field whose numerical flow is the exact flow of f")
     md.add_argument("--structure", action="store_true",
-                    help="also: symplectic, conjugate-symplectic, symmetric, energy-preserving to which order")
+                    help="also: symplectic, conjugate-symplectic, symmetric, energy-preserving to which order "
+                         "(partitioned methods: the modified energy's order)")
     md.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     md.set_defaults(run=_modified)
     st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval, and for GLMs "

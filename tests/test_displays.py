@@ -8,7 +8,8 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from tableau_lab.analysis.results import Combined, Result, latex_markdown, markdown_text
+from tableau_lab.analysis.results import Combined, Result, latex_markdown
+from tableau_lab.exact.render import markdown_literal
 from tableau_lab.exact.library import family, library_path
 from tableau_lab.exact.methods import RungeKutta
 from tableau_lab.exact.tableau_json import load
@@ -130,12 +131,12 @@ def _results() -> list:
            growth_parameters(m["example4_glm"]), growth_parameters(m["gauss2"]), *reports, *parts,
            verify(m["example4_glm"]), method_series(m["example4_glm"], 3), modified_equation(m["rk4"], 5),
            modified_hamiltonian(modified_field(method_series(m["implicit_midpoint"], 5).phi)),
-           structure(method_series(m["gauss2"], 4).phi), symmetric(m["example4_glm"]), symmetric(m["rk4"]), design,
+           structure(method_series(m["gauss2"], 4).phi), structure(method_series(m["stormer_verlet"], 3).phi), symmetric(m["example4_glm"]), symmetric(m["rk4"]), design,
            RepairResult(name="e_2", suspects=("A[2,1]",), printed={"A[2,1]": sp.Integer(2)}, design=design),
            RepairResult(name="e_2", suspects=(), printed={}, design=None),
            SearchResult(family="rk_2<x>", free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
                         constraints=("order=2",), candidates=(), evaluations=0)]
-    return out + [Combined((out[7], out[-9]), ("parasitism", "series")), Combined((out[0], out[7]))]
+    return out + [Combined((out[7], out[-10]), ("parasitism", "series")), Combined((out[0], out[7]))]
 
 
 @pytest.fixture(scope="module")
@@ -156,7 +157,7 @@ def test_markdown_and_latex_of_every_result(results):
         assert not markdown_problems(md), (type(r).__name__, markdown_problems(md), md[:400])
         assert tex is None or not math_problems(tex), (type(r).__name__, math_problems(tex), tex[:400])
         head = str(r).split("\n", 1)[0].strip()
-        assert not head or md.startswith(f"**{markdown_text(head)}**"), (type(r).__name__, md[:100])
+        assert not head or md.startswith(f"**{markdown_literal(head)}**"), (type(r).__name__, md[:100])
 
 
 def test_latex_is_offered_exactly_for_the_results_that_are_all_math(results):
@@ -248,3 +249,90 @@ def test_the_report_typesets_the_same_tableau():
         r"\[ \begin{array}{c|cc} 0 & 0 & 0 \\ 1 & \frac{1}{2} & \frac{1}{2} \\ \hline & \frac{1}{2} & \frac{1}{2} "
         r"\end{array} \qquad \begin{array}{c|cc} \frac{1}{2} & \frac{1}{2} & 0 \\ \frac{1}{2} & \frac{1}{2} & 0 \\ "
         r"\hline & \frac{1}{2} & \frac{1}{2} \end{array} \]")
+
+
+# ------------------------------------------------------------------ hostile names (issue 29, item 11)
+
+HOSTILE_NAMES = [r"\\<img src=x onerror=alert(1)//>", "\\<img src=x onerror=alert(1)//>", "<script>alert(1)</script>",
+                 "$x$", "$$x$$", r"\(x\)", r"\[x\]", r"\begin{align}x\end{align}", "`code`", "``x``", "a ` b",
+                 "[link](javascript:alert(1))", "![i](x)", "a\nb", "a\n\n<img src=x onerror=1>", "&lt;img src=x&gt;",
+                 "&#36;x&#36;", "&#60;img src=x&#62;", "**b** _i_", "- item", "1. item", "# h", "> q", "a|b", "~~s~~",
+                 "\\", "\\$x\\$", "x\\", "<!-- c -->", "\u001b[2J\u0000", r"{\textbf{x}}", r"\textbackslash{}",
+                 "50% & #1 ~ ^", "<http://x>", "\\\\(x\\\\)"]
+
+
+class _Html:
+    """The tags and attributes of rendered HTML, and its text outside <code> (what MathJax reads)."""
+
+    def __init__(self, html: str):
+        from html.parser import HTMLParser
+        self.tags, self.attrs, self.text, self.h3 = [], [], [], []
+        depth = {"code": 0, "h3": 0}
+        me = self
+
+        class P(HTMLParser):
+            def handle_starttag(self, tag, attrs):
+                me.tags.append(tag)
+                me.attrs += attrs
+                if tag in depth:
+                    depth[tag] += 1
+
+            def handle_endtag(self, tag):
+                if tag in depth:
+                    depth[tag] -= 1
+
+            def handle_data(self, data):
+                if not depth["code"]:
+                    me.text.append(data)
+                if depth["h3"]:
+                    me.h3.append(data)
+        P(convert_charrefs=True).feed(html)
+
+
+def mathjax_delimiters(text: str) -> list:
+    r"""What MathJax (Jupyter: ``$``, ``$$``, ``\(``, ``\[``, environments, ``processEscapes``)
+    would take for math delimiters in ``text``, left to right; ``\\`` and ``\$`` are its escapes."""
+    return [m[0] for m in re.finditer(r"\\\\|\\\$|\$\$?|\\[(\[)\]]|\\begin\{", text) if m[0] not in ("\\\\", "\\$")]
+
+
+def _unescape_mathjax(text: str) -> str:
+    return re.sub(r"\\([\\$])", r"\1", text)
+
+
+def _hostile_displays(name: str) -> list:
+    from tableau_lab.analysis.design import RepairResult
+    from tableau_lab.analysis.modified import modified_equation
+    from tableau_lab.experiments.design_search import SearchResult
+    m = RungeKutta.from_lists([[0, 0], [sp.Rational(1, 2), 0]], [0, 1], name=name)
+    return [m, modified_equation(m, 2), RepairResult(name=name, suspects=(), printed={}, design=None),
+            SearchResult(family=name, free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
+                         constraints=(), candidates=(), evaluations=0)]
+
+
+def test_hostile_names_render_as_text_under_commonmark():
+    """A method name is text in every notebook display: rendered by a CommonMark renderer
+    (markdown-it-py, with GFM tables and strikethrough) it makes no tag of its own, no attribute,
+    no math delimiter MathJax would read (compared with the same display of a plain name), and
+    reads back as the name itself.  On 5ea0488 ``\\\\<img …>`` rendered a live <img>, and ``$x$``
+    reached MathJax as math."""
+    from markdown_it import MarkdownIt
+    md = MarkdownIt("commonmark").enable(["table", "strikethrough"])
+    plain = [_Html(md.render(d._repr_markdown_())) for d in _hostile_displays("plain")]
+    for name in HOSTILE_NAMES:
+        for d, ref in zip(_hostile_displays(name), plain):
+            source = d._repr_markdown_()
+            html = _Html(md.render(source))
+            what = (name, type(d).__name__, source[:200])
+            assert sorted(set(html.tags)) == sorted(set(ref.tags)) and html.attrs == ref.attrs == [], what
+            assert mathjax_delimiters("".join(html.text)) == mathjax_delimiters("".join(ref.text)), what
+            if isinstance(d, RungeKutta) and name.isprintable():
+                assert _unescape_mathjax("".join(html.h3)) == name, what
+
+
+def test_latex_text_of_a_name_is_literal():
+    """The report's and the displays' LaTeX text mode: every special character of a name escaped."""
+    from tableau_lab.exact.render import latex_text
+    for name in HOSTILE_NAMES:
+        tex = latex_text(name)
+        rest = re.sub(r"\\(?:textbackslash|textasciitilde|textasciicircum)\{\}|\\[$%&#_{}]", "", tex)
+        assert not set(rest) & set("\\$%&#_{}~^") and rest.isprintable(), (name, tex)

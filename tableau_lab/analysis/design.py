@@ -49,6 +49,7 @@ import sympy as sp
 from ..errors import InputError
 from ..exact.field import is_zero, normal_form, power
 from ..exact.grammar import EntryError, format_entry, parse_entry
+from ..exact.render import latex_text
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
 from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
@@ -180,7 +181,8 @@ class DesignResult(Result):
                 "rejected": [s.to_json() for s in self.rejected], "seconds": round(self.seconds, 3)}
 
     def to_latex(self):
-        parts = [f"\\paragraph{{{self.name}}} Requirements: {', '.join(map(str, self.requirements))}; status: {self.status}."]
+        parts = [f"\\paragraph{{{latex_text(self.name)}}} Requirements: {latex_text(', '.join(map(str, self.requirements)))}; "
+                 f"status: {latex_text(self.status)}."]
         for i, sol in enumerate(self.solutions, 1):
             eqs = ", ".join(f"{sp.latex(k)} = {sp.latex(v)}" for k, v in sol.parameters.items())
             parts.append(f"Solution {i} ({sol.label}): \\( {eqs} \\).")

@@ -32,6 +32,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import sympy as sp
+
 from ..exact.field import FastField, field_of
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, PartitionedRungeKutta
@@ -75,9 +77,7 @@ class MethodSeries(Result):
                 "starting_method": {bracket(t): [s(x) for x in xi] for t, xi in self.starting.items()}}
 
     def to_latex(self):
-        from .trees import latex
-        rows = [f"{latex(t) if not self.phi.kind.coloured else self.phi.kind.bracket(t)} & {format_entry(v)}" + r" \\"
-                for t, v in self.phi.items()]
+        rows = [f"{self.phi.kind.tex(t)} & {sp.latex(v)}" + r" \\" for t, v in self.phi.items()]
         return r"\begin{array}{c|c} t & \Phi(t) \\ \hline " + "\n".join(rows) + r" \end{array}"
 
 

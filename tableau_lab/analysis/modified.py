@@ -22,11 +22,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import sympy as sp
-
 from ..budget import MODIFIED_ORDER, computing
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..exact.render import LATEX, TEXT, exact_sum
 from .bseries import BSeries, modified_field, modifying_field
 from .method_series import method_series
 from .results import Result
@@ -61,23 +60,24 @@ class ModifiedEquation(Result):
         lines = [f"{self.method}: {what}, trees to order {self.max_order}"]
         if self.method_kind == "glm":
             lines[0] += " (underlying one-step method)"
-        by_power: dict = {}
         k = self.field.kind
         if k.coloured:
             lhs = "(q̃′, p̃′) =" if self.kind == "modified" else "(q′, p′) ="
             lines[0] += " (P-series: q′ = f(q, p), p′ = g(q, p); f-terms go to q̃′, g-terms to p̃′)"
+        by_power = self._by_power(TEXT)
+        lines.append(f"  {lhs} {by_power.pop(0, '0')}")
+        for n, body in sorted(by_power.items()):
+            lines.append(f"     + {('h' if n == 1 else 'h^' + str(n)).ljust(4)}( {body} )")
+        return "\n".join(lines)
+
+    def _by_power(self, notation) -> dict:
+        """power of h -> the sum of its terms b(t)/σ(t) F(t), printed in ``notation``."""
+        k, tex = self.field.kind, notation is LATEX
+        pairs: dict = {}
         for t, v in self.field.items():
             if v != 0:
-                by_power.setdefault(k.order(t) - 1, []).append(f"{format_entry(v / k.symmetry(t))} {k.differential(t)}")
-        for k in sorted(by_power):
-            body = " + ".join(by_power[k]).replace("+ -", "- ")
-            if k == 0:
-                lines.append(f"  {lhs} " + body.replace("1 f", "f").replace("1 g", "g"))
-            else:
-                lines.append(f"     + {('h' if k == 1 else 'h^' + str(k)).ljust(4)}( {body} )")
-        if 0 not in by_power:
-            lines.insert(1, f"  {lhs} 0")
-        return "\n".join(lines)
+                pairs.setdefault(k.order(t) - 1, []).append((v / k.symmetry(t), k.differential(t, tex=tex)))
+        return {n: exact_sum(p, notation) for n, p in pairs.items()}
 
     def to_json(self):
         k = self.field.kind
@@ -88,18 +88,9 @@ class ModifiedEquation(Result):
                 "series": self.field.to_json()}
 
     def to_latex(self):
-        by_power: dict = {}
-        k = self.field.kind
-        for t, v in self.field.items():
-            if v != 0:
-                c = v / k.symmetry(t)
-                by_power.setdefault(k.order(t) - 1, []).append(
-                    (f"{sp.latex(c)}\\, " if c != 1 else "") + k.differential(t, tex=True))
-        parts = []
-        for n in sorted(by_power):
-            body = " + ".join(by_power[n]).replace("+ -", "- ")
-            hk = "" if n == 0 else ("h" if n == 1 else f"h^{{{n}}}")
-            parts.append(body if n == 0 else rf"{hk}\left({body}\right)")
+        by_power = self._by_power(LATEX)
+        parts = [body if n == 0 else rf"{'h' if n == 1 else f'h^{{{n}}}'}\left({body}\right)"
+                 for n, body in sorted(by_power.items())]
         lhs = r"\tilde f" if self.kind == "modified" else r"f_h"
         return f"{lhs} = " + r" \\ &\quad + ".join(parts) if parts else f"{lhs} = 0"
 

@@ -36,11 +36,11 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import solve_linear
 from ..exact.grammar import format_entry
+from ..exact.render import LATEX, TEXT, exact_sum
 from .bseries import BSeries
 from .free_trees import free_tree, rootings
 from .results import Result
 from .tree_kinds import PLAIN, TreeKind, graft
-from .trees import latex
 
 __all__ = ["modified_hamiltonian", "ModifiedHamiltonian", "elementary_hamiltonian", "elementary_differential"]
 
@@ -98,22 +98,23 @@ class ModifiedHamiltonian(Result):
         lines = [f"{self.label}: modified energy H̃ = H + …, free trees to order {self.order}"
                  + (f" (the conditions fail at order {self.order + 1})" if self.order < self.max_order else "")]
         for n in range(2, self.order + 1):
-            body = " + ".join(f"{format_entry(v)} H({self.kind.bracket(k)})" for k, v in self.terms(n)).replace("+ -", "- ")
-            if body:
-                lines.append(f"  h^{n - 1}: {body}")
+            if self.terms(n):
+                lines.append(f"  h^{n - 1}: {self.sum(n, TEXT)}")
         return "\n".join(lines)
+
+    def sum(self, n: int, notation=TEXT, number=None, **rows) -> str:
+        """The h^(n−1) term Σ β(π) H(π) printed in ``notation`` (TEXT or LATEX; ``number``: the
+        writer of values, e.g. the report's named constants; ``rows``: :func:`exact_sum`'s)."""
+        tree = self.kind.tex if notation is LATEX else self.kind.bracket
+        pairs = [(v, f"H({tree(k)})") for k, v in self.terms(n)]
+        return exact_sum(pairs, notation if number is None else notation.using(number), **rows)
 
     def to_json(self):
         return {"label": self.label, "max_order": self.max_order, "order": self.order, "free": self.free,
                 "beta": {self.kind.bracket(k): str(format_entry(v)) for k, v in self.beta.items() if v != 0}}
 
     def to_latex(self):
-        parts = []
-        for n in range(2, self.order + 1):
-            body = " + ".join(f"{sp.latex(v)}\\, H({latex(k) if not self.kind.coloured else self.kind.bracket(k)})"
-                              for k, v in self.terms(n)).replace("+ -", "- ")
-            if body:
-                parts.append(f"h^{{{n - 1}}}\\left({body}\\right)")
+        parts = [f"h^{{{n - 1}}}\\left({self.sum(n, LATEX)}\\right)" for n in range(2, self.order + 1) if self.terms(n)]
         return r"\tilde H = H + " + " + ".join(parts) if parts else r"\tilde H = H"
 
 

@@ -32,6 +32,7 @@ import re
 import sympy as sp
 
 from ..exact.grammar import format_matrix
+from ..exact.render import markdown_literal
 
 __all__ = ["Result", "Combined", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
 
@@ -57,10 +58,9 @@ _SEGMENT = re.compile(                          # the math and the tables of a t
     r"|\\begin\{(?P<tab>tabular|longtable)\}\{[^}]*\}(?P<t>.*?)\\end\{(?P=tab)\}"       # tables
     r"|\\\((?P<i1>.*?)\\\)|(?<!\\)\$(?P<i2>.*?)(?<!\\)\$", re.S)                       # \( … \), $ … $
 _RULES = re.compile(r"\\(?:hline|toprule|midrule|bottomrule)\b")
-_TEXT_COMMANDS = ((re.compile(r"\\par\b\s*"), "\n\n"), (re.compile(r"\\(?:paragraph|textbf)\{([^{}]*)\}"), r"**\1**"),
-                  (re.compile(r"\\(?:emph|textit)\{([^{}]*)\}"), r"*\1*"),
-                  (re.compile(r"\\texttt\{([^{}]*)\}"), lambda mo: "`" + mo[1].replace("\\", "") + "`"),
-                  (re.compile(r"\\text\{([^{}]*)\}"), r"\1"), (re.compile(r"(?<!\\)~"), "\u00a0"))
+_PROSE = re.compile(                            # the LaTeX text mode the results' to_latex uses
+    r"(?P<par>\\par\b\s*)|\\(?P<cmd>paragraph|textbf|emph|textit|texttt|text)\{(?P<arg>[^{}]*)\}"
+    r"|\\(?P<named>textbackslash|textasciitilde|textasciicircum)\{\}|\\(?P<esc>[_$%&#{}])|(?P<nbsp>(?<!\\)~)")
 
 
 def _display_body(mo) -> str | None:
@@ -68,17 +68,52 @@ def _display_body(mo) -> str | None:
     return next((mo[k] for k in ("d1", "d2", "d3") if mo[k] is not None), None)
 
 
-def markdown_text(text: str) -> str:
-    """Plain text (or LaTeX text mode) safe in Markdown: the characters Markdown would read as
-    markup are backslash-escaped, unless LaTeX escaped them already (``\\_``)."""
-    return re.sub(r"(?<!\\)([*_`<>\[\]|#])", r"\\\1", text)
+_NAMED = {"textbackslash": "\\", "textasciitilde": "~", "textasciicircum": "^"}
+_MARKUP = {"paragraph": "**", "textbf": "**", "emph": "*", "textit": "*", "text": ""}
 
 
-def _prose(text: str) -> str:
-    text = markdown_text(text)
-    for pattern, repl in _TEXT_COMMANDS:
-        text = pattern.sub(repl, text)
-    return text
+def _code_span(text: str) -> str:
+    """``text`` as a CommonMark code span (literal: no escapes, no HTML; MathJax skips <code>):
+    the fence one backtick longer than any run of backticks in it."""
+    fence = "`" * (max((len(r) for r in re.findall("`+", text)), default=0) + 1)
+    pad = " " if text.startswith("`") or text.endswith("`") or not text.strip() else ""
+    return f"{fence}{pad}{text}{pad}{fence}"
+
+
+def _untex(text: str) -> str:
+    """LaTeX text mode's escapes (``\\_``, ``\\textbackslash{}``, …) as the characters they stand for."""
+    return _PROSE.sub(lambda m: _NAMED[m["named"]] if m["named"] else m["esc"] if m["esc"] else m[0], text)
+
+
+def markdown_text(text: str, line_start: bool = True) -> str:
+    """LaTeX text mode (prose of a result's ``to_latex``) as Markdown, built piece by piece: each
+    run of text made literal (:func:`..exact.render.markdown_literal`, lines kept), each escape
+    (``\\_``, ``\\$``, ``\\textbackslash{}``) the literal character, ``\\textbf{…}`` and
+    ``\\paragraph{…}`` bold, ``\\emph{…}`` italic, ``\\texttt{…}`` a code span, ``\\par`` a
+    paragraph break, ``~`` a no-break space.  Nothing is escaped after it is built.  ``line_start``
+    False: the text continues a line of the output (after inline math)."""
+    out, pos = [], 0
+
+    def run(chunk):
+        return markdown_literal(chunk, lines=True, line_start=line_start if not pos else text[pos - 1] == "\n")
+    for m in _PROSE.finditer(text):
+        out.append(run(text[pos:m.start()]))
+        pos = m.end()
+        if m["par"] is not None:
+            out.append("\n\n")
+        elif m["cmd"] == "texttt":
+            out.append(_code_span(_untex(m["arg"])))
+        elif m["cmd"]:
+            out.append(_MARKUP[m["cmd"]] + markdown_text(m["arg"], False) + _MARKUP[m["cmd"]])
+        elif m["nbsp"]:
+            out.append("\u00a0")
+        else:
+            out.append(markdown_literal(_NAMED[m["named"]] if m["named"] else m["esc"]))
+    out.append(run(text[pos:]))
+    return "".join(out)
+
+
+_prose = markdown_text
 
 
 def _table(body: str) -> str:
@@ -106,10 +141,11 @@ def _display(math: str) -> str:
 def latex_markdown(tex: str, table: bool = False) -> str:
     """The LaTeX of a result (text mode with math, as ``to_latex`` makes it for the reports) as
     Markdown with MathJax math: ``$$…$$`` blocks, ``$…$`` inline, Markdown tables, prose escaped."""
-    out, pos = [], 0
+    out, pos, inline_before = [], 0, False
     for mo in _SEGMENT.finditer(tex):
-        out.append(_prose(tex[pos:mo.start()]))
+        out.append(_prose(tex[pos:mo.start()], not inline_before))       # after a display: a new line
         pos = mo.end()
+        inline_before = mo["i1"] is not None or mo["i2"] is not None
         display, inline = _display_body(mo), (mo["i1"] if mo["i1"] is not None else mo["i2"])
         if display is not None:                  # on one line: no Markdown reads a row as a list item
             out.append("\n\n$$" + re.sub(r"\s*\n\s*", " ", _display(display.strip())) + "$$\n\n")
@@ -118,7 +154,7 @@ def latex_markdown(tex: str, table: bool = False) -> str:
         else:
             inline = inline.strip()
             out.append("$" + (inline.replace("|", r"\vert ") if table else inline) + "$")
-    out.append(_prose(tex[pos:]))
+    out.append(_prose(tex[pos:], not inline_before))
     text = re.sub(r"[ \t]*\n[ \t]*(\n[ \t]*)+", "\n\n", "".join(out))
     return text.strip().replace("\n", " ") if table else text.strip()
 
@@ -179,7 +215,7 @@ class Result:
             return "\n\n".join(p._repr_markdown_() for p in parts)
         head = str(self).split("\n", 1)[0].strip()
         body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
-        return ((f"**{markdown_text(head)}**\n\n" if head else "") + body).strip()
+        return ((f"**{markdown_literal(head)}**\n\n" if head else "") + body).strip()
 
 
 def _gathered(bodies: list[str]) -> str:

@@ -41,7 +41,7 @@ from .glm_order import theta_matrix
 from .results import Result
 from .trees import bracket, butcher_product, from_children, symmetry, trees_of_order
 
-__all__ = ["structure", "SeriesStructure", "symplectic_order", "symmetric_order", "hamiltonian_order",
+__all__ = ["structure", "SeriesStructure", "PSeriesStructure", "symplectic_order", "symmetric_order", "hamiltonian_order",
            "energy_order", "conjugate_symplectic", "tree_pairs"]
 
 
@@ -213,13 +213,51 @@ class SeriesStructure(Result):
                 r"\end{tabular}")
 
 
-def structure(a: BSeries, field: BSeries | None = None) -> SeriesStructure:
+@dataclass(frozen=True)
+class PSeriesStructure(Result):
+    """What :func:`structure` says of a P-series (a partitioned method): the order to which its
+    modified field has a modified energy (an H-series over bicoloured free trees,
+    :mod:`modified_hamiltonian`), and which of the B-series checks do not apply."""
+
+    label: str
+    max_order: int
+    order: int
+    energy: int                       # the modified energy exists to this order (max_order: at least)
+
+    NOT_APPLIED = ("symplectic", "conjugate-symplectic", "symmetric", "energy-preserving")
+
+    def __str__(self):
+        got = (f"to order ≥ {self.energy} (budget)" if self.energy >= self.max_order
+               else f"to order {self.energy} (the conditions fail at order {self.energy + 1})")
+        return "\n".join([f"{self.label}: P-series to order {self.max_order} (method order {self.order})",
+                          f"  modified energy (H-series over bicoloured free trees) {got}",
+                          f"  not checked: {', '.join(self.NOT_APPLIED)} (the checks are written for B-series, "
+                          "plain trees; for a partitioned method `verify` decides symplecticity from the tableau)"])
+
+    def to_json(self):
+        return {"method": self.label, "max_order": self.max_order, "order": self.order, "series": "P-series",
+                "modified_energy": self.energy, "not_checked": list(self.NOT_APPLIED)}
+
+    def to_latex(self):
+        n = rf"\geq {self.energy}" if self.energy >= self.max_order else str(self.energy)
+        return (f"As a P-series (order {self.order}) its modified field has a modified energy to order ${n}$; "
+                f"the B-series checks ({', '.join(self.NOT_APPLIED)}) do not apply.")
+
+
+def _pseries_structure(a: BSeries, field: BSeries | None) -> PSeriesStructure:
+    from .bseries import series_order
+    from .modified_hamiltonian import modified_hamiltonian
+    b = field if field is not None else modified_field(a)
+    return PSeriesStructure(a.label, a.max_order, series_order(a), modified_hamiltonian(b).order)
+
+
+def structure(a: BSeries, field: BSeries | None = None) -> SeriesStructure | PSeriesStructure:
     """Every property above, for the map ``a`` to its ``max_order`` (``field``: its modified field,
-    when the caller has it already)."""
+    when the caller has it already); for a P-series the modified energy only
+    (:class:`PSeriesStructure` says which checks do not apply)."""
     from .bseries import series_order
     if a.kind.coloured:
-        raise ValueError(f"{a.label}: the structure checks are written for B-series (plain trees); "
-                         "a P-series (partitioned method) has its modified equation and modified energy only")
+        return _pseries_structure(a, field)
     n, pair, d = _first_failure(a, False)
     b = field if field is not None else modified_field(a)
     conj, chi = conjugate_symplectic(a)

@@ -631,10 +631,10 @@ class StabilityResult(Result):
     def __str__(self):
         head = {"rk": "RK", "glm": "GLM", "prk": "partitioned RK"}[self.kind]
         lines = [f"linear stability ({head}, r = {self.r}):",
-                 f"  P(w, {self.variable}) = {self.polynomial}"]
+                 f"  P(w, {self.variable}) = {_text(self.polynomial)}"]
         if self.numerator is not None:
-            lines.append(f"  R(z) = {self.stability_function}")
-            lines.append(f"  E(y) = |D(iy)|² − |N(iy)|² = {self.e_polynomial}")
+            lines.append(f"  R(z) = {_text(self.stability_function)}")
+            lines.append(f"  E(y) = |D(iy)|² − |N(iy)|² = {_text(self.e_polynomial)}")
         av = {True: "yes", False: "no", None: "not applicable"}[self.a_stable]
         lines.append(f"  A-stable: {av}" + (f" — {self.a_reason}" if self.a_reason else ""))
         lines.append(f"  on the axis {self._axis_name()}:")
@@ -656,7 +656,7 @@ class StabilityResult(Result):
         out = {
             "kind": self.kind,
             "variable": self.variable,
-            "characteristic_polynomial": str(self.polynomial),
+            "characteristic_polynomial": _text(self.polynomial),
             "a_stable": self.a_stable,
             "a_stability": self.a_reason,
             "imaginary_interval": _text(Ystar),
@@ -672,9 +672,9 @@ class StabilityResult(Result):
             "E_polynomial": None,
         }
         if self.numerator is not None:
-            out["stability_function"] = {"R": str(self.stability_function), "N": str(self.numerator),
-                                         "D": str(self.denominator)}
-            out["E_polynomial"] = str(self.e_polynomial)
+            out["stability_function"] = {"R": _text(self.stability_function), "N": _text(self.numerator),
+                                         "D": _text(self.denominator)}
+            out["E_polynomial"] = _text(self.e_polynomial)
         return out
 
     def to_latex(self):

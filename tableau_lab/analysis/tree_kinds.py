@@ -76,6 +76,10 @@ class TreeKind:
     def bracket(self, t) -> str:
         return _bracket(self, t)
 
+    def tex(self, t) -> str:
+        """The tree in LaTeX: nested brackets of τ, or of bullets (● \\bullet, ○ \\circ) when bicoloured."""
+        return _plain.latex(t) if not self.coloured else self.bracket(t).replace("●", r"\bullet ").replace("○", r"\circ ")
+
     def differential(self, t, tex: bool = False) -> str:
         """F(t): f'f, f''(f, f), … for plain trees; for bicoloured ones q′ = f(q, p), p′ = g(q, p)
         with partial derivatives as subscripts: f_p g, g_qq(f, f), … ([HLW06] III.2.1)."""

@@ -29,6 +29,7 @@ import sympy as sp
 from ..errors import InputError
 from .conjugate import detect
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
+from .render import markdown_literal
 
 __all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency",
            "glm_parts"]
@@ -122,11 +123,10 @@ class Method:
 
     def _repr_markdown_(self) -> str:
         """Jupyter: the name as a heading, the kind and size, then the tableau as display math."""
-        from ..analysis.results import markdown_text      # the notebook face's escaping, in one place
         size = f"s = {self.s} stage{'s' * (self.s != 1)}"
         if self.kind == "glm":
             size += f", r = {self.r} value{'s' * (self.r != 1)}"
-        return (f"### {markdown_text(self.name or 'unnamed method')}\n\n{_KIND_NAMES[self.kind]}, {size}\n\n"
+        return (f"### {markdown_literal(self.name or 'unnamed method')}\n\n{_KIND_NAMES[self.kind]}, {size}\n\n"
                 f"$${self._display_math()}$$")
 
 

@@ -37,6 +37,7 @@ from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
 from ..analysis.trees import trees_of_order
 from ..exact.grammar import format_entry
+from ..exact.render import latex_text
 from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
                                   series_defects)
@@ -133,7 +134,7 @@ class SearchResult(Result):
                                for c in self.candidates]}
 
     def to_latex(self):
-        return r"\text{" + self.family.replace("_", r"\_") + ": " + str(len(self.candidates)) + " candidates}"
+        return f"{latex_text(self.family)}: {len(self.candidates)} candidates."
 
 
 def _show(v) -> str:

@@ -9,8 +9,8 @@ from ..analysis.bseries import modified_field, series_order
 from ..analysis.method_series import method_series
 from ..analysis.modified_hamiltonian import modified_hamiltonian
 from ..analysis.series_structure import structure
-from ..analysis.trees import latex as tree_latex
 from ..exact.methods import Method, MethodError
+from ..exact.render import LATEX, exact_sum
 
 __all__ = ["modified_section", "BEA_EXTRA", "BEA_MAX_ORDER"]
 
@@ -18,18 +18,7 @@ __all__ = ["modified_section", "BEA_EXTRA", "BEA_MAX_ORDER"]
 BEA_EXTRA, BEA_MAX_ORDER = 3, 9
 #: terms shown per line, and at most this many per power of h
 PER_LINE, MOST = 2, 9
-
-
-def _lines(pieces: list) -> str:
-    pieces = pieces[:MOST] + ([r"\dots"] if len(pieces) > MOST else [])
-    rows = (" + ".join(pieces[i:i + PER_LINE]) for i in range(0, len(pieces), PER_LINE))
-    return r" \\ &\qquad + ".join(rows).replace("+ -", "- ")
-
-
-def _tree_tex(kind, t) -> str:
-    if not kind.coloured:
-        return tree_latex(t)
-    return kind.bracket(t).replace("●", r"\bullet ").replace("○", r"\circ ")
+_ROWS = {"per_row": PER_LINE, "newline": r"\\ &\qquad", "most": MOST}      # exact_sum's layout of a long sum
 
 
 def modified_section(m: Method, C, facts: dict) -> str:
@@ -52,7 +41,8 @@ def modified_section(m: Method, C, facts: dict) -> str:
         return "\n".join(out)
     k = kind.order(lead[0][0])
     facts["modified_leading_power"] = k - 1
-    body = _lines([f"{C.tex(c)}\\, {kind.differential(t, tex=True)}" for t, c in lead if kind.order(t) == k])
+    body = exact_sum([(c, kind.differential(t, tex=True)) for t, c in lead if kind.order(t) == k],
+                     LATEX.using(C.tex), **_ROWS)
     lhs = r"(\tilde f, \tilde g) &= (f, g)" if kind.coloured else r"\tilde f &= f"
     out.append(f"The numerical solution of {what} is, formally, the exact flow of the modified equation "
                r"(Hairer, Lubich \& Wanner, \emph{Geometric Numerical Integration}, IX"
@@ -78,7 +68,7 @@ def modified_section(m: Method, C, facts: dict) -> str:
             terms = mh.terms(n)
             if terms:
                 facts["modified_energy_leading_power"] = n - 1
-                hb = _lines([f"{C.tex(v)}\\, H({_tree_tex(kind, t)})" for t, v in terms])
+                hb = mh.sum(n, LATEX, C.tex, **_ROWS)
                 out.append(r"It conserves a modified energy (an H-series over free trees; "
                            r"$H(t) = H^{(m)}(F(t_1), \dots, F(t_m))$ for $t = [t_1 \dots t_m]$):")
                 out.append(rf"\begin{{align*}} \tilde H &= H + h^{{{n - 1}}}\bigl({hb}\bigr) + O(h^{{{n}}}) \end{{align*}}")

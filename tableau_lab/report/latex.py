@@ -35,6 +35,7 @@ from ..exact.field import normal_form
 from ..files import OutputError, atomic_copy, atomic_write_text, output_phase
 from ..process import die_with_parent, scratch_folder
 from ..exact.grammar import format_entry
+from ..exact.render import LATEX, latex_text, signed_term
 from ..exact.methods import Method
 
 __all__ = ["method_document", "library_document", "compile_pdf", "ReportError", "write_report"]
@@ -65,9 +66,9 @@ class ReportError(RuntimeError):
 
 
 def _escape(text: str) -> str:
-    repl = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
-            "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
-    out = "".join(repl.get(c, c) for c in text)
+    """Plain text in LaTeX text mode (:func:`..exact.render.latex_text`), for pdflatex: the few
+    non-ASCII characters the texts use as LaTeX, any other as ?."""
+    out = latex_text(text)
     for a, b in (("−", "-"), ("≤", r"$\le$"), ("≥", r"$\ge$"), ("τ", r"$\tau$"), ("θ", r"$\theta$"),
                  ("ξ", r"$\xi$"), ("μ", r"$\mu$"), ("ζ", r"$\zeta$"), ("√", r"$\surd$"), ("–", "--"), ("—", "---"),
                  ("§", r"\S{}"), ("ᵀ", r"$^{\mathsf T}$"), ("·", r"$\cdot$"), ("→", r"$\to$"), ("≠", r"$\ne$"),
@@ -82,8 +83,8 @@ def _chunks(e, width: int = 70) -> list[str]:
     terms = list(e.args) if e.is_Add else [e]
     chunks, cur = [], ""
     for k, term in enumerate(terms):
-        t = sp.latex(term)
-        piece = t if k == 0 else (t if t.startswith("-") else "+ " + t)
+        negative, t = signed_term(term, None, LATEX)          # the one printer's sign and magnitude
+        piece = ("- " if negative else "+ " if k else "") + t
         if cur and len(cur) + len(piece) > width:
             chunks.append(cur)
             cur = piece

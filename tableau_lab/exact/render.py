@@ -1,0 +1,162 @@
+r"""The one printer of exact values for people: sums of exact coefficients times terms in text
+(the tableau grammar), LaTeX and — through LaTeX — Markdown, and plain text made literal for
+Markdown and LaTeX.  Every face (the results' text, JSON and LaTeX, the PDF report, notebook
+displays) prints through these functions; nothing edits a finished string.
+
+A sum Σ cᵢ Tᵢ (exact cᵢ, a rendered term Tᵢ such as an elementary differential) is printed
+term by term: the sign of each coefficient is taken once (``could_extract_minus_sign``), a
+magnitude 1 is elided, and a magnitude whose printed form is itself a sum is one parenthesised
+factor, so that the text re-parses to the exact value:
+
+>>> import sympy as sp
+>>> c = sp.Rational(1, 45) + sp.sqrt(3) / 72
+>>> exact_sum([(-sp.Rational(1, 2), "f'f"), (c, "f''(f, f)"), (-c, "f'f'f"), (-1, "g"), (1, "f")])
+"-1/2 f'f + (1/45 + sqrt(3)/72) f''(f, f) - (1/45 + sqrt(3)/72) f'f'f - g + f"
+>>> exact_sum([(c, r"f''(f, f)"), (-2, "f'f")], LATEX)
+"\\left(\\frac{1}{45} + \\frac{\\sqrt{3}}{72}\\right)\\, f''(f, f) - 2\\, f'f"
+>>> exact_sum([(sp.Rational(-3, 2), None), (c, None), (-c, None)])   # constant terms: no 1 elided
+'-3/2 + 1/45 + sqrt(3)/72 - (1/45 + sqrt(3)/72)'
+>>> exact_sum([])
+'0'
+
+Plain text (a method's name, a message) in Markdown and in LaTeX text mode, every character
+literal (CommonMark backslash escapes; the backslash and ``$`` escaped once more for MathJax,
+whose ``processEscapes`` reads ``\\`` and ``\$``; control characters shown as escapes):
+
+>>> print(markdown_literal(r"\\<img src=x> $a$ *b*"))
+\\\\\\\\\<img src=x\> \\\$a\\\$ \*b\*
+>>> print(latex_text("a_b $x$ 50% \\"))
+a\_b \$x\$ 50\% \textbackslash{}
+"""
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable
+from typing import NamedTuple
+
+import sympy as sp
+
+from .grammar import format_entry
+
+__all__ = ["Notation", "TEXT", "LATEX", "signed_term", "exact_sum", "is_sum", "markdown_literal", "latex_text"]
+
+
+class Notation(NamedTuple):
+    """How a sum is written: ``number`` writes an exact value, ``times`` stands between a
+    coefficient and its term, ``left``/``right`` enclose a coefficient that is a sum, ``minus``
+    leads a sum whose first term is negative."""
+    number: Callable
+    times: str
+    left: str
+    right: str
+    minus: str
+
+    def using(self, number: Callable) -> "Notation":
+        """The same notation with another writer of values (the report's named constants)."""
+        return self._replace(number=number)
+
+
+TEXT = Notation(lambda e: str(format_entry(e)), " ", "(", ")", "-")
+LATEX = Notation(sp.latex, r"\, ", r"\left(", r"\right)", "- ")
+
+_OPEN, _CLOSE = "([{", ")]}"
+
+
+def is_sum(text: str) -> bool:
+    """``text`` (an exact value as printed) has a + or − outside every bracket: written before
+    a term it must be parenthesised.
+
+    >>> is_sum("sqrt(3)/72 + 1/45"), is_sum(r"\\frac{1 + \\sqrt{2}}{2}"), is_sum("-2"), is_sum("2*x**(-1)")
+    (True, False, True, False)
+    """
+    depth = 0
+    for i, ch in enumerate(text):
+        if ch in _OPEN:
+            depth += 1
+        elif ch in _CLOSE:
+            depth -= 1
+        elif ch in "+-" and depth == 0 and text[:i].rstrip()[-1:] not in ("^", "*"):
+            return True
+    return False
+
+
+def signed_term(c, term: str | None, notation: Notation = TEXT) -> tuple[bool, str]:
+    """(negative, body): the term c·``term`` as its sign and the rest — the magnitude elided when
+    it is 1 (unless there is no term), parenthesised when it prints as a sum (without a term: when
+    a minus sign stands before it)."""
+    c = sp.sympify(c)
+    negative = bool(c.could_extract_minus_sign())
+    mag = -c if negative else c
+    if term is not None and mag == 1:
+        return negative, term
+    text = notation.number(mag)
+    if is_sum(text) and (term is not None or negative):
+        text = f"{notation.left}{text}{notation.right}"
+    return negative, text if term is None else f"{text}{notation.times}{term}"
+
+
+def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = None, newline: str = "",
+              most: int | None = None, more: str = r"\dots") -> str:
+    """Σ c·term for ``pairs`` of (exact coefficient, rendered term or None), zero terms dropped;
+    "0" when none is left.  ``per_row`` terms per row, rows joined by ``newline`` (LaTeX
+    ``\\\\ &\\qquad``); ``most``: at most this many terms, then ``+ more``."""
+    terms = [signed_term(c, t, notation) for c, t in pairs if sp.sympify(c) != 0]
+    if not terms:
+        return "0"
+    cut = most is not None and len(terms) > most
+    terms = terms[:most] if cut else terms
+    out = []
+    for i, (negative, body) in enumerate(terms):
+        if i == 0:
+            out.append(notation.minus + body if negative else body)
+            continue
+        sep = f" {newline} " if per_row and i % per_row == 0 and newline else " "
+        out.append(f"{sep}{'-' if negative else '+'} {body}")
+    if cut:
+        out.append(f" + {more}")
+    return "".join(out)
+
+
+# ------------------------------------------------------------------ plain text, literally
+
+_ALWAYS = frozenset("\\`*_[]<>&~|#$")      # markup anywhere in a line (CommonMark, GFM tables and strikethrough)
+_LINE_START = re.compile(r"^([ \t]*)(?:(\d{1,9})([.)])|([-+=>.)]))", re.M)  # list items, headings, quotes
+
+
+def _visible(ch: str) -> str:
+    """A control character as the escape a reader recognises (\\n, \\t, \\x1b, …)."""
+    return {"\n": r"\n", "\t": r"\t", "\r": r"\r"}.get(ch) or repr(ch)[1:-1]
+
+
+def markdown_literal(text: str, lines: bool = False, line_start: bool = True) -> str:
+    """Plain text as Markdown that renders as exactly that text, with nothing live: the characters
+    that are markup anywhere (``\\ ` * _ [ ] < > & ~ | # $``) backslash-escaped (CommonMark),
+    the backslash and ``$`` once more so that the HTML holds ``\\\\`` and ``\\$``, MathJax's
+    literal backslash and dollar (``processEscapes``); what would open a block at the start of a
+    line (``-``, ``+``, ``1.``, ``>``, …) escaped there.  Control characters are shown as their
+    escapes — newlines too, unless ``lines`` (prose keeps its lines); ``line_start`` False: the
+    text continues a line (its first character is not at a line start)."""
+    out = []
+    for ch in str(text):
+        if lines and ch == "\n":
+            out.append(ch)
+        elif not (ch.isprintable() or ch == " "):
+            out.append(markdown_literal(_visible(ch)))
+        elif ch == "\\":
+            out.append(r"\\\\")
+        elif ch == "$":
+            out.append(r"\\\$")
+        else:
+            out.append("\\" + ch if ch in _ALWAYS else ch)
+    return _LINE_START.sub(lambda m: m[0] if m.start() == 0 and not line_start else
+                           m[1] + (f"{m[2]}\\{m[3]}" if m[2] else "\\" + m[4]), "".join(out))
+
+
+_LATEX_TEXT = {"\\": r"\textbackslash{}", "&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_",
+               "{": r"\{", "}": r"\}", "~": r"\textasciitilde{}", "^": r"\textasciicircum{}"}
+
+
+def latex_text(text: str) -> str:
+    """Plain text in LaTeX text mode, every character literal (control characters as escapes)."""
+    return "".join(_LATEX_TEXT.get(ch, ch) if ch.isprintable() or ch == " " else latex_text(_visible(ch))
+                   for ch in str(text))
