@@ -96,6 +96,11 @@ def _stability(args) -> int:
     from .exact.tableau_json import TableauError
 
     def analyse(method, path):
+        if args.plot:                      # before the analysis: no figure over an input
+            from .experiments.figure_style import siblings
+            from .files import refuse_outputs
+            refuse_outputs([f for kind in ("region", "axis") for f in
+                            siblings(Path(args.plot) / f"{Path(path).stem}_{kind}.png")], [path])
         try:
             rep = stability_report(method)
         except ValueError as exc:          # e.g. free parameters: no numeric stability analysis
@@ -117,6 +122,8 @@ def _solve(args) -> int:
     from .exact.methods import MethodError
     from .exact.tableau_json import TableauError, save
 
+    if args.save:
+        _guard_save(args)                        # before any work: not over the input, not over a stranger's file
     try:
         rep, res = _solve_file(args)
     except (TableauError, DesignError, MethodError) as exc:
@@ -160,6 +167,18 @@ def _solve(args) -> int:
     return EXIT_OK
 
 
+def _guard_save(args) -> None:
+    """--save OUT and --name N of solve and design, checked before any work: OUT is not the
+    input, not a device, folder or link, and not a file tableau-lab did not save
+    (:func:`tableau_json.saved_by_tableau_lab`); N holds no control characters."""
+    from .exact.tableau_json import saved_by_tableau_lab
+    from .files import refuse_outputs
+    if args.name is not None and (printable(args.name) != args.name or not args.name.strip()):
+        raise InputError(f"--name {printable(repr(args.name))[:80]}: a method name is text without control characters "
+                         "(and not empty)")
+    refuse_outputs([args.save], [args.file], mine=saved_by_tableau_lab, what="--save")
+
+
 def _solve_file(args):
     """(report, design result) of solve: design, or repair with --repair/--locate."""
     from .analysis.design import repair, solve_file
@@ -192,6 +211,13 @@ def _design(args) -> int:
         return EXIT_INPUT
     requirements = _split(args.require)
     constraints = tuple(_split(args.constrain))
+    if args.save:
+        _guard_save(args)                        # before any work
+    if args.checkpoint:
+        from .experiments.design_search import is_checkpoint
+        from .files import refuse_outputs
+        refuse_outputs([args.checkpoint], [args.file] + ([args.save] if args.save else []), mine=is_checkpoint,
+                       what="--checkpoint")
     try:
         with computing(f"design search of {args.file}"):
             fams = [f for f in families_of(args.file, requirements) if f.free]
@@ -345,6 +371,8 @@ def _roundoff(args) -> int:
     from .experiments.runs import roundoff
     from .numeric.problems import ProblemError
 
+    name = _derived_name("roundoff", Path(args.method).stem, args.problem)
+    _guard_json_and_plot(args.out, name, [args.method])            # before any run
     try:
         h = _exact_number(args.h, "--h")
         _step_size(h, args.h)
@@ -354,7 +382,7 @@ def _roundoff(args) -> int:
         return EXIT_INPUT
     data = {"method": args.method, "problem": args.problem, "h": str(h), "steps": args.steps,
             "starts": args.starts, "digits": args.digits, **res}
-    where = _json_and_plot(args.out, f"roundoff_{Path(args.method).stem}_{args.problem}", data,
+    where = _json_and_plot(args.out, name, data,
                            lambda png: draw_roundoff(res, png, roundoff_title(data)))
     print(f"round-off after {args.steps} steps (RMS over {args.starts} starts): plain {res['plain'][-1]:.2e} "
           f"(exponent {res['slope_plain']:.2f}), compensated {res['compensated'][-1]:.2e} "
@@ -362,13 +390,32 @@ def _roundoff(args) -> int:
     return EXIT_OK
 
 
+def _derived_name(*parts) -> str:
+    """An output file name made of user-given parts (a method file's stem, a problem name): the
+    characters outside ``A-Za-z0-9_.-`` replaced by ``_``, at most 100 characters (one name, in
+    the output folder).
+
+    >>> _derived_name("roundoff", "../my method", "mp:32")
+    'roundoff_.._my_method_mp_32'
+    """
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", "_".join(map(str, parts)))[:100]
+
+
+def _guard_json_and_plot(out, name, inputs) -> None:
+    """Before any run: out/name.json and its figure are not one of ``inputs`` (files.py)."""
+    from .experiments.figure_style import siblings
+    from .files import refuse_outputs
+    base = Path(out) / name
+    refuse_outputs([base.with_name(name + ".json"), *siblings(base.with_name(name + ".png"))], inputs)
+
+
 def _json_and_plot(out, name, data, draw):
     """Write out/name.json (atomically) and out/name.png (by ``draw(png_path)``); returns out/name."""
     from .files import atomic_write_text, output_phase
     base = Path(out) / name
     with output_phase(out):                    # both or neither; the folder's lock; Ctrl-C deferred
-        atomic_write_text(base.with_suffix(".json"), json.dumps(data, indent=1))
-        draw(base.with_suffix(".png"))
+        atomic_write_text(base.with_name(name + ".json"), json.dumps(data, indent=1))
+        draw(base.with_name(name + ".png"))
     return base
 
 
@@ -403,6 +450,8 @@ def _convergence_runs(args, ex) -> int:
     except ValueError as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
+    name = _derived_name("convergence", args.problem, args.precision.replace(":", ""))
+    _guard_json_and_plot(args.out, name, args.files)               # before any run
     results, status = [], EXIT_OK
     for path in args.files:
         try:
@@ -419,7 +468,7 @@ def _convergence_runs(args, ex) -> int:
         if not c.verdict.startswith(("order confirmed", "destroyed")) and status == EXIT_OK:
             status = EXIT_CLAIM
     if results:
-        where = _json_and_plot(args.out, f"convergence_{args.problem}_{args.precision.replace(':', '')}", results,
+        where = _json_and_plot(args.out, name, results,
                                lambda png: draw_convergence(results, png, convergence_title(results)))
         print(f"wrote {where}.json and its figure (.png, .pdf, .svg)")
     return status
@@ -509,6 +558,10 @@ def _report(args) -> int:
         if not SAFE_NAME.fullmatch(Path(path).stem):
             raise InputError(f"{path}: the report would be named {Path(path).stem!r}, not a safe file name "
                              "(ASCII letters, digits, - _ . starting with a letter or digit): rename the file")
+    from .files import refuse_outputs
+    from .report.latex import report_paths
+    targets = [out / "library"] if args.library else [out / Path(p).stem for p, _ in methods]
+    refuse_outputs([f for t in targets for f in report_paths(t).values()], [p for p, _ in methods])   # before work
     jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else
             [(out / Path(p).stem, method_document(m, _figures_of(p, out), stability=args.stability))
              for p, m in methods])
@@ -528,12 +581,16 @@ def _figures_of(method_path, out, reports="reports", most=2):
     the figure style wrote one, else PNG: (path relative to the report's directory, caption)."""
     import os
     found = []
+    from .inputs import read_json
     for meta in sorted(Path(reports).glob("*/meta.json")):
         try:
-            data = json.loads(meta.read_text())
-        except (OSError, ValueError):
+            data = read_json(meta, ValueError, "scene's metadata")      # bounded, strict
+        except ValueError:
             continue
-        labels = [r["label"] for r in data.get("runs", []) if Path(r.get("file", "")).name == Path(method_path).name]
+        if not isinstance(data, dict) or not isinstance(data.get("runs", []), list):
+            continue
+        labels = [str(r.get("label")) for r in data.get("runs", [])
+                  if isinstance(r, dict) and Path(str(r.get("file", ""))).name == Path(method_path).name]
         png = meta.parent / f"{data.get('name')}_invariants.png"
         figure = png.with_suffix(".pdf") if png.with_suffix(".pdf").exists() else png     # vector where drawn
         if labels and figure.exists():
@@ -817,7 +874,8 @@ def build_parser() -> argparse.ArgumentParser:
     rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
                         description="For each method: the tableau, the G-symplecticity proof step by step, the "
                                     "symplecticity matrix, the order conditions and starting method, parasitism; "
-                                    "NAME.tex, NAME.json (the facts stated) and NAME.pdf under --out.")
+                                    "NAME.tex, NAME.report.json (the facts stated) and NAME.pdf under --out; never over an "
+                                    "input (exit 2).")
     rp.add_argument("files", nargs="+", metavar="FILE")
     rp.add_argument("--out", default="reports/proofs")
     rp.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
@@ -963,17 +1021,25 @@ def _command_of(args) -> str:
         names = [str(x) for x in method] if isinstance(method, (list, tuple)) else [str(method)]
     from .inputs import printable
     return printable(f"{args.command} of {', '.join(names)}" if names else args.command)
+WRITING_COMMANDS = ("report", "run", "solve", "design", "convergence", "roundoff", "workprecision", "suite", "replot",
+                    "stability", "bench")     # those that may write files (files.py guards every output)
+NUMERIC_COMMANDS = ("run", "roundoff", "convergence", "workprecision", "suite", "bench")     # compiled kernels
 
 
 def _dispatch(args) -> int:
     from .budget import time_limit
-    from .files import OutputError
+    from .files import OutputError, command_inputs, lock_timeout
     try:
         _entry_limits(args)
+        if args.command in WRITING_COMMANDS:
+            lock_timeout()                  # a bad TABLEAU_LAB_LOCK_TIMEOUT refused before any work
+        if args.command in NUMERIC_COMMANDS:
+            from .numeric.kernels import cache_dir
+            cache_dir()                     # and a TABLEAU_LAB_CACHE that is not a folder
         if args.command in EXACT_COMMANDS:
             from .exact import field
             field.FIELD_DEGREE_LIMIT = args.max_field_degree
-        with time_limit(args.timeout if args.command in EXACT_COMMANDS else None):
+        with command_inputs(), time_limit(args.timeout if args.command in EXACT_COMMANDS else None):
             return args.run(args)
     except KeyboardInterrupt as exc:        # Ctrl-C, or SIGTERM (Terminated)
         print(f"tableau-lab: {'terminated' if isinstance(exc, Terminated) else 'interrupted'}", file=sys.stderr)

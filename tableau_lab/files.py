@@ -37,6 +37,29 @@ output folder at a time.
   first); a second Ctrl-C raises at once (and the staged set is abandoned).
 
 ``output_phase(folder)`` is the three together: lock, deferred Ctrl-C, one staged set.
+
+**One guarded way to write** (issue 29): every output path passes :func:`guard_output` — before
+the work (a command's known outputs, :func:`refuse_outputs`) and again in :func:`atomic_write`.
+It refuses, with an :class:`OutputRefused` naming the path and why (the CLI: exit 2, nothing
+written):
+
+* a path outside the folder the user named: inside ``output_phase(folder)`` every write and
+  every nested phase must resolve (symbolic links followed) inside ``folder``; names that come
+  from data go through :func:`output_name` (no ``/``, no ``..``, no absolute path, no empty name);
+* anything but a regular file at the target: a directory, a FIFO, a device node, a socket, and a
+  symbolic link (replacing it would not write where it points, and writing there would leave the
+  folder);
+* an input of the command: the same file (same device and inode: hard links and symbolic links
+  included) as a file given on the command line or read during the command (:func:`note_input`,
+  called by every bounded reader inside :func:`command_inputs`);
+* a file the command did not make, where the caller says what its own files look like (``mine``:
+  a design checkpoint, a saved tableau);
+* a name longer than ``NAME_MAX`` bytes.
+
+**One bounded way to read**: JSON through :func:`tableau_lab.inputs.read_json` (at most its
+``max_bytes``), saved arrays through :func:`load_npz` (at most :data:`MAX_NPZ_BYTES` on the disk
+and :data:`MAX_NPZ_UNPACKED` decompressed, checked from the members' headers before anything is
+decompressed), design checkpoints at most :data:`MAX_CHECKPOINT_BYTES`.
 """
 from __future__ import annotations
 
@@ -47,15 +70,25 @@ import re
 import secrets
 import shutil
 import signal
+import stat
 import sys
 import threading
 import time
 from pathlib import Path
 
+from .inputs import NAME_MAX, command_inputs, note_input, printable, recorded_inputs
 from .process import alive
 
 __all__ = ["atomic_write", "atomic_write_text", "atomic_copy", "OutputError", "output_set", "output_lock",
-           "output_phase", "deferred_interrupt", "remove_stale_temps", "is_temp", "TEMP_PATTERN", "LOCK_NAME"]
+           "output_phase", "deferred_interrupt", "remove_stale_temps", "is_temp", "TEMP_PATTERN", "LOCK_NAME",
+           "OutputRefused", "guard_output", "refuse_outputs", "output_name", "note_input", "command_inputs",
+           "path_exists", "load_npz", "lock_timeout", "NAME_MAX", "MAX_NPZ_BYTES", "MAX_NPZ_UNPACKED",
+           "MAX_CHECKPOINT_BYTES"]
+
+MAX_NPZ_BYTES = 256 * 2 ** 20     # a saved data.npz read back (replot): its size on the disk …
+MAX_NPZ_UNPACKED = 256 * 2 ** 20  # … and its arrays decompressed (every member's header checked first)
+MAX_CHECKPOINT_BYTES = 32 * 2 ** 20   # a design checkpoint read back (experiments/design_search.py)
+LOCK_TIMEOUT = 600.0              # default seconds a writer waits for an output folder's lock
 
 TEMP_MARK = ".tltmp-"
 # .<target name>.tltmp-<pid>-<random><suffix>
@@ -74,6 +107,178 @@ class OutputError(OSError):
 
     def __str__(self):
         return self.strerror or super().__str__()
+
+
+class OutputRefused(OutputError):
+    """An output path the guard refuses (:func:`guard_output`): an input of the command, outside
+    the output folder, not a regular file, or a file the command did not make.  Nothing is
+    written; the message names the path (and the input it would replace)."""
+
+    def __init__(self, message: str):
+        super().__init__(_errno.EPERM, message)
+
+
+_KINDS = ((stat.S_ISLNK, "a symbolic link"), (stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def _shown(path) -> str:
+    return printable(os.fspath(path))
+
+
+def path_exists(path) -> bool:
+    """``os.path.exists`` that says False, not raises, for a name the system refuses (longer than
+    ``NAME_MAX``, a NUL byte)."""
+    try:
+        os.stat(path)
+        return True
+    except (OSError, ValueError):
+        return False
+
+
+def _long_part(path) -> str | None:
+    for part in Path(path).parts:
+        if len(os.fsencode(part)) > NAME_MAX:
+            return part
+    return None
+
+
+def output_name(name, source, what: str = "name") -> str:
+    """``name``, read from ``source`` (a data file), as one file name inside an output folder: ASCII
+    letters, digits, ``- _ .``, starting with a letter or digit, at most 100 characters (so never
+    empty, ``.``, ``..``, a path or absolute).  Otherwise :class:`~tableau_lab.errors.InputError`
+    naming the source and the key.
+
+    >>> output_name("wp_kepler", "data.json")
+    'wp_kepler'
+    >>> output_name("../../x", "data.json")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.errors.InputError: data.json: name: '../../x' is not a file name (ASCII letters, digits, - _ . starting with a letter or digit, at most 100 characters)
+    """
+    from .errors import InputError
+    from .inputs import SAFE_NAME
+    if not isinstance(name, str) or not SAFE_NAME.fullmatch(name):
+        raise InputError(f"{printable(source)}: {what}: {printable(repr(name))[:120]} is not a file name (ASCII "
+                         "letters, digits, - _ . starting with a letter or digit, at most 100 characters)")
+    return name
+
+
+def _same(st, path) -> bool:
+    try:
+        other = os.stat(path)
+    except (OSError, ValueError, TypeError):
+        return False
+    return (st.st_dev, st.st_ino) == (other.st_dev, other.st_ino)
+
+
+def _inside(path, root) -> bool:
+    real, root = os.path.realpath(path), os.path.realpath(root)
+    return real == root or real.startswith(root.rstrip(os.sep) + os.sep)
+
+
+def guard_output(target, *, within=None, inputs=(), mine=None, what: str = "output") -> Path:
+    """``target`` as a path this command may write (module docstring), else :class:`OutputRefused`.
+
+    ``within``: the folder it must stay in (default: the folder of the enclosing
+    :func:`output_phase`, if any); ``inputs``: more input files besides the command's recorded
+    ones; ``mine(path) -> bool``: whether an existing file is one the command made (it is replaced
+    only then); ``what``: the output's name in the message (e.g. ``"--checkpoint"``)."""
+    target = Path(target)
+    shown = _shown(target)
+    long = _long_part(target)
+    if long is not None:
+        raise OutputRefused(f"{shown[:80]}…: {what}: a file name of {len(os.fsencode(long))} bytes is longer than "
+                            f"the system's limit of {NAME_MAX}")
+    if target.name in ("", ".", ".."):
+        raise OutputRefused(f"{shown}: {what}: not a file name")
+    roots = getattr(_STATE, "roots", None) or []
+    for root in ([within] if within is not None else roots[-1:]):
+        if not _inside(target, root):
+            raise OutputRefused(f"{shown}: {what}: outside the output folder {_shown(root)}; not written")
+    try:
+        st = os.lstat(target)
+    except FileNotFoundError:
+        return target
+    except (OSError, ValueError) as exc:
+        raise OutputRefused(f"{shown}: {what}: cannot be written: {getattr(exc, 'strerror', None) or exc}") from None
+    try:
+        followed = os.stat(target)          # a symbolic link: the file it points to
+    except (OSError, ValueError):
+        followed = st
+    for p in list(inputs) + recorded_inputs():
+        if _same(followed, p):
+            raise OutputRefused(f"{shown}: {what} would overwrite the input {_shown(p)} (the same file); nothing "
+                                "written: choose another output name or folder")
+    kind = next((k for test, k in _KINDS if test(st.st_mode)), None if stat.S_ISREG(st.st_mode) else "not a file")
+    if kind:
+        raise OutputRefused(f"{shown}: {what}: {kind} is there; tableau-lab writes only regular files it made "
+                            "(nothing written): remove it or choose another name")
+    if mine is not None and not mine(target):
+        raise OutputRefused(f"{shown}: {what}: the file there was not made by this command; not replaced "
+                            "(remove it or choose another name)")
+    return target
+
+
+def refuse_outputs(outputs, inputs=(), *, within=None, mine=None, what: str = "output") -> list:
+    """:func:`guard_output` of each of ``outputs`` before any work: the outputs a command will
+    write, checked against its ``inputs`` (and the recorded ones).  Returns the paths."""
+    return [guard_output(o, within=within, inputs=inputs, mine=mine, what=what) for o in outputs]
+
+
+def load_npz(path, error, what: str = "saved data file") -> dict:
+    """The arrays of a ``.npz`` file written by ``numpy.savez[_compressed]``, read bounded: a
+    regular file of at most :data:`MAX_NPZ_BYTES`, whose members' ``.npy`` headers (read before
+    any array) declare plain (no object) arrays of at most :data:`MAX_NPZ_UNPACKED` bytes in all,
+    each member's zip entry no larger than its array.  Otherwise ``error`` (a class) with a
+    message naming the file and the member."""
+    import zipfile
+
+    import numpy as np
+    from numpy.lib import format as npformat
+    shown = printable(os.fspath(path))
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError) as exc:
+        raise error(f"{shown}: cannot read: {getattr(exc, 'strerror', None) or exc}") from None
+    if not stat.S_ISREG(st.st_mode):
+        raise error(f"{shown}: not a regular file, not a {what}")
+    if st.st_size > MAX_NPZ_BYTES:
+        raise error(f"{shown}: file is {st.st_size} bytes, larger than the {MAX_NPZ_BYTES}-byte limit for a {what}")
+    note_input(path)
+    arrays, total = {}, 0
+    try:
+        with zipfile.ZipFile(path) as zf:
+            infos = zf.infolist()
+            for info in infos:
+                total += info.file_size
+                if total > MAX_NPZ_UNPACKED:
+                    raise error(f"{shown}: {info.filename}: decompresses to more than the {MAX_NPZ_UNPACKED}-byte "
+                                f"limit for a {what}")
+            for info in infos:
+                name = info.filename
+                if not name.endswith(".npy"):
+                    raise error(f"{shown}: {printable(name)}: not an array member (.npy) of a {what}")
+                with zf.open(info) as fh:
+                    version = npformat.read_magic(fh)
+                    if version not in ((1, 0), (2, 0)):
+                        raise error(f"{shown}: {printable(name)}: .npy format {version} is not one numpy.savez writes")
+                    header = npformat.read_array_header_1_0 if version == (1, 0) else npformat.read_array_header_2_0
+                    shape, _, dtype = header(fh)
+                    if dtype.hasobject:
+                        raise error(f"{shown}: {printable(name)}: an object array; only numbers are read")
+                    size = int(np.prod(shape, dtype=object)) * dtype.itemsize
+                    if size > info.file_size:
+                        raise error(f"{shown}: {printable(name)}: its header declares {size} bytes, more than the "
+                                    f"member holds ({info.file_size}): damaged")
+            with np.load(path, allow_pickle=False) as z:
+                for k in z.files:
+                    arrays[k] = z[k]
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError, RuntimeError) as exc:
+        if isinstance(exc, error):
+            raise
+        raise error(f"{shown}: not a readable {what} ({type(exc).__name__}: {printable(str(exc))[:160]})") from None
+    return arrays
 
 
 def is_temp(name: str) -> bool:
@@ -159,7 +364,7 @@ def atomic_write(target, write, suffix: str = ".tmp") -> Path:
     ``suffix`` is the temporary file's ending, for writers that choose the format by it.  Inside
     :func:`output_set` the file is staged and moved into place when the set ends.  An
     ``OSError`` leaves ``target`` as it was and is raised as :class:`OutputError`."""
-    target = Path(target)
+    target = guard_output(target)               # the one guard: in the folder, not an input, a regular file
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -227,11 +432,32 @@ _LOCKS: dict = {}              # (folder, thread id) -> [fd, depth]: re-entrant 
 _LOCKS_GUARD = threading.Lock()
 
 
-def _lock_timeout() -> float:
+def lock_timeout() -> float:
+    """Seconds a writer waits for a busy output folder: ``TABLEAU_LAB_LOCK_TIMEOUT`` (a finite
+    number ≥ 0; anything else is refused with :class:`~tableau_lab.errors.InputError`), default
+    :data:`LOCK_TIMEOUT`.
+
+    >>> os.environ["TABLEAU_LAB_LOCK_TIMEOUT"] = "nan"
+    >>> lock_timeout()
+    Traceback (most recent call last):
+    ...
+    tableau_lab.errors.InputError: TABLEAU_LAB_LOCK_TIMEOUT='nan': not a number of seconds (a finite number ≥ 0, e.g. 600)
+    >>> del os.environ["TABLEAU_LAB_LOCK_TIMEOUT"]
+    """
+    import math
+
+    from .errors import InputError
+    text = os.environ.get("TABLEAU_LAB_LOCK_TIMEOUT")
+    if text is None or not text.strip():
+        return LOCK_TIMEOUT
     try:
-        return float(os.environ.get("TABLEAU_LAB_LOCK_TIMEOUT", "600"))
+        value = float(text)
     except ValueError:
-        return 600.0
+        value = math.nan
+    if not (math.isfinite(value) and value >= 0):
+        raise InputError(f"TABLEAU_LAB_LOCK_TIMEOUT={printable(repr(text))[:60]}: not a number of seconds (a finite "
+                         "number ≥ 0, e.g. 600)")
+    return value
 
 
 @contextlib.contextmanager
@@ -263,7 +489,7 @@ def output_lock(folder, timeout: float | None = None):
                 held[1] -= 1
         return
     path = folder / LOCK_NAME
-    deadline = time.monotonic() + (_lock_timeout() if timeout is None else timeout)
+    deadline = time.monotonic() + (lock_timeout() if timeout is None else timeout)
     while True:
         try:
             fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o666)
@@ -383,8 +609,31 @@ def deferred_interrupt(note: str = "finishing writing the results; Ctrl-C again 
 @contextlib.contextmanager
 def output_phase(folder, timeout: float | None = None):
     """The write phase of one output folder: its lock, Ctrl-C deferred, stale temporary files
-    removed, every atomic write inside staged and moved into place together (module docstring)."""
-    with output_lock(folder, timeout), deferred_interrupt():
+    removed, every atomic write inside staged and moved into place together (module docstring).
+    Every write inside, and every nested phase, must stay inside ``folder`` (:func:`guard_output`);
+    a nested phase's folder is checked before it is made."""
+    with confined(folder), output_lock(folder, timeout), deferred_interrupt():
         remove_stale_temps(folder)
         with output_set():
             yield Path(folder)
+
+
+@contextlib.contextmanager
+def confined(folder):
+    """Inside the block every :func:`guard_output` (so every atomic write) must resolve inside
+    ``folder``, itself inside the enclosing confinement if any (checked first: nothing is made
+    outside)."""
+    roots = getattr(_STATE, "roots", None)
+    if roots is None:
+        roots = _STATE.roots = []
+    if roots and not _inside(folder, roots[-1]):
+        raise OutputRefused(f"{_shown(folder)}: outside the output folder {_shown(roots[-1])}; nothing written there")
+    long = _long_part(folder)
+    if long is not None:
+        raise OutputRefused(f"{_shown(folder)[:80]}…: a folder name of {len(os.fsencode(long))} bytes is longer than "
+                            f"the system's limit of {NAME_MAX}")
+    roots.append(os.path.realpath(folder))
+    try:
+        yield
+    finally:
+        roots.pop()

@@ -20,14 +20,17 @@ ValueError: s.json: runs[0].method: a lone surrogate \\ud800 is not text
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
 import re
 import stat
+import threading
 from itertools import accumulate
 
 __all__ = ["MAX_JSON_BYTES", "MAX_JSON_DEPTH", "MAX_JSON_INT_DIGITS", "MAX_STEPS", "SAFE_NAME", "read_json", "parse_json",
+           "check_schema", "ListOf", "MapOf", "NAME_MAX", "note_input", "command_inputs", "recorded_inputs",
            "printable", "json_path"]
 
 MAX_JSON_BYTES = 10 * 2 ** 20     # the largest JSON file read (a tableau's own limit is lower: tableau_json.MAX_BYTES)
@@ -35,6 +38,8 @@ MAX_JSON_DEPTH = 64               # nesting of arrays and objects
 MAX_JSON_INT_DIGITS = 1000        # digits of a JSON integer (a tableau reads its own: grammar.LIMITS)
 MAX_STEPS = 10 ** 9               # steps of one run (scenes; T/h counts)
 SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")   # an output file or folder named by input (never . or ..)
+
+NAME_MAX = 255                    # bytes of one file name (Linux, macOS): longer ones are refused, not tried
 
 # control characters (tab, newline, carriage return aside), lone surrogates, bidirectional overrides
 _BAD_CHAR = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\u202a-\u202e\u2066-\u2069]")
@@ -185,10 +190,53 @@ def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int =
     return value
 
 
-def read_json(path, error, what: str = "JSON file", *, max_bytes: int = MAX_JSON_BYTES, **hooks):
+_INPUTS = threading.local()       # .files: {(st_dev, st_ino): path} of the running command, or None
+
+
+@contextlib.contextmanager
+def command_inputs(paths=()):
+    """The inputs of one command: ``paths`` (files named on its command line) and every file read
+    inside the block through :func:`note_input`; :func:`guard_output` refuses to write over any of
+    them.  Outside such a block (the Python API) only explicit ``inputs=`` are guarded."""
+    old = getattr(_INPUTS, "files", None)
+    _INPUTS.files = {} if old is None else old
+    try:
+        for p in paths:
+            note_input(p)
+        yield
+    finally:
+        _INPUTS.files = old
+
+
+def note_input(path) -> None:
+    """Record ``path`` as an input of the running command (:func:`command_inputs`; else nothing)."""
+    files = getattr(_INPUTS, "files", None)
+    if files is None:
+        return
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError, TypeError):
+        return
+    if stat.S_ISREG(st.st_mode):
+        files.setdefault((st.st_dev, st.st_ino), os.fspath(path))
+
+
+def recorded_inputs() -> list:
+    """The inputs recorded by the running command (:func:`command_inputs`), or []."""
+    return list((getattr(_INPUTS, "files", None) or {}).values())
+
+
+def read_json(path, error, what: str = "JSON file", *, max_bytes: int = MAX_JSON_BYTES, input: bool = True, **hooks):
     """The value of the JSON file ``path``, read strictly (see :func:`parse_json`); only a
-    regular file of at most ``max_bytes`` is opened (a FIFO or a device is refused at once)."""
+    regular file of at most ``max_bytes`` is opened (a FIFO or a device is refused at once).
+    ``input``: record it as an input of the running command, which then never writes over it
+    (:func:`note_input`; False for a command's own file read back, e.g. a
+    design checkpoint)."""
     source = printable(os.fspath(path))
+    long = next((p for p in os.fspath(path).split(os.sep) if len(p.encode("utf-8", "surrogateescape")) > NAME_MAX), None)
+    if long is not None:
+        raise _fail(error, source[:80] + "…", f"cannot read: a file name of {len(long.encode('utf-8', 'surrogateescape'))} "
+                                             f"bytes is longer than the system's limit of {NAME_MAX}")
     try:
         st = os.stat(path)
     except (OSError, ValueError) as exc:      # ValueError: a path with a NUL byte
@@ -207,4 +255,94 @@ def read_json(path, error, what: str = "JSON file", *, max_bytes: int = MAX_JSON
         raise _fail(error, source, f"cannot read: {printable(exc.strerror or exc)}") from None
     if not regular:
         raise _fail(error, source, f"not a regular file, not a {what}: only regular files are read")
+    if input:
+        note_input(path)
     return parse_json(raw, source, error, what, max_bytes=max_bytes, **hooks)
+
+
+class ListOf:
+    """A schema (:func:`check_schema`): a JSON array of ``item``, ``least`` … ``most`` long."""
+
+    def __init__(self, item, most: int, least: int = 0):
+        self.item, self.most, self.least = item, most, least
+
+
+class MapOf:
+    """A schema: a JSON object of at most ``most`` keys (any text), each value ``item``."""
+
+    def __init__(self, item, most: int):
+        self.item, self.most = item, most
+
+
+_TYPE_NAMES = {float: "a number", int: "an integer", str: "text", bool: "true or false", dict: "an object",
+               list: "an array", type(None): "null"}
+
+
+def _schema_name(schema) -> str:
+    if isinstance(schema, tuple):
+        return " or ".join(_schema_name(s) for s in schema)
+    if isinstance(schema, dict):
+        return "an object"
+    if isinstance(schema, (ListOf, MapOf)):
+        return "an array" if isinstance(schema, ListOf) else "an object"
+    return _TYPE_NAMES.get(schema, str(schema))
+
+
+def _conforms(value, schema) -> bool:
+    if schema is float:
+        return isinstance(value, (int, float)) and not isinstance(value, bool)
+    if schema is int:
+        return isinstance(value, int) and not isinstance(value, bool)
+    if isinstance(schema, type):
+        return isinstance(value, schema)
+    if isinstance(schema, dict):
+        return isinstance(value, dict)
+    if isinstance(schema, ListOf):
+        return isinstance(value, list)
+    if isinstance(schema, MapOf):
+        return isinstance(value, dict)
+    return False
+
+
+def check_schema(value, schema, source, error, path=()):
+    """Check a saved output read back (``value``, from ``source``) against the schema its writer
+    follows; the first mismatch is ``error`` (a class) naming the source and the entry.
+
+    A schema is a type (``float``: any JSON number; ``int``, ``str``, ``bool``, ``dict``,
+    ``list``, ``type(None)``), a tuple of alternatives, a dict ``{key: schema}`` (an object with
+    these keys; a key written ``"?key"`` may be missing; other keys are allowed), a
+    :class:`ListOf` or a :class:`MapOf` (with their length bounds).
+
+    >>> check_schema({"runs": [{"n": 1}, {"n": "x"}]}, {"runs": ListOf({"n": int}, 10)}, "d.json", ValueError)
+    Traceback (most recent call last):
+    ...
+    ValueError: d.json: runs[1].n: must be an integer, not 'x'
+    >>> check_schema({"runs": []}, {"runs": ListOf({"n": int}, 10, least=1)}, "d.json", ValueError)
+    Traceback (most recent call last):
+    ...
+    ValueError: d.json: runs: must hold at least 1 entry, it holds 0
+    """
+    path = list(path)
+    alternatives = schema if isinstance(schema, tuple) else (schema,)
+    match = next((s for s in alternatives if _conforms(value, s)), None)
+    if match is None:
+        raise _fail(error, printable(source), f"must be {_schema_name(schema)}, not {printable(repr(value))[:60]}",
+                    json_path(path))
+    if isinstance(match, dict):
+        for key, sub in match.items():
+            optional = key.startswith("?")
+            key = key.lstrip("?")
+            if key not in value:
+                if optional:
+                    continue
+                raise _fail(error, printable(source), f"the key {key!r} is missing", json_path(path) if path else None)
+            check_schema(value[key], sub, source, error, path + [key])
+    elif isinstance(match, (ListOf, MapOf)):
+        n = len(value)
+        if n > match.most or n < getattr(match, "least", 0):
+            bound = (f"at most {match.most}" if n > match.most else f"at least {match.least}")
+            raise _fail(error, printable(source), f"must hold {bound} {'entry' if bound.endswith(' 1') else 'entries'}, "
+                                                  f"it holds {n}", json_path(path))
+        items = value.items() if isinstance(match, MapOf) else enumerate(value)
+        for k, v in items:
+            check_schema(v, match.item, source, error, path + [k])

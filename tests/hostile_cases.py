@@ -25,6 +25,7 @@ class Case(NamedTuple):
     files: dict             # name -> text
     exit: int
     fragment: str           # in stderr (case-insensitive)
+    env: dict | None = None     # environment variables set for the case ({d}: its folder)
 
 
 def run_case(case, main) -> dict:
@@ -34,9 +35,16 @@ def run_case(case, main) -> dict:
     with tempfile.TemporaryDirectory() as d:
         d = Path(d)
         for name, text in case.files.items():
-            (d / name).write_text(text, encoding="utf-8", errors="surrogatepass")
+            (d / name).parent.mkdir(parents=True, exist_ok=True)
+            if isinstance(text, bytes):
+                (d / name).write_bytes(text)
+            else:
+                (d / name).write_text(text, encoding="utf-8", errors="surrogatepass")
         before = set(d.rglob("*"))
         argv = [a.replace("{d}", str(d)) for a in case.argv]
+        env = {k: v.replace("{d}", str(d)) for k, v in (case.env or {}).items()}
+        saved = {k: os.environ.get(k) for k in env}
+        os.environ.update(env)
         budget = float(argv[argv.index("--timeout") + 1]) if "--timeout" in argv[:2] else 60.0
         err, cwd = io.StringIO(), os.getcwd()
         os.chdir(d)
@@ -49,6 +57,11 @@ def run_case(case, main) -> dict:
                     code = exc.code
         finally:
             os.chdir(cwd)
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
         return {"code": code, "err": err.getvalue(), "seconds": time.perf_counter() - t0, "budget": budget,
                 "added": sorted(str(p.relative_to(d)) for p in set(d.rglob("*")) - before),
                 "executed": (d / "PWNED").exists() or Path("PWNED").exists()}
@@ -259,3 +272,65 @@ CASES += [Case(f"root8-{cmd}", "entry", "size", ("--timeout", "60", cmd, "{d}/m.
           for cmd in ("verify", "order", "stability")]
 CASES += [Case(f"nested-glm-{cmd}", "entry", "size", ("--timeout", "60", cmd, "{d}/m.json"), {"m.json": _NESTED_GLM},
                code, "") for cmd, code in (("verify", 0), ("order", 0), ("stability", 0))]
+
+# issue 29: files ---------------------------------------------------------------------------------------------------
+# outputs stay where the user said and never replace an input; every read back bounded and checked against the
+# schema of its writer (tests/test_files_guard.py: the cases that need links, FIFOs, sparse files, zip bombs)
+def _npz_truncated() -> bytes:
+    import io as _io
+
+    import numpy as _np
+    buf = _io.BytesIO()
+    _np.savez_compressed(buf, run0_t=_np.linspace(0, 1, 101))
+    return buf.getvalue()[:200]
+
+
+_WP = {"name": "wp", "title": "t", "problem": "harmonic", "T": 1.0, "invariant": "H", "reference_error_bound": 1e-30,
+       "speedup": {}, "series": {"RK4": [{"cpu": 0.01, "nfev": 40, "error": 1e-3, "invariant_error": 1e-4}]}}
+_ROUNDOFF = {"method": "m.json", "problem": "pendulum", "h": "1/10", "n": [0, 10], "plain": [0.0, 1e-16],
+             "compensated": [0.0, 1e-17], "slope_plain": 0.5, "slope_compensated": 0.1}
+_META = {"scene": "s.json", "name": "s", "title": "s", "complete": True,
+         "runs": [{"label": "RK4", "status": "completed", "max_invariant_error": {}}]}
+_FILES29 = [
+    ("long-file-name", ("verify", "{d}/" + "a" * 300 + ".json"), {}, "longer than"),
+    ("long-family-size", ("modified", "bdf:" + "9" * 5000), {}, "bdf:"),
+    ("long-folder-name", ("order", "{d}/" + "b" * 256 + "/m.json"), {}, "longer than"),
+    ("solve-save-over-input", ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/f.json"),
+     {"f.json": FREE}, "f.json"),
+    ("solve-save-over-stranger", ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/m.json"),
+     {"f.json": FREE, "m.json": GOOD}, "not made by this command"),
+    ("solve-name-escape", ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/o.json", "--name", "a\x1b[2Jb"),
+     {"f.json": FREE}, "--name"),
+    ("design-save-over-input", ("design", "{d}/f.json", "--maximize", "imaginary-interval", "--save", "{d}/f.json"),
+     {"f.json": FREE}, "f.json"),
+    ("design-checkpoint-over-tableau", ("design", "{d}/f.json", "--maximize", "imaginary-interval", "--checkpoint",
+                                        "{d}/m.json"), {"f.json": FREE, "m.json": GOOD}, "not made by this command"),
+    ("design-checkpoint-folder", ("design", "{d}/f.json", "--maximize", "imaginary-interval", "--checkpoint", "{d}"),
+     {"f.json": FREE}, "a directory"),
+    ("design-name-control", ("design", "{d}/f.json", "--maximize", "imaginary-interval", "--save", "{d}/o.json",
+                             "--name", "x\x07"), {"f.json": FREE}, "--name"),
+    ("replot-name-dotdot", ("replot", "{d}/wp"), {"wp/data.json": json.dumps({**_WP, "name": "../../x"})}, "name"),
+    ("replot-name-absolute", ("replot", "{d}/wp"), {"wp/data.json": json.dumps({**_WP, "name": "/tmp/x"})}, "name"),
+    ("replot-name-empty", ("replot", "{d}/wp"), {"wp/data.json": json.dumps({**_WP, "name": ""})}, "name"),
+    ("replot-3000-series", ("replot", "{d}/wp"), {"wp/data.json": json.dumps(
+        {**_WP, "series": {f"m{i}": _WP["series"]["RK4"] for i in range(3000)}})}, "series"),
+    ("replot-roundoff-no-slope", ("replot", "{d}/roundoff_m.json"),
+     {"roundoff_m.json": json.dumps({k: v for k, v in _ROUNDOFF.items() if k != "slope_plain"})}, "slope_plain"),
+    ("replot-roundoff-no-problem", ("replot", "{d}/roundoff_m.json"),
+     {"roundoff_m.json": json.dumps({k: v for k, v in _ROUNDOFF.items() if k != "problem"})}, "problem"),
+    ("replot-convergence-empty", ("replot", "{d}/convergence_x.json"), {"convergence_x.json": "[]"}, "convergence_x"),
+    ("replot-runs-empty", ("replot", "{d}/out/s"), {"out/s/meta.json": json.dumps({**_META, "runs": []}),
+                                                    "out/s/data.npz": _npz_truncated()}, "runs"),
+    ("replot-npz-truncated", ("replot", "{d}/out/s"), {"out/s/meta.json": json.dumps(_META),
+                                                       "out/s/data.npz": _npz_truncated()}, "data.npz"),
+    ("replot-nothing-drawable", ("replot", "{d}"), {"other.json": "{}"}, "holds no saved output"),
+    ("report-over-input", ("report", "{d}/m.tex", "--out", "{d}"), {"m.tex": GOOD}, "m.tex"),
+]
+CASES += [Case(f"files-{cid}", "output path", "files", argv, files, 2, fragment) for cid, argv, files, fragment in _FILES29]
+CASES += [Case(f"files-lock-timeout-{v}", "environment", "files", ("report", "{d}/m.json", "--out", "{d}/out"),
+               {"m.json": GOOD}, 2, "TABLEAU_LAB_LOCK_TIMEOUT", {"TABLEAU_LAB_LOCK_TIMEOUT": v})
+          for v in ("nan", "inf", "-1", "x")]
+CASES += [Case("files-cache-is-a-file", "environment", "files", ("run", "--method", "{d}/m.json", "--problem", "harmonic",
+                                                                 "--h", "1/10", "--steps", "10"),
+               {"m.json": GOOD}, 2, "TABLEAU_LAB_CACHE", {"TABLEAU_LAB_CACHE": "{d}/m.json"})]
+# end of issue 29: files ---------------------------------------------------------------------------------------------

@@ -219,3 +219,58 @@ def test_rediscovers_glm43_or_better_in_its_family():
     doc = (Path(__file__).resolve().parents[1] / "docs" / "design.md").read_text()       # the quoted values
     assert f"<!-- g43r-ystar -->{float(v['imaginary interval']):.6f}<!--" in doc and f"(GLM43: {float(y43):.6f})" in doc
     assert f"<!-- g43r-error -->{float(v['error norm']):.6g}<!--" in doc and f"(GLM43: {float(err43):.6g})" in doc
+
+
+# issue 29: files ---------------------------------------------------------------------------------------------------
+TAMPER = {                       # a checkpoint of this request, edited: each refused naming the file and the entry
+    "sample-text": lambda d: d["sample"].update({next(iter(d["sample"])): "x"}),
+    "sample-short": lambda d: d["sample"].update({next(iter(d["sample"])): [[1.0]]}),
+    "sample-objectives": lambda d: d["sample"].update({next(iter(d["sample"])): [[1.0, 2.0], 0.0]}),
+    "refine-text": lambda d: d["refine"].update({next(iter(d["refine"])): "x"}),
+    "refine-point": lambda d: d["refine"].update({next(iter(d["refine"])): [[], None, 3]}),
+    "refine-calls": lambda d: d["refine"].update({next(iter(d["refine"])): [[0.5], None, -1]}),
+    "refine-scores-bool": lambda d: d["refine"].update({next(iter(d["refine"])): [[0.5], [[True], 0.0], 1]}),
+}
+NOT_OURS = {                     # not a checkpoint at all: refused, never replaced
+    "truncated": lambda text: text[: len(text) // 2],
+    "list": lambda text: "[]",
+    "extra-key": lambda text: text[:-1] + ', "x": 1}',
+}
+
+
+@pytest.fixture(scope="module")
+def checkpoint_text(pn, tmp_path_factory):
+    path = tmp_path_factory.mktemp("cp") / "search.json"
+    search(pn, checkpoint=path, **CHECKPOINT_KW)
+    return path.read_text()
+
+
+CHECKPOINT_KW = dict(maximize="imaginary-interval", constraints=("order=4",), box=(-3.0, 3.0), seed=1, samples=32,
+                     starts=2, certify=False)
+
+
+@pytest.mark.parametrize("case", sorted(TAMPER))
+def test_tampered_checkpoint_is_refused_naming_the_entry(pn, checkpoint_text, tmp_path, case):
+    """3 of 7 such files ended in an internal error (exit 3): each is a SearchError (exit 2)
+    naming the file and the entry, and the file is left as it was."""
+    data = json.loads(checkpoint_text)
+    TAMPER[case](data)
+    path = tmp_path / "search.json"
+    path.write_text(json.dumps(data))
+    before = path.read_bytes()
+    stage = case.split("-")[0]
+    with pytest.raises(SearchError, match=rf"search\.json: {stage}\["):
+        search(pn, checkpoint=path, **CHECKPOINT_KW)
+    assert path.read_bytes() == before
+
+
+@pytest.mark.parametrize("case", sorted(NOT_OURS))
+def test_a_file_that_is_not_a_checkpoint_is_not_replaced(pn, checkpoint_text, tmp_path, case):
+    from tableau_lab.files import OutputRefused
+    path = tmp_path / "search.json"
+    path.write_text(NOT_OURS[case](checkpoint_text))
+    before = path.read_bytes()
+    with pytest.raises(OutputRefused, match="not made by this command"):
+        search(pn, checkpoint=path, **CHECKPOINT_KW)
+    assert path.read_bytes() == before
+# end of issue 29: files --------------------------------------------------------------------------------------------

@@ -23,7 +23,7 @@ LIBRARY = sorted(METHODS.glob("*.json"))
 
 def test_example4_report_states_the_corrected_D_and_BtGB(tmp_path):
     assert main(["report", str(METHODS / "example4_glm.json"), "--out", str(tmp_path)]) == 0
-    facts = json.loads((tmp_path / "example4_glm.json").read_text())
+    facts = json.loads((tmp_path / "example4_glm.report.json").read_text())
     tex = (tmp_path / "example4_glm.tex").read_text()
     assert facts["D"] == ["1/2", "1/2"]                       # the seed prints diag(1/2, -1/2): ERRATA 4
     m = load(METHODS / "example4_glm.json")

@@ -73,10 +73,11 @@ def family(spec: str, **size) -> Method:
     raw = m.group("size") if m.group("size") is not None else size.get(key)
     if raw is None:
         raise FamilyError(f"{spec}: the number of {unit} is missing (write {name}:N)")
-    n = int(raw) if isinstance(raw, str) and raw.isdigit() else raw
-    label = f"{name}:{raw}"
+    shown = raw if len(str(raw)) <= 20 else f"{str(raw)[:12]}… ({len(str(raw))} characters)"
+    n = int(raw) if isinstance(raw, str) and raw.isdigit() and len(raw) <= 12 else raw
+    label = f"{name}:{shown}"
     if not isinstance(n, int) or isinstance(n, bool) or not 1 <= n <= largest:
-        raise FamilyError(f"{label}: the number of {unit} must be an integer 1 … {largest}, not {raw}")
+        raise FamilyError(f"{label}: the number of {unit} must be an integer 1 … {largest}, not {shown}")
     try:
         return build(n)
     except ValueError as exc:               # MethodError, or no exact construction at this size

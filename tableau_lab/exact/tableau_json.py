@@ -21,7 +21,7 @@ from typing import Any
 import sympy as sp
 
 from ..errors import InputError
-from ..files import atomic_write_text
+from ..files import atomic_write_text, path_exists
 from ..inputs import parse_json, printable, read_json
 from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .library import FamilyError, family, is_family, library_path
@@ -281,12 +281,12 @@ def load(path: str | os.PathLike, **size) -> Method:
     """Read a tableau file; errors name the file and the entry.  A name that is not a file is
     a shipped method (``load("gauss2")``) or a generated family (``load("bdf:5")``,
     ``load("gauss", s=3)``): :mod:`library`."""
-    if size or (not Path(path).exists() and is_family(path)):
+    if size or (not path_exists(path) and is_family(path)):
         try:
             return family(str(path), **size)
         except FamilyError as exc:
             raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
-    if not Path(path).exists() and library_path(path) is not None:
+    if not path_exists(path) and library_path(path) is not None:
         return from_dict(read(library_path(path)), str(path))      # a shipped method by name
     return from_dict(read(path), str(path))
 
@@ -333,6 +333,20 @@ def dumps(m: Method) -> str:
         else:
             lines.append(f"  {json.dumps(k)}: {json.dumps(v, ensure_ascii=False)}")
     return "{\n" + ",\n".join(lines) + "\n}\n"
+
+
+SAVED_BY = ("Solved by tableau-lab solve", "Found by tableau-lab design")     # the note --save writes
+
+
+def saved_by_tableau_lab(path) -> bool:
+    """Whether the file at ``path`` is a tableau that ``solve --save`` or ``design --save`` wrote
+    (a note starting with one of :data:`SAVED_BY`): only such a file is replaced by ``--save``."""
+    try:
+        data = read_json(path, _error, "tableau", max_bytes=MAX_BYTES, input=False, **_HOOKS)    # our own output
+    except TableauError:
+        return False
+    notes = data.get("notes") if isinstance(data, dict) else None
+    return isinstance(notes, list) and any(isinstance(n, str) and n.startswith(SAVED_BY) for n in notes)
 
 
 def save(m: Method, path: str | os.PathLike) -> None:

@@ -42,7 +42,7 @@ from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
                                   series_defects)
 
-__all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError"]
+__all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError", "is_checkpoint"]
 
 PENALTY = 1e3            # weight of a constraint violation in the score
 MAX_CERTIFIED = 8        # candidates certified per search (each costs exact analyses)
@@ -333,22 +333,71 @@ def _dominates(a, b, senses) -> bool:
     return all(better) and any(strictly)
 
 
+def is_checkpoint(path) -> bool:
+    """Whether the file at ``path`` is a design checkpoint (read bounded: at most
+    :data:`~tableau_lab.files.MAX_CHECKPOINT_BYTES`): an object with exactly the keys ``key``,
+    ``sample`` and ``refine`` that :class:`_Checkpoint` writes.  Only such a file is replaced by
+    ``--checkpoint``; any other is refused, never overwritten."""
+    try:
+        data = _read_checkpoint(path)
+    except ValueError:
+        return False
+    return (isinstance(data, dict) and set(data) == {"key", "sample", "refine"} and isinstance(data["key"], str)
+            and isinstance(data["sample"], dict) and isinstance(data["refine"], dict))
+
+
+def _read_checkpoint(path):
+    from ..files import MAX_CHECKPOINT_BYTES
+    from ..inputs import read_json
+    return read_json(path, SearchError, "design checkpoint", max_bytes=MAX_CHECKPOINT_BYTES, input=False,
+                     parse_constant=float)          # our own file read back (NaN / Infinity as json.dumps wrote them)
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _scores(v, k: int) -> bool:
+    """A sample value as the search writes it: None, or [[k objective values], violation]."""
+    return v is None or (isinstance(v, list) and len(v) == 2 and isinstance(v[0], list) and len(v[0]) == k
+                         and all(map(_number, v[0])) and _number(v[1]))
+
+
+def _refined(v, k: int, dim: int) -> bool:
+    """A local search's value: [point (dim numbers), scores or None, evaluations]."""
+    return (isinstance(v, list) and len(v) == 3 and isinstance(v[0], list) and len(v[0]) == dim
+            and all(map(_number, v[0])) and _scores(v[1], k) and isinstance(v[2], int) and not isinstance(v[2], bool)
+            and v[2] >= 0)
+
+
 class _Checkpoint:
     """The finished tasks of a search, kept in a JSON file (rewritten atomically as tasks finish) so
-    that a rerun of the same request continues where the last one stopped; another request's file
-    is ignored and replaced."""
+    that a rerun of the same request continues where the last one stopped; another request's
+    checkpoint is ignored and replaced.  The file is guarded before any work
+    (:func:`tableau_lab.files.guard_output`): a file that is not a checkpoint, an input, a device
+    or a folder is refused, never replaced; a checkpoint of this request whose entries are not
+    what the search wrote (edited, damaged) is refused naming the file and the entry."""
 
-    def __init__(self, path, key: str):
+    def __init__(self, path, key: str, objectives: int = 1, dim: int = 1):
         self.path = None if path is None else Path(path)
         self.data = {"key": key, "sample": {}, "refine": {}}
-        if self.path is not None and self.path.is_file():
-            try:
-                old = json.loads(self.path.read_text(encoding="utf-8"))
-            except (OSError, ValueError):
-                old = None
-            if isinstance(old, dict) and old.get("key") == key:
-                self.data["sample"] = dict(old.get("sample") or {})
-                self.data["refine"] = dict(old.get("refine") or {})
+        if self.path is None:
+            return
+        from ..files import guard_output, path_exists
+        from ..inputs import printable
+        guard_output(self.path, mine=is_checkpoint, what="--checkpoint")
+        if not path_exists(self.path):
+            return
+        old = _read_checkpoint(self.path)
+        if old.get("key") != key:
+            return                                  # another request's checkpoint: started afresh, replaced
+        for stage, ok in (("sample", lambda v: _scores(v, objectives)), ("refine", lambda v: _refined(v, objectives, dim))):
+            for item, value in old[stage].items():
+                if not ok(value):
+                    raise SearchError(f"{printable(self.path)}: {stage}[{printable(json.dumps(item))[:80]}]: not a value "
+                                      "this search writes (the checkpoint was edited or damaged); remove the file to "
+                                      "start afresh")
+            self.data[stage] = dict(old[stage])
 
     def has(self, stage: str, item) -> bool:
         return repr(item) in self.data[stage]
@@ -398,7 +447,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
     task = _Task(family, names, tuple(constraints), p, (float(lo), float(hi)), key=key)
     request = json.dumps([key, names,
                           list(constraints), [lo, hi], samples, starts, seed, weights, p])
-    cp = _Checkpoint(checkpoint, hashlib.sha256(request.encode()).hexdigest())
+    cp = _Checkpoint(checkpoint, hashlib.sha256(request.encode()).hexdigest(), len(names), dim)
     with executor(scheduler, workers, progress=progress) as ex:
         n = max(1, ex.workers)
         todo = [x for x in pts if not cp.has("sample", x)]

@@ -17,8 +17,12 @@ SVG), never integrating or computing a reference:
   ``suite_time_to_failure``.
 
 Any other folder is searched for these (its subfolders too).  Each folder's figures are written
-as one set under its lock (:func:`tableau_lab.files.output_phase`); the data files are read,
-never written.  Figures for which nothing was saved to draw from (the benchmark scripts' figures,
+as one set under its lock (:func:`tableau_lab.files.output_phase`), inside that folder only (a
+name read from the data is one file name: :func:`tableau_lab.files.output_name`); the data files
+are read, never written.  Every file read back is bounded (JSON: ``inputs.MAX_JSON_BYTES``;
+``data.npz``: :func:`tableau_lab.files.load_npz`) and checked against the schema its writer
+follows (:data:`SCHEMAS`) before anything is drawn: a damaged or edited file is a
+:class:`ReplotError` naming the file and the key (exit 2), as is a path holding nothing to draw.  Figures for which nothing was saved to draw from (the benchmark scripts' figures,
 whose curves their ``numbers.json`` does not keep) are left as they are and named by
 :func:`main_replot`.
 """
@@ -30,22 +34,50 @@ from functools import partial
 from pathlib import Path
 from types import SimpleNamespace
 
-import numpy as np
-
 from ..errors import EXIT_INPUT, EXIT_OK, InputError
-from ..files import output_phase
-from ..inputs import printable, read_json
+from ..files import load_npz, output_name, output_phase
+from ..inputs import ListOf, MapOf, check_schema, printable, read_json
 
-__all__ = ["replot", "ReplotError", "main_replot", "kind_of"]
+__all__ = ["replot", "ReplotError", "main_replot", "kind_of", "SCHEMAS", "MAX_SERIES", "MAX_POINTS"]
+
+MAX_SERIES = 100         # series (methods, peers, runs, rows) of one saved figure's data that replot draws
+MAX_POINTS = 10 ** 5     # points of one series (a convergence sweep, a round-off record)
 
 
 class ReplotError(InputError):
     """A path that holds no saved output replot can draw from (the message names it and why)."""
 
 
+_NUM, _NUMS = float, ListOf(float, MAX_POINTS)
+_OPT = (float, type(None))
+# what each writer saves and the drawing reads (workprecision.run_wp, runs.Convergence.to_json,
+# cli._roundoff, suite.run_suite, scene.write_outputs)
+SCHEMAS = {
+    "workprecision": {"name": str, "title": str, "T": _NUM, "invariant": str, "reference_error_bound": _NUM,
+                      "series": MapOf(ListOf(({"cpu": _NUM, "nfev": _NUM, "error": _NUM, "invariant_error": _NUM},
+                                              {"failed": str}), MAX_POINTS), MAX_SERIES)},
+    "convergence": ListOf({"method": str, "problem": str, "precision": str, "T": _NUM, "?order": (int, type(None)),
+                           "h": _NUMS, "error": ListOf(_OPT, MAX_POINTS), "slope": _OPT}, MAX_SERIES, least=1),
+    "roundoff": {"method": str, "problem": str, "h": (str, float), "n": _NUMS, "plain": _NUMS, "compensated": _NUMS,
+                 "slope_plain": _NUM, "slope_compensated": _NUM},
+    "suite": {"scenes": ListOf({"name": str}, MAX_SERIES, least=1),
+              "rows": ListOf({"scene": str, "file": str, "projection": (list, bool, type(None)), "status": str,
+                              "max_H_error": _OPT, "t_end": _NUM, "T": _OPT}, MAX_SERIES * MAX_SERIES)},
+    "scene": {"scene": str, "name": str, "complete": bool,
+              "runs": ListOf({"label": str, "status": str}, MAX_SERIES, least=1)},
+}
+
+
 def _read(path) -> object:
     """A saved data file (strict JSON, but our writers' Infinity and NaN allowed)."""
     return read_json(path, ReplotError, "saved data file", parse_constant=float)
+
+
+def _checked(path, kind: str):
+    """The saved data file ``path`` of ``kind``, checked against its writer's schema."""
+    data = _read(path)
+    check_schema(data, SCHEMAS[kind], path, ReplotError)
+    return data
 
 
 def _meta_file(folder: Path):
@@ -80,6 +112,17 @@ def kind_of(path) -> str | None:
     return None
 
 
+def _named(path: Path) -> str | None:
+    """What a path named on the command line is by its name alone, when its content does not say
+    (a damaged file: its schema then names what is wrong)."""
+    if path.is_dir():
+        return "workprecision" if (path / "data.json").is_file() and not (path / "meta.json").exists() else None
+    for prefix in ("convergence", "roundoff"):
+        if path.name.startswith(prefix + "_") and path.suffix == ".json":
+            return prefix
+    return "suite" if path.name == "summary.json" else None
+
+
 def replot(path) -> list:
     """Redraw the figures of ``path`` (module docstring) from its saved data; returns the PNG
     paths written (each with its PDF and SVG).  A folder that is not itself an output is
@@ -88,9 +131,9 @@ def replot(path) -> list:
     path = Path(path)
     if not path.exists():
         raise ReplotError(f"{printable(path)}: no such file or folder")
-    kind = kind_of(path)
+    kind = kind_of(path) or _named(path)
     if kind is not None:
-        return _DRAW[kind](path)
+        return _draw(kind, path)
     if path.is_dir():
         written = []
         for child in sorted(path.iterdir()):
@@ -104,10 +147,24 @@ def replot(path) -> list:
                 except ReplotError:             # a JSON file that is not saved data (searching, not named)
                     continue
                 if kind is not None:
-                    written += _DRAW[kind](child)
+                    written += _draw(kind, child)
         return written
     raise ReplotError(f"{printable(path)}: not a saved output replot can draw from (a scene or work–precision "
                       "folder, a convergence or round-off JSON file, a suite's summary.json)")
+
+
+def _draw(kind: str, path: Path) -> list:
+    """``_DRAW[kind](path)``; a saved file that passed its schema and still does not draw (a
+    cross-reference that does not hold: a row's scene not among the scenes, arrays of unequal
+    length) is a :class:`ReplotError` naming the file, never an internal error."""
+    try:
+        return _DRAW[kind](path)
+    except InputError:
+        raise
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, ZeroDivisionError) as exc:
+        what = f"the key {exc.args[0]!r} is missing" if isinstance(exc, KeyError) and exc.args else \
+            f"{type(exc).__name__}: {printable(str(exc))[:120]}"
+        raise ReplotError(f"{printable(path)}: not the {kind} data its command writes ({what})") from None
 
 
 def _scene_file(name: str, folder: Path) -> Path:
@@ -125,15 +182,9 @@ def _scene(folder: Path) -> list:
     from .plots import draw
     from .scene import _draw_modified_energy, load_scene
     meta_path = _meta_file(folder)
-    meta = _read(meta_path)
-    if not isinstance(meta, dict) or not isinstance(meta.get("runs"), list) or "scene" not in meta:
-        raise ReplotError(f"{printable(meta_path)}: not a scene's metadata (no scene, no runs)")
+    meta = _checked(meta_path, "scene")
     suffix = "" if meta.get("complete") else ".incomplete"
-    try:
-        with np.load(folder / f"data{suffix}.npz", allow_pickle=False) as z:
-            arrays = {k: z[k] for k in z.files}
-    except (OSError, ValueError) as exc:
-        raise ReplotError(f"{printable(folder / f'data{suffix}.npz')}: cannot read it: {exc}") from None
+    arrays = load_npz(folder / f"data{suffix}.npz", ReplotError)          # bounded, members checked first
     sc = load_scene(_scene_file(meta["scene"], folder))
     if sc.name != meta.get("name"):
         raise ReplotError(f"{printable(folder)}: its metadata names scene {meta.get('name')!r}, the scene file "
@@ -156,8 +207,8 @@ def _scene(folder: Path) -> list:
 
 def _workprecision(folder: Path) -> list:
     from .plots import draw_workprecision
-    data = _read(folder / "data.json")
-    target = folder / f"{data['name']}.png"
+    data = _checked(folder / "data.json", "workprecision")
+    target = folder / f"{output_name(data['name'], folder / 'data.json')}.png"     # one name, in this folder
     with output_phase(folder):
         draw_workprecision(data, target)
     return [target]
@@ -168,7 +219,7 @@ def _beside(kind: str, path: Path) -> list:
     from . import plots
     draw, title = {"convergence": (plots.draw_convergence, plots.convergence_title),
                    "roundoff": (plots.draw_roundoff, plots.roundoff_title)}[kind]
-    data = _read(path)
+    data = _checked(path, kind)
     target = path.with_suffix(".png")
     with output_phase(path.parent):
         draw(data, target, title(data))
@@ -178,7 +229,7 @@ def _beside(kind: str, path: Path) -> list:
 def _suite(path: Path) -> list:
     from .figure_style import pyplot
     from .suite import _draw
-    summary = _read(path)
+    summary = _checked(path, "suite")
     scenes = [SimpleNamespace(name=s["name"]) for s in summary["scenes"]]
     with output_phase(path.parent):
         names = _draw(pyplot(), summary["rows"], scenes, path.parent)
@@ -202,6 +253,11 @@ def main_replot(args) -> int:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
             continue
+        if not written:                          # the help's promise: exit 2 when nothing could be drawn
+            print(f"tableau-lab: error: {printable(path)}: holds no saved output replot can draw from (scene or "
+                  "work–precision folders, convergence or round-off JSON files, a suite's summary.json)",
+                  file=sys.stderr)
+            status = EXIT_INPUT
         for png in written:
             print(f"wrote {png} (and {', '.join(png.with_suffix(s).name for s in formats()[1:])})")
         if Path(path).is_dir():

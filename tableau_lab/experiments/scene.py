@@ -439,7 +439,7 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
     A full disk (:class:`~tableau_lab.files.OutputError`) leaves the previous set as it was.
     ``also(out)``: more files drawn in the same phase (their names, kept).  Returns the
     metadata (with ``"plots"``)."""
-    from ..files import deferred_interrupt, output_lock, output_set, remove_stale_temps
+    from ..files import OutputRefused, confined, deferred_interrupt, guard_output, output_lock, output_set, remove_stale_temps
     from .plots import draw
     out = Path(out)
     results = list(results) + [None] * (len(sc.runs) - len(results))
@@ -453,7 +453,7 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
             "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
-    with output_lock(out), deferred_interrupt():
+    with confined(out), output_lock(out), deferred_interrupt():
         remove_stale_temps(out)
         with output_set():
             written = [f"data{suffix}.npz", f"meta{suffix}.json"]
@@ -470,9 +470,10 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
         for name in _scene_files(out, sc.name):
             if name not in keep:
                 try:
+                    guard_output(out / name)        # never an input, never anything but a regular file
                     (out / name).unlink()
-                except FileNotFoundError:
-                    pass                    # removed by a concurrent writer that does not lock
+                except (FileNotFoundError, OutputRefused):
+                    pass                    # removed by a concurrent writer that does not lock; an input
     meta["plots"] = plots + extra
     return meta
 
@@ -499,6 +500,18 @@ def _draw_modified_energy(sc: Scene, meta, arrays, out: Path, suffix: str) -> st
         f"its {sc.modified_energy} lowest nonzero corrections"
     plot_energy_panels(panels, out / name, f"{title}\nH̃ = H + {lowest} (the method's modified energy at h = {sc.h})")
     return name
+
+
+def guard_scene_outputs(sc: Scene, out) -> None:
+    """Before any run: refuse (:class:`~tableau_lab.files.OutputRefused`, naming both paths) when
+    a file the scene's write phase may replace or remove in ``out`` (its data, metadata, figures:
+    :func:`_scene_files`) is one of its inputs (the scene file, a method file) or not a regular
+    file."""
+    from ..files import refuse_outputs
+    out = Path(out)
+    inputs = [sc.path] + [r["method"] for r in sc.runs if isinstance(r.get("method"), (str, Path))]
+    names = {"data.npz", "meta.json", "data.incomplete.npz", "meta.incomplete.json"} | set(_scene_files(out, sc.name))
+    refuse_outputs([out / n for n in sorted(names)], inputs)
 
 
 def _scene_files(out: Path, name: str) -> list:
@@ -530,6 +543,7 @@ def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
     ``KeyboardInterrupt`` is raised again.  Interrupted before any run produced records, the
     folder is left as it was."""
     sc = load_scene(path)
+    guard_scene_outputs(sc, Path(out_root) / sc.name)      # before any run
     show = sys.stderr.isatty() if progress is None else progress
     results = [None] * len(sc.runs)
     interrupted = False

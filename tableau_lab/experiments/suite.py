@@ -194,6 +194,11 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     from .figure_style import pyplot
     scenes = load_suite(suite_dir, steps, only)
     out = Path(out or suite_dir)
+    from ..files import refuse_outputs
+    from .scene import guard_scene_outputs
+    for sc in scenes:                # before any run: no output over an input
+        guard_scene_outputs(sc, out / sc.name)
+    refuse_outputs([out / "summary.json", out / "summary.md"], [sc.path for sc in scenes])
     items = [(str(sc.path), i, steps) for sc in scenes for i in range(len(sc.runs))]
     cost = {sc.path: _COST.get(sc.problem.name, 1.0) * sc.steps for sc in scenes}
     order = sorted(range(len(items)), key=lambda k: -cost[Path(items[k][0])])

@@ -171,7 +171,12 @@ def reference_state(problem, T, steps=None):
 def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, workers=None):
     """All points of a work–precision scene (independent runs through the executor), the
     reference, then ``data.json`` and the PNG.  Returns the data dict."""
+    from ..files import refuse_outputs
     from .executor import executor
+    from .figure_style import siblings
+    out = Path(out_root) / scene.name          # before any run: no output over an input
+    refuse_outputs([out / "data.json", out / "summary.md", *siblings(out / f"{scene.name}.png")],
+                   [scene.path] + [p for p, _, _ in scene.methods])
     ref, gap = reference_state(scene.problem, scene.T)
     tasks = [(method_point, (str(p), scene.problem, scene.T, n, scene.invariant), label)
              for p, steps, label in scene.methods for n in steps]

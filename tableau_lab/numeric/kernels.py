@@ -42,7 +42,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..files import atomic_write_text
+from ..files import atomic_write_text, path_exists
 from . import limits as L
 
 __all__ = ["available", "cache_dir", "Shape", "loop_shape", "dense_matrices", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
@@ -60,8 +60,19 @@ def available() -> bool:
 
 
 def cache_dir() -> Path:
-    root = os.environ.get("TABLEAU_LAB_CACHE") or Path.home() / ".cache" / "tableau_lab"
-    return Path(root) / "kernels"
+    """The folder of the generated modules: ``$TABLEAU_LAB_CACHE/kernels``, else
+    ``~/.cache/tableau_lab/kernels``.  A ``TABLEAU_LAB_CACHE`` that is there but not a folder
+    (a file, a device) is refused (:class:`~tableau_lab.errors.InputError`, exit 2)."""
+    given = os.environ.get("TABLEAU_LAB_CACHE")
+    root = Path(given or Path.home() / ".cache" / "tableau_lab")
+    for folder in (root, root / "kernels"):
+        if path_exists(folder) and not folder.is_dir():
+            from ..errors import InputError
+            from ..inputs import printable
+            raise InputError(f"{'TABLEAU_LAB_CACHE=' if given else ''}{printable(root)}: the compiled-kernel cache "
+                             f"folder {printable(folder)} is not a folder; point TABLEAU_LAB_CACHE at a folder "
+                             "(or unset it for ~/.cache/tableau_lab)")
+    return root / "kernels"
 
 
 DENSE = ("DENSE_A", "DENSE_B", "DENSE_U", "DENSE_V")     # stepcore's names

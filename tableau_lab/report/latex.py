@@ -38,7 +38,8 @@ from ..exact.grammar import format_entry
 from ..exact.render import LATEX, latex_text, signed_term
 from ..exact.methods import Method
 
-__all__ = ["method_document", "library_document", "compile_pdf", "ReportError", "write_report"]
+__all__ = ["method_document", "library_document", "compile_pdf", "ReportError", "write_report", "report_paths",
+           "FACTS_SUFFIX"]
 
 PREAMBLE = r"""\documentclass[11pt]{article}
 \usepackage[a4paper,margin=2.2cm]{geometry}
@@ -528,12 +529,28 @@ def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
     return given.with_suffix(".pdf")
 
 
-def write_report(tex: str, facts: dict, out: Path) -> Path:
-    """Write NAME.tex and NAME.json (the facts) atomically, as one set under the folder's lock
-    (:mod:`tableau_lab.files`: a full disk raises ``OutputError`` naming the file and leaves both
-    as they were); returns the .tex path."""
+FACTS_SUFFIX = ".report.json"      # the facts sidecar: NAME.report.json, never NAME.json (a method file's name)
+
+
+def report_paths(out) -> dict:
+    """The files of the report ``out`` (``FOLDER/NAME``): ``tex`` NAME.tex, ``facts``
+    NAME.report.json (its own name: a tableau ``NAME.json`` beside it is never replaced), ``pdf``
+    and ``log``.
+
+    >>> sorted(p.name for p in report_paths("proofs/glm4.3").values())
+    ['glm4.3.log', 'glm4.3.pdf', 'glm4.3.report.json', 'glm4.3.tex']
+    """
     out = Path(out)
-    with output_phase(out.parent):
-        atomic_write_text(out.with_suffix(".json"), json.dumps(facts, indent=1, ensure_ascii=False, default=str))
-        atomic_write_text(out.with_suffix(".tex"), tex)
-    return out.with_suffix(".tex")
+    return {k: out.parent / f"{out.name}{suffix}" for k, suffix in
+            (("tex", ".tex"), ("facts", FACTS_SUFFIX), ("pdf", ".pdf"), ("log", ".log"))}
+
+
+def write_report(tex: str, facts: dict, out: Path) -> Path:
+    """Write NAME.tex and NAME.report.json (the facts) atomically, as one set under the folder's
+    lock (:mod:`tableau_lab.files`: a full disk raises ``OutputError`` naming the file and leaves
+    both as they were); returns the .tex path."""
+    paths = report_paths(out)
+    with output_phase(Path(out).parent):
+        atomic_write_text(paths["facts"], json.dumps(facts, indent=1, ensure_ascii=False, default=str))
+        atomic_write_text(paths["tex"], tex)
+    return paths["tex"]
