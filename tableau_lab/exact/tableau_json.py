@@ -128,10 +128,17 @@ def _constants(value, source) -> dict:
 
 
 def _hint(text):
-    try:
-        return str(sp.Rational(text)) if len(text) < 30 else "1/2"
-    except (TypeError, ValueError):
+    """The exact value a JSON float denotes, as a hint: "0.5" → "1/2"; "1/2" where that value
+    would be long (1e99999999 has 10⁸ digits: never built).
+
+    >>> _hint("0.25"), _hint("1e99999999"), _hint("2.5e-3")
+    ('1/4', '1/2', '1/400')
+    """
+    import re
+    m = re.fullmatch(r"-?[0-9]{1,20}(?:\.[0-9]{0,20})?(?:[eE]([+-]?[0-9]{1,3}))?", text)
+    if not m or abs(int(m.group(1) or 0)) > 20:
         return "1/2"
+    return str(sp.Rational(text))
 
 
 def _matrix(value, source, key, consts=None):
