@@ -441,17 +441,6 @@ RUNS29 = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(RUNS29))
-def test_issue29_scene_refused_one_based(tmp_path, case):
-    text, fragments = RUNS29[case]
-    path = tmp_path / f"{case}.json"
-    path.write_text(text)
-    with pytest.raises(SceneError) as info:
-        load_scene(path)
-    _fragments_in(str(info.value), path, fragments)
-    assert not re.search(r"\[0\]", str(info.value)), str(info.value)
-
-
 def _wp(**over):
     d = {"format": "tableau_lab/workprecision/1", "name": "w", "problem": "harmonic", "T": 1,
          "methods": [{"method": RK4, "steps": [10, 20]}], "peers": [{"method": "DOP853", "rtol": ["1e-6"]}]}
@@ -476,17 +465,21 @@ WP29 = {
 }
 
 
-@pytest.mark.parametrize("case", sorted(WP29))
-def test_issue29_workprecision_scene_refused(tmp_path, case):
-    """5ea0488: "steps": [10**12] ran until killed, "T": "1e300" ended in a numba TypingError
-    (exit 3), LSODA was accepted, a bad atol_factor was exit 3."""
+@pytest.mark.parametrize("case", [("scene", k) for k in sorted(RUNS29)] + [("workprecision", k) for k in sorted(WP29)],
+                         ids=lambda c: "-".join(c))
+def test_issue29_refused_one_based(tmp_path, case):
+    """Scenes and work-precision scenes refused naming the entry, one-based.  5ea0488: "steps":
+    [10**12] ran until killed, "T": "1e300" ended in a numba TypingError (exit 3), LSODA was
+    accepted, a bad atol_factor was exit 3, entries were named runs[0], q0[0]."""
     from tableau_lab.experiments.workprecision import load_wp_scene
-    text, fragments = WP29[case]
-    path = tmp_path / f"{case}.json"
+    kind, key = case
+    text, fragments = (RUNS29 if kind == "scene" else WP29)[key]
+    path = tmp_path / f"{key}.json"
     path.write_text(text)
     with pytest.raises(SceneError) as info:
-        load_wp_scene(path)
+        (load_scene if kind == "scene" else load_wp_scene)(path)
     _fragments_in(str(info.value), path, fragments)
+    assert not re.search(r"\[0\]", str(info.value)), str(info.value)
 
 
 def test_issue29_workprecision_tolerances_as_json_numbers(tmp_path):
