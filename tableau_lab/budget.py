@@ -73,9 +73,11 @@ def current(default: str = "the analysis") -> str:
 
 @contextmanager
 def time_limit(seconds: float | None, option: str = OPTION):
-    """Raise BudgetError in the enclosed work after ``seconds`` (None or 0: no limit)."""
+    """Raise BudgetError in the enclosed work after ``seconds`` (None or 0: no limit).  Inside
+    an enclosing budget (its alarm already set) the enclosing one governs."""
     usable = (seconds and seconds > 0 and hasattr(signal, "setitimer")
-              and threading.current_thread() is threading.main_thread())
+              and threading.current_thread() is threading.main_thread()
+              and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
     if not usable:
         yield
         return

@@ -2,8 +2,9 @@
 
 Exit codes (tableau_lab/errors.py): 0 every file read and every claim holds; 1 a claim fails or a
 run stops (step and time named); 2 bad input or a budget hit (file, entry or option named;
-nothing written); 3 an internal error (a bug: one line, the traceback with ``--debug``); 130
-interrupted. Everything printed passes through ``inputs.printable``: no terminal escapes from
+nothing written); 3 an internal error (a bug: one line, the traceback with ``--debug``); 4 every
+run went to its end but one is degraded (an invariant error or a parasitic component of
+relative size 1e-2 or more: numeric/limits.DEGRADED); 130 interrupted. Everything printed passes through ``inputs.printable``: no terminal escapes from
 file contents reach the terminal.
 """
 from __future__ import annotations
@@ -17,10 +18,11 @@ from pathlib import Path
 
 from . import __version__
 from .budget import MODIFIED_ORDER as MODIFIED_MAX_ORDER
-from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
+from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_DEGRADED, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
 from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
 
 EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
+BUILT_WITHIN = ("run", "workprecision", "convergence")     # their exact stage (problem, method, generated code) within --timeout
 MAX_ORDER = 20                # --max-order
 MAX_DIGITS = 10 ** 4          # --digits
 MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
@@ -269,7 +271,7 @@ def _split(items):
 def _quick_job(args, frozen=False):
     """The exact stage of a quick run (parse the options exactly, load, round, generate):
     a RunJob, frozen when it goes to another process."""
-    from .experiments.runs import prepare_quick
+    from .experiments.runs import prepare_quick, step_size
 
     _entry_limits(args)
     overrides = {}
@@ -282,25 +284,15 @@ def _quick_job(args, frozen=False):
         vals = getattr(args, key)
         if vals is not None:
             overrides[key] = tuple(_exact_number(v, f"--{key}") for v in vals.split(","))
-    h = _exact_number(args.h, "--h")
-    _step_size(h, args.h)
+    h = step_size(args.h, "--h")
     project = [p.strip() for p in args.project.split(",")] if args.project else []
     monitor = float(_exact_number(args.monitor, "--monitor")) if args.monitor else None
     if monitor is not None and not monitor > 0:
         raise ValueError(f"--monitor {args.monitor}: the bound must be positive")
-    return prepare_quick(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
-                         start=args.start, overrides=overrides, monitor=monitor, frozen=frozen)
-
-
-def _step_size(h, text):
-    """Refuse a step size that is not positive, or that rounds to 0 or overflows in float64
-    (every run starts from float64 h: the compiled loops, and the driver's time grid)."""
-    import math
-    if not h.is_real or not h > 0:
-        raise InputError(f"--h {text}: the step size must be positive")
-    hf = float(h)
-    if not (math.isfinite(hf) and hf > 0):
-        raise InputError(f"--h {text}: rounds to {hf} in float64; give a step size between 1e-300 and 1e300")
+    from .budget import computing, time_limit
+    with time_limit(args.timeout), computing(f"building the run of {args.method} on {args.problem}"):
+        return prepare_quick(args.method, args.problem, h, args.steps, precision=args.precision, project=project,
+                             start=args.start, overrides=overrides, monitor=monitor, frozen=frozen)
 
 
 def _run(args) -> int:
@@ -335,9 +327,12 @@ def _run(args) -> int:
         print(f"{res['method']} on {res['problem']}: h = {res['h']:g}, {res['steps']} steps, {res['precision']}, "
               f"start {res['start']}" + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
         print(f"  final: {fin}")
-        print("  max |I − I(0)|: " + ", ".join(f"{k} {v:.3e}" for k, v in res["max_invariant_error"].items()))
+        print("  " + _invariant_errors(res["max_invariant_error"], "max |I − I(0)|"))
         print(f"  f evaluations {res['nfev']}, stage-iteration sweeps {res['newton_iterations']}, "
               f"projection iterations {res['projection_iterations']}, {res['seconds']:.3f} s")
+    if res.get("degraded"):
+        print(f"tableau-lab: {args.method} on {args.problem}: DEGRADED: {res['degraded']}", file=sys.stderr)
+        return EXIT_DEGRADED
     return EXIT_OK
 
 
@@ -348,34 +343,42 @@ def _run_scenes(args) -> int:
     status = EXIT_OK
     for path in args.scenes:
         try:
-            meta = run_scene(path, out_root=args.out)
-        except (SceneError, TableauError, ValueError) as exc:
+            meta = run_scene(path, out_root=args.out, timeout=args.timeout)
+        except (SceneError, TableauError, ValueError) as exc:       # BudgetError: an InputError, a ValueError
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
             continue
         where = f"{args.out}/{meta['name']}"
         print(f"== {path} → {where}/ ({'complete' if meta['complete'] else 'INCOMPLETE'})")
         for r in meta["runs"]:
-            errs = ", ".join(f"{k} {v:.2e}" for k, v in r["max_invariant_error"].items())
-            print(f"  {r['label']}: {r['status']}, {r['completed_steps']} steps, max |ΔI|: {errs}, {r['seconds']:.2f} s"
-                  + (f"\n    {r['message']}" if r["message"] else ""))
+            print(f"  {r['label']}: {r['status'].upper() if r['status'] == 'degraded' else r['status']}, "
+                  f"{r['completed_steps']} steps, {_invariant_errors(r['max_invariant_error'], 'max |ΔI|', '.2e')}, "
+                  f"{r['seconds']:.2f} s" + (f"\n    {r['message']}" if r["message"] else ""))
         print("  plots: " + ", ".join(meta["plots"]))
-        if not meta["complete"] and status == EXIT_OK:
+        if not meta["complete"] and status in (EXIT_OK, EXIT_DEGRADED):
             status = EXIT_CLAIM
+        elif any(r["status"] == "degraded" for r in meta["runs"]) and status == EXIT_OK:
+            status = EXIT_DEGRADED
     return status
+
+
+def _invariant_errors(errors: dict, head: str, fmt: str = ".3e") -> str:
+    """"max |ΔI|: H 1.2e-10, L 3.0e-12", or that the problem has none (no empty list)."""
+    if not errors:
+        return f"{head}: none (the problem has no invariants)"
+    return f"{head}: " + ", ".join(f"{k} {v:{fmt}}" for k, v in errors.items())
 
 
 def _roundoff(args) -> int:
     from .exact.tableau_json import TableauError
     from .experiments.plots import draw_roundoff, roundoff_title
-    from .experiments.runs import roundoff
+    from .experiments.runs import roundoff, step_size
     from .numeric.problems import ProblemError
 
     name = _derived_name("roundoff", Path(args.method).stem, args.problem)
     _guard_json_and_plot(args.out, name, [args.method])            # before any run
     try:
-        h = _exact_number(args.h, "--h")
-        _step_size(h, args.h)
+        h = step_size(args.h, "--h")
         res = roundoff(args.method, args.problem, h, args.steps, starts=args.starts, dps=args.digits)
     except (TableauError, ProblemError, ValueError) as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -384,9 +387,12 @@ def _roundoff(args) -> int:
             "starts": args.starts, "digits": args.digits, **res}
     where = _json_and_plot(args.out, name, data,
                            lambda png: draw_roundoff(res, png, roundoff_title(data)))
+    def exponent(key):
+        s = res[f"slope_{key}"]
+        return "exponent —: too few nonzero records to fit" if s is None else f"exponent {s:.2f}"
     print(f"round-off after {args.steps} steps (RMS over {args.starts} starts): plain {res['plain'][-1]:.2e} "
-          f"(exponent {res['slope_plain']:.2f}), compensated {res['compensated'][-1]:.2e} "
-          f"(exponent {res['slope_compensated']:.2f}); wrote {where}.json and its figure (.png, .pdf, .svg)")
+          f"({exponent('plain')}), compensated {res['compensated'][-1]:.2e} "
+          f"({exponent('compensated')}); wrote {where}.json and its figure (.png, .pdf, .svg)")
     return EXIT_OK
 
 
@@ -445,8 +451,9 @@ def _convergence_runs(args, ex) -> int:
     from .experiments.runs import convergence
     from .numeric.problems import ProblemError
 
+    from .experiments.runs import final_time
     try:
-        T = float(_exact_number(args.T, "--T"))
+        T = float(final_time(_exact_number(args.T, "--T"), f"--T {args.T}"))
     except ValueError as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -456,7 +463,7 @@ def _convergence_runs(args, ex) -> int:
     for path in args.files:
         try:
             c = convergence(path, args.problem, T=T, precision=args.precision,
-                            max_steps=args.max_steps, start=args.start, scheduler=ex)
+                            max_steps=args.max_steps, start=args.start, scheduler=ex, timeout=args.timeout)
         except (TableauError, ProblemError, ValueError) as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             status = EXIT_INPUT
@@ -509,9 +516,9 @@ def _workprecision_runs(args, ex) -> int:
     code = EXIT_OK
     for path in args.scenes:
         try:
-            scene = load_wp_scene(path)
+            scene = load_wp_scene(path, timeout=args.timeout)
             data = run_wp(scene, out_root=args.out, scheduler=ex)
-        except (SceneError, SchedulerError) as exc:
+        except (InputError, SchedulerError) as exc:      # SceneError, a budget
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             code = EXIT_INPUT
             continue
@@ -655,8 +662,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--entry-limit", action="append", default=[], metavar="KEY=N",
                    help="raise a limit of tableau entries, e.g. depth=100 (repeatable; docs/reliability.md)")
     p.add_argument("--timeout", type=_seconds, default=DEFAULT_SECONDS, metavar="S",
-                   help=f"time budget of the exact commands ({', '.join(EXACT_COMMANDS)}) in seconds; "
-                        f"0: none (default {DEFAULT_SECONDS:g})")
+                   help=f"time budget of the exact commands ({', '.join(EXACT_COMMANDS)}), and of the exact stage "
+                        f"of {' and '.join(BUILT_WITHIN)} (a user-defined problem, the method, the generated code), "
+                        f"in seconds; 0: none (default {DEFAULT_SECONDS:g})")
     p.add_argument("--max-field-degree", type=_count(1, MAX_FIELD_DEGREE), default=FIELD_DEGREE_LIMIT, metavar="N",
                    help=f"largest degree of a method's number field in the exact commands (default {FIELD_DEGREE_LIMIT})")
     debug = argparse.ArgumentParser(add_help=False)       # the same options after the command
@@ -670,7 +678,8 @@ def build_parser() -> argparse.ArgumentParser:
                          metavar="N", help=f"largest degree of a method's number field (default {FIELD_DEGREE_LIMIT})")
     sub = p.add_subparsers(dest="command", required=True)
     _add = sub.add_parser
-    sub.add_parser = lambda name, **k: _add(name, parents=[debug] + ([timeout] if name in EXACT_COMMANDS else []), **k)
+    sub.add_parser = lambda name, **k: _add(name, parents=[debug] + ([timeout] if name in EXACT_COMMANDS + BUILT_WITHIN
+                                                                      else []), **k)
     v = sub.add_parser("verify", help="check symplecticity / G-symplecticity and the claims of tableau files",
                        description="Read JSON tableau files, solve the (G-)symplecticity conditions exactly and "
                                    "check each file's claims. Exit 0: all claims hold; 1: a claim fails; "
@@ -780,7 +789,9 @@ def build_parser() -> argparse.ArgumentParser:
                                    "a built-in problem with a method file: the final state (through the "
                                    "finishing method for GLMs), max |invariant − initial value|, f evaluations, "
                                    "Newton and projection iterations, wall time. Exit 0: done; 1: the run failed "
-                                   "(message names step and time); 2: bad input.")
+                                   "(message names step and time); 2: bad input; 4: a run went to its end "
+                                   "degraded (an invariant error or a parasitic component of relative size "
+                                   "1e-2 or more).")
     r.add_argument("scenes", nargs="*", metavar="SCENE", help="scene files (JSON); see reports/scenes/")
     r.add_argument("--out", default="reports", help="where scene outputs go (default reports/)")
     r.add_argument("--method", metavar="FILE", help="JSON tableau (no free parameters)")

@@ -1,7 +1,8 @@
 """The one strict JSON reader of every JSON input (tableaux, scenes, the problems in them).
 
 :func:`read_json` refuses, with the caller's error class and a message naming the file and the
-entry (a JSON path such as ``runs[0].method``): anything but a regular file (FIFOs, directories,
+entry (a JSON path such as ``runs[1].method``: list positions one-based, as every entry name of
+the project): anything but a regular file (FIFOs, directories,
 devices, sockets: at once, without reading), files over ``MAX_JSON_BYTES``, text that is not
 strict UTF-8, duplicate keys at any depth, the literals ``NaN``, ``Infinity`` and ``-Infinity``,
 nesting deeper than ``MAX_JSON_DEPTH`` (checked before parsing: no RecursionError), integers
@@ -16,7 +17,7 @@ ValueError: s.json: a.b: duplicate key 'b'
 >>> parse_json('{"runs": [{"method": "\\\\ud800"}]}', "s.json", ValueError)
 Traceback (most recent call last):
 ...
-ValueError: s.json: runs[0].method: a lone surrogate \\ud800 is not text
+ValueError: s.json: runs[1].method: a lone surrogate \\ud800 is not text
 """
 from __future__ import annotations
 
@@ -63,11 +64,12 @@ def printable(text: str) -> str:
 
 
 def json_path(parts) -> str:
-    """``("runs", 0, "method")`` → ``runs[0].method`` (odd keys quoted, escaped)."""
+    """``("runs", 0, "method")`` → ``runs[1].method``: positions one-based (the project's entry
+    names: ``A[1,1]``, ``q0[1]``, ``runs[1]``), odd keys quoted, escaped."""
     out = ""
     for p in parts:
         if isinstance(p, int):
-            out += f"[{p}]"
+            out += f"[{p + 1}]"
         elif _KEY.fullmatch(p):
             out += f".{p}" if out else p
         else:

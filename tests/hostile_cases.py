@@ -334,3 +334,80 @@ CASES += [Case("files-cache-is-a-file", "environment", "files", ("run", "--metho
                                                                  "--h", "1/10", "--steps", "10"),
                {"m.json": GOOD}, 2, "TABLEAU_LAB_CACHE", {"TABLEAU_LAB_CACHE": "{d}/m.json"})]
 # end of issue 29: files ---------------------------------------------------------------------------------------------
+# issue 29: runs ----------------------------------------------------------------------------------
+# work-precision scenes within a run's step budget, known peers only, one-based entry names;
+# budgets on user problems and on the exact stage of a run; starts out of float64's range; a
+# JSON float no tableau can hold refused at once by `run --method` too
+WP = {"format": "tableau_lab/workprecision/1", "name": "w", "problem": "harmonic", "T": 1,
+      "methods": [{"method": "m.json", "steps": [10]}]}
+BAD_WP = {
+    "steps-1e12": ({"methods": [{"method": "m.json", "steps": [10 ** 12]}]}, "methods[1].steps[1]"),
+    "steps-second-bad": ({"methods": [{"method": "m.json", "steps": [10, 0]}]}, "methods[1].steps[2]"),
+    "steps-too-many": ({"methods": [{"method": "m.json", "steps": list(range(1, 200))}]}, "methods[1].steps"),
+    "T-1e300": ({"T": "1e300"}, "MAX_STEPS"),
+    "T-zero": ({"T": "0"}, "T must be positive"),
+    "T-float-overflow": ({"T": "1e999"}, "rounds to inf"),
+    "peer-lsoda": ({"peers": [{"method": "LSODA", "rtol": ["1e-6"]}]}, "known peers"),
+    "peer-unknown-key": ({"peers": [{"method": "RK45", "rtol": ["1e-6"], "colour": 1}]}, "peers[1]: unknown keys"),
+    "atol-text": ({"peers": [{"method": "RK45", "rtol": ["1e-6"], "atol_factor": "x"}]}, "peers[1].atol_factor"),
+    "atol-negative": ({"peers": [{"method": "RK45", "rtol": ["1e-6"], "atol_factor": "-1"}]}, "atol_factor"),
+    "rtol-one": ({"peers": [{"method": "RK45", "rtol": ["1e-6", "1"]}]}, "peers[1].rtol[2]"),
+    "method-label-number": ({"methods": [{"method": "m.json", "steps": [10], "label": 5}]}, "methods[1].label"),
+    "method-missing": ({"methods": [{"method": "nothing.json", "steps": [10]}]}, "methods[1].method"),
+    "methods-object": ({"methods": {"method": "m.json"}}, "methods must be a list"),
+}
+CASES += [Case(f"wp-{k}", "workprecision scene", "budget", ("workprecision", "{d}/wp.json", "--out", "{d}/out",
+                                                            "--workers", "1"),
+               {"wp.json": json.dumps({**WP, **v}), "m.json": GOOD}, 2, frag) for k, (v, frag) in BAD_WP.items()]
+
+
+def _nested_exp(depth=45):
+    e = "x"
+    for _ in range(depth):
+        e = f"exp({e})"
+    return e
+
+
+_WIDE = 200
+USER_PROBLEMS = {   # legal, costly: the run's exact stage (problem checked, code generated) stops at the budget
+    "nested-exp45": {"name": "nest", "q": ["x"], "p": ["v"], "H": _nested_exp() + " + v^2", "q0": ["0"], "p0": ["0"]},
+    "200-variables": {"name": "wide", "q": [f"x{i}" for i in range(_WIDE)], "p": [f"v{i}" for i in range(_WIDE)],
+                      "H": "v0^2/2 + x0^2/2 + v199^2/2 - cos(x199)", "q0": ["1/10"] * _WIDE, "p0": ["0"] * _WIDE},
+}
+CASES += [Case(f"user-problem-{k}", "budget", "hang", ("--timeout", "3", "run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"problem": {"define": v}}), "m.json": GOOD}, 2, "time budget of 3 s")
+          for k, v in USER_PROBLEMS.items()]
+CASES += [Case("user-problem-wp-nested-exp45", "budget", "hang",
+               ("--timeout", "3", "workprecision", "{d}/wp.json", "--out", "{d}/out", "--workers", "1"),
+               {"wp.json": json.dumps({**WP, "problem": {"define": USER_PROBLEMS["nested-exp45"]}}), "m.json": GOOD}, 2,
+               "time budget of 3 s")]
+CASES += [Case(f"convergence-T-{k}", "cli number", "range", ("convergence", "{d}/m.json", "--problem", "harmonic", "--T", T,
+                                                            "--workers", "1", "--out", "{d}/out"),
+               {"m.json": RK4}, 2, f"--T {T}") for k, T in (("zero", "0"), ("negative", "-1"), ("overflow", "1e400"))]
+CASES += [Case(f"q0-overflow-{p}", "run", "overflow", ("run", "--method", "{d}/m.json", "--problem", p, "--h", "1/10",
+                                                       "--steps", "10", "--q0", q0), {"m.json": GOOD}, 1, "step 0")
+          for p, q0 in (("harmonic", "1e200"), ("kepler", "1e200,0"))]
+CASES += [Case("run-method-json-float-1e99999999", "method file", "size",
+               ("run", "--method", "{d}/m.json", "--problem", "harmonic", "--h", "1/10", "--steps", "3"),
+               {"m.json": rk([["0"]]).replace('"b": ["1"]', '"b": [1e99999999]')}, 2, "b[1]"),
+          Case("run-project-unknown", "run", "range", ("run", "--method", "{d}/m.json", "--problem", "kepler", "--h",
+                                                      "1/10", "--steps", "3", "--project", "H,Q"), {"m.json": RK4}, 2,
+               "projection onto Q"),
+          Case("scene-project-constant", "scene", "schema", ("run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"problem": {"define": {"name": "c", "q": ["x"], "p": ["v"], "H": "v^2/2 + x^2/2",
+                                                             "invariants": {"C": "1"}, "q0": ["1"], "p0": ["0"]}},
+                                      "runs": [{"method": "m.json", "project": ["C"]}]}), "m.json": GOOD}, 2,
+               "runs[1].project: problem 'c': projection onto C: C = 1 is constant"),
+          Case("scene-runs-one-based", "scene", "schema", ("run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"runs": [{"method": "m.json"}, {"method": "nothing.json"}]}), "m.json": GOOD}, 2,
+               "runs[2].method"),
+          Case("scene-set-one-based", "scene", "schema", ("run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"problem": {"name": "pendulum", "set": {"q0": ["x"]}}}), "m.json": GOOD}, 2,
+               "problem.set.q0[1]"),
+          Case("scene-json-path-one-based", "scene", "json", ("run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"runs": [{"method": "m.json", "label": "a\u0001"}]}), "m.json": GOOD}, 2,
+               "runs[1].label"),
+          Case("scene-invariants-plot-without-invariants", "scene", "schema", ("run", "{d}/scene.json", "--out", "{d}/out"),
+               {"scene.json": _scene({"problem": {"define": {"name": "d", "y": ["x"], "f": ["-x"], "y0": ["1"]}},
+                                      "plots": ["invariants"]}), "m.json": GOOD}, 2, "no invariants to plot")]
+# issue 29: runs (end) ----------------------------------------------------------------------------

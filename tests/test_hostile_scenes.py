@@ -3,6 +3,7 @@ the caller's error class (SceneError, TableauError), a message naming the file a
 and, through the CLI, exit 2, no traceback and nothing written under --out."""
 import json
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -49,28 +50,28 @@ DEFINE = {"name": "osc", "q": ["x"], "p": ["v"], "H": "v^2/2 + x^2/2", "q0": ["1
 # id -> (scene text, fragments the message must hold besides the file name)
 SCENES = {
     # runs and their keys
-    "method_null": (_scene_text(run={"method": None}), ["runs[0].method"]),
-    "method_int": (_scene_text(run={"method": 5}), ["runs[0].method"]),
-    "method_empty": (_scene_text(run={"method": ""}), ["runs[0].method"]),
-    "method_list": (_scene_text(run={"method": [RK4]}), ["runs[0].method"]),
-    "method_missing_file": (_scene_text(run={"method": "nope.json"}), ["runs[0].method", "no file nope.json"]),
-    "method_nul_byte": (_scene_text(run={"method": "a\u0000b"}), ["runs[0].method", "control character"]),
-    "project_nested": (_scene_text(run={"project": [["H"]]}), ["runs[0].project"]),
-    "project_string": (_scene_text(run={"project": "H"}), ["runs[0].project"]),
-    "project_twice": (_scene_text(run={"project": ["H", "H"]}), ["runs[0].project", "distinct"]),
-    "project_unknown": (_scene_text(run={"project": ["Q"]}), ["runs[0].project", "not invariants"]),
-    "run_precision_list": (_scene_text(run={"precision": ["dd"]}), ["runs[0].precision"]),
-    "run_precision_arabic_digits": (_scene_text(run={"precision": "mp:\u0663\u0662"}), ["runs[0].precision"]),
-    "run_precision_space": (_scene_text(run={"precision": "mp: 32"}), ["runs[0].precision"]),
-    "run_start_null": (_scene_text(run={"start": None}), ["runs[0].start"]),
-    "run_start_unknown": (_scene_text(run={"start": "lazy"}), ["runs[0].start", "exact, naive"]),
-    "run_label_int": (_scene_text(run={"label": 5}), ["runs[0].label"]),
-    "run_label_escape": (_scene_text(run={"label": "\u001b]0;owned\u0007"}), ["runs[0].label", "control character"]),
-    "run_label_bidi": (_scene_text(run={"label": "abc\u202edef"}), ["runs[0].label"]),
-    "run_label_huge": (_scene_text(run={"label": "x" * 5000}), ["runs[0].label", "at most"]),
-    "run_unknown_key": (_scene_text(run={"colour": "red"}), ["runs[0]", "colour"]),
-    "run_not_object": (_scene_text({"runs": [5]}), ["runs[0]"]),
-    "run_empty_object": (_scene_text({"runs": [{}]}), ["runs[0]"]),
+    "method_null": (_scene_text(run={"method": None}), ["runs[1].method"]),
+    "method_int": (_scene_text(run={"method": 5}), ["runs[1].method"]),
+    "method_empty": (_scene_text(run={"method": ""}), ["runs[1].method"]),
+    "method_list": (_scene_text(run={"method": [RK4]}), ["runs[1].method"]),
+    "method_missing_file": (_scene_text(run={"method": "nope.json"}), ["runs[1].method", "no file nope.json"]),
+    "method_nul_byte": (_scene_text(run={"method": "a\u0000b"}), ["runs[1].method", "control character"]),
+    "project_nested": (_scene_text(run={"project": [["H"]]}), ["runs[1].project"]),
+    "project_string": (_scene_text(run={"project": "H"}), ["runs[1].project"]),
+    "project_twice": (_scene_text(run={"project": ["H", "H"]}), ["runs[1].project", "distinct"]),
+    "project_unknown": (_scene_text(run={"project": ["Q"]}), ["runs[1].project", "not invariants"]),
+    "run_precision_list": (_scene_text(run={"precision": ["dd"]}), ["runs[1].precision"]),
+    "run_precision_arabic_digits": (_scene_text(run={"precision": "mp:\u0663\u0662"}), ["runs[1].precision"]),
+    "run_precision_space": (_scene_text(run={"precision": "mp: 32"}), ["runs[1].precision"]),
+    "run_start_null": (_scene_text(run={"start": None}), ["runs[1].start"]),
+    "run_start_unknown": (_scene_text(run={"start": "lazy"}), ["runs[1].start", "exact, naive"]),
+    "run_label_int": (_scene_text(run={"label": 5}), ["runs[1].label"]),
+    "run_label_escape": (_scene_text(run={"label": "\u001b]0;owned\u0007"}), ["runs[1].label", "control character"]),
+    "run_label_bidi": (_scene_text(run={"label": "abc\u202edef"}), ["runs[1].label"]),
+    "run_label_huge": (_scene_text(run={"label": "x" * 5000}), ["runs[1].label", "at most"]),
+    "run_unknown_key": (_scene_text(run={"colour": "red"}), ["runs[1]", "colour"]),
+    "run_not_object": (_scene_text({"runs": [5]}), ["runs[1]"]),
+    "run_empty_object": (_scene_text({"runs": [{}]}), ["runs[1]"]),
     "runs_empty": (_scene_text({"runs": []}), ["runs"]),
     "runs_object": (_scene_text({"runs": {"method": RK4}}), ["runs"]),
     "runs_null": (_scene_text({"runs": None}), ["runs"]),
@@ -187,11 +188,11 @@ SCENES = {
     # JSON itself
     "duplicate_key_top": (_raw('"steps": 100', '"steps": 10, "steps": 100'), ["steps", "duplicate key 'steps'"]),
     "duplicate_key_run": (_raw('"label": "RK4"', '"method": "x.json", "label": "RK4"'),
-                          ["runs[0].method", "duplicate key 'method'"]),
+                          ["runs[1].method", "duplicate key 'method'"]),
     "duplicate_key_problem_set": (_scene_text({"problem": {"name": "kepler", "set": {"e": "0.5"}}}).replace(
         '"e": "0.5"', '"e": "0.5", "e": "0.6"'), ["problem.set.e", "duplicate key"]),
     "nan_literal": (_raw('"h": "1/100"', '"h": NaN'), ["h: NaN"]),
-    "nan_literal_nested": (_raw('"label": "RK4"', '"label": [1, NaN]'), ["runs[0].label[1]: NaN"]),
+    "nan_literal_nested": (_raw('"label": "RK4"', '"label": [1, NaN]'), ["runs[1].label[2]: NaN"]),
     "infinity_literal": (_raw('"steps": 100', '"steps": Infinity'), ["steps: Infinity"]),
     "minus_infinity_literal": (_raw('"steps": 100', '"steps": -Infinity'), ["steps: -Infinity"]),
     "float_overflow_literal": (_raw('"steps": 100', '"steps": 1e999'), ["steps", "out of the range"]),
@@ -209,7 +210,7 @@ SCENES = {
     "empty_file": ("", ["not valid JSON"]),
     "byte_order_mark": ("\ufeff" + _scene_text(), ["not valid JSON"]),
     "lone_surrogate_key": (_raw('"format"', '"\\udc80": 1, "format"'), ['["\\udc80"]', "lone surrogate"]),
-    "lone_surrogate_method": (_raw('"label": "RK4"', '"label": "a\\udfffb"'), ["runs[0].label", "lone surrogate"]),
+    "lone_surrogate_method": (_raw('"label": "RK4"', '"label": "a\\udfffb"'), ["runs[1].label", "lone surrogate"]),
     "raw_control_char": (_raw('"name": "hostile"', '"name": "a\u0001b"'), ["not valid JSON"]),
 }
 assert len(SCENES) >= 60
@@ -318,7 +319,7 @@ def test_special_method_file_refused_at_once(tmp_path, alarm, case):
     with pytest.raises(SceneError) as info:
         load_scene(scene)
     msg = str(info.value)
-    _fragments_in(msg, scene, ["runs[0].method", fragment if case != "missing" else "no file"])
+    _fragments_in(msg, scene, ["runs[1].method", fragment if case != "missing" else "no file"])
 
 
 # -- method files with hostile JSON -----------------------------------------------------------
@@ -334,7 +335,7 @@ METHOD_TEXTS = {
     "escape_in_name": (GOOD_METHOD.replace('"Euler"', '"\\u001b]0;owned\\u0007"'), "name", "control character"),
     "clear_screen_in_notes": (GOOD_METHOD.replace('"b": ["1"]', '"b": ["1"], "notes": "\\u001b[2J"'),
                               "notes", "control character"),
-    "lone_surrogate_in_entry": (GOOD_METHOD.replace('["1"]', '["\\udc00"]'), "b[0]", "lone surrogate"),
+    "lone_surrogate_in_entry": (GOOD_METHOD.replace('["1"]', '["\\udc00"]'), "b[1]", "lone surrogate"),
     "deep_nesting": (GOOD_METHOD.replace('[["0"]]', "[" * 10 ** 5 + "]" * 10 ** 5), None, "nested too deeply"),
     "nan_entry": (GOOD_METHOD.replace('["1"]', "[NaN]"), "b[1]", "NaN is not a number"),
 }
@@ -356,7 +357,7 @@ def test_hostile_method_json_refused(tmp_path, case):
         return
     with pytest.raises(SceneError) as info:
         load_scene(scene)
-    _fragments_in(str(info.value), scene, ["runs[0].method", str(method), fragment])
+    _fragments_in(str(info.value), scene, ["runs[1].method", str(method), fragment])
 
 
 def test_every_shipped_scene_still_loads():
@@ -420,3 +421,72 @@ def test_cli_method_fifo_does_not_hang(tmp_path):
     fifo = _fifo(tmp_path / "m.json")
     proc = _cli(["verify", str(fifo)], timeout=60)
     assert proc.returncode == 2 and "FIFO" in proc.stderr and "Traceback" not in proc.stderr
+
+
+# issue 29: runs ----------------------------------------------------------------------------------
+# entry names one-based in every message of the scene and JSON surface; a constant invariant,
+# an invariants plot without invariants; work-precision scenes within a run's step budget, with
+# known peers only (tests/hostile_cases.py runs the same through the command line)
+
+RUNS29 = {
+    "second_run_missing": (_scene_text({"runs": [{"method": RK4}, {"method": "nope.json"}]}), ["runs[2].method"]),
+    "set_list_entry": (_scene_text({"problem": {"name": "pendulum", "set": {"q0": ["1", "x"]}}}),
+                       ["problem.set.q0[2]"]),
+    "json_path_nested": (_raw('"label": "RK4"', '"label": [1, 2, NaN]'), ["runs[1].label[3]: NaN"]),
+    "project_constant": (_scene_text({"problem": {"define": {**DEFINE, "invariants": {"C": "7/2"}}}},
+                                     run={"project": ["C"]}), ["runs[1].project", "C = 7/2 is constant"]),
+    "invariants_plot_without_invariants": (
+        _scene_text({"problem": {"define": {"name": "decay", "y": ["x"], "f": ["-x"], "y0": ["1"]}}}),
+        ["plots", "no invariants to plot"]),
+}
+
+
+def _wp(**over):
+    d = {"format": "tableau_lab/workprecision/1", "name": "w", "problem": "harmonic", "T": 1,
+         "methods": [{"method": RK4, "steps": [10, 20]}], "peers": [{"method": "DOP853", "rtol": ["1e-6"]}]}
+    d.update(over)
+    return json.dumps(d)
+
+
+WP29 = {
+    "steps_1e12": (_wp(methods=[{"method": RK4, "steps": [10, 10 ** 12]}]), ["methods[1].steps[2]", str(MAX_STEPS)]),
+    "steps_float": (_wp(methods=[{"method": RK4, "steps": [1.5]}]), ["methods[1].steps[1]"]),
+    "steps_bool": (_wp(methods=[{"method": RK4, "steps": [True]}]), ["methods[1].steps[1]"]),
+    "T_1e300": (_wp(T="1e300"), ["reference solution", "MAX_STEPS"]),
+    "T_just_over": (_wp(T=str(MAX_STEPS // 1000 + 1)), ["MAX_STEPS"]),
+    "T_negative": (_wp(T="-1"), ["T must be positive"]),
+    "peer_lsoda": (_wp(peers=[{"method": "LSODA", "rtol": ["1e-6"]}]), ["peers[1].method", "DOP853, RK45"]),
+    "peer_second_unknown": (_wp(peers=[{"method": "RK45", "rtol": ["1e-6"]}, {"method": "euler"}]),
+                            ["peers[2].method"]),
+    "atol_text": (_wp(peers=[{"method": "RK45", "rtol": ["1e-6"], "atol_factor": "x"}]), ["peers[1].atol_factor"]),
+    "rtol_zero": (_wp(peers=[{"method": "RK45", "rtol": ["0"]}]), ["peers[1].rtol[1]", "(0, 1)"]),
+    "method_key_unknown": (_wp(methods=[{"method": RK4, "steps": [10], "colour": 1}]), ["methods[1]", "colour"]),
+    "invariant_unknown": (_wp(invariant="L"), ["invariant", "unknown"]),
+}
+
+
+@pytest.mark.parametrize("case", [("scene", k) for k in sorted(RUNS29)] + [("workprecision", k) for k in sorted(WP29)],
+                         ids=lambda c: "-".join(c))
+def test_issue29_refused_one_based(tmp_path, case):
+    """Scenes and work-precision scenes refused naming the entry, one-based.  5ea0488: "steps":
+    [10**12] ran until killed, "T": "1e300" ended in a numba TypingError (exit 3), LSODA was
+    accepted, a bad atol_factor was exit 3, entries were named runs[0], q0[0]."""
+    from tableau_lab.experiments.workprecision import load_wp_scene
+    kind, key = case
+    text, fragments = (RUNS29 if kind == "scene" else WP29)[key]
+    path = tmp_path / f"{key}.json"
+    path.write_text(text)
+    with pytest.raises(SceneError) as info:
+        (load_scene if kind == "scene" else load_wp_scene)(path)
+    _fragments_in(str(info.value), path, fragments)
+    assert not re.search(r"\[0\]", str(info.value)), str(info.value)
+
+
+def test_issue29_workprecision_tolerances_as_json_numbers(tmp_path):
+    """A tolerance may be a JSON number (the decimal it is written as) or an exact string."""
+    from tableau_lab.experiments.workprecision import load_wp_scene
+    path = tmp_path / "w.json"
+    path.write_text(_wp(peers=[{"method": "RK45", "rtol": [1e-6, "1e-8"], "atol_factor": 0.5}]))
+    (peer,) = load_wp_scene(path).peers
+    assert peer == ("RK45", (1e-6, 1e-8), 0.5)
+# issue 29: runs (end) ----------------------------------------------------------------------------

@@ -48,7 +48,7 @@ def test_workprecision_sweep(tmp_path):
 def test_workprecision_bad_scene(tmp_path, capsys):
     bad = _scene(tmp_path, peers=[{"method": "Euler", "rtol": ["1e-6"]}])
     assert main(["workprecision", str(bad), "--out", str(tmp_path / "o"), "--workers", "1"]) == 2
-    assert "peers[0].method must be one of" in capsys.readouterr().err
+    assert "peers[1].method must be one of" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

@@ -52,6 +52,32 @@ def _matrix(x, what: str) -> sp.ImmutableMatrix:
     return M
 
 
+def _lists(args: dict, call: str) -> dict:
+    """The matrices of a ``from_lists`` call as ImmutableMatrix; a misplaced argument (a string,
+    a number, a mapping where a matrix goes) is named with its position and what goes there.
+
+    >>> RungeKutta.from_lists("x", [[0]], [1])
+    Traceback (most recent call last):
+    ...
+    tableau_lab.exact.methods.MethodError: RungeKutta.from_lists: argument 1 (A) is the string 'x', not a matrix: A is a list of rows (e.g. [[0, 0], ["1/2", 0]]); a name goes in name=...
+    """
+    out = {}
+    for i, (k, x) in enumerate(args.items(), 1):
+        if x is None:
+            out[k] = None
+            continue
+        if isinstance(x, (str, bytes, int, float, complex, dict)) or isinstance(x, sp.Basic) and not isinstance(x, sp.MatrixBase):
+            what = f"the string {x[:40]!r}" if isinstance(x, str) else f"the {type(x).__name__} {str(x)[:40]}"
+            shape = 'rows (e.g. [[0, 0], ["1/2", 0]])' if k.startswith("A") else "values"
+            raise MethodError(f"{call}: argument {i} ({k}) is {what}, not a matrix: {k} is a list of {shape}; "
+                              "a name goes in name=...")
+        try:
+            out[k] = sp.ImmutableMatrix(x)
+        except (TypeError, ValueError) as exc:
+            raise MethodError(f"{call}: argument {i} ({k}) is not a matrix: {str(exc).strip()[:200]}") from None
+    return out
+
+
 def _column(x, what: str) -> sp.ImmutableMatrix:
     M = _matrix(x, what)
     if M.cols != 1:
@@ -225,8 +251,7 @@ class RungeKutta(Method):
 
     @classmethod
     def from_lists(cls, A, b, c=None, **meta):
-        return cls(A=sp.ImmutableMatrix(A), b=sp.ImmutableMatrix(b),
-                   c=None if c is None else sp.ImmutableMatrix(c), **_meta(meta))
+        return cls(**_lists({"A": A, "b": b, "c": c}, "RungeKutta.from_lists"), **_meta(meta))
 
     @property
     def s(self) -> int:
@@ -293,9 +318,8 @@ class PartitionedRungeKutta(Method):
 
     @classmethod
     def from_lists(cls, A, b, Ahat, bhat, c=None, chat=None, **meta):
-        M = sp.ImmutableMatrix
-        return cls(A=M(A), b=M(b), Ahat=M(Ahat), bhat=M(bhat), c=None if c is None else M(c),
-                   chat=None if chat is None else M(chat), **_meta(meta))
+        return cls(**_lists({"A": A, "b": b, "Ahat": Ahat, "bhat": bhat, "c": c, "chat": chat},
+                            "PartitionedRungeKutta.from_lists"), **_meta(meta))
 
     @property
     def s(self) -> int:

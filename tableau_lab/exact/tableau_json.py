@@ -151,7 +151,12 @@ _SMALL_DECIMAL = re.compile(r"-?[0-9]{0,20}(?:\.[0-9]{0,20})?(?:[eE][+-]?[0-9]{1
 
 
 def _hint(text):
-    """The float's exact value as a hint, when it is short (``1e99999999`` is not expanded)."""
+    """The exact value a JSON float denotes, as a hint: "0.5" → "1/2"; "1/2" where that value
+    would be long (1e99999999 has 10⁸ digits: never built).
+
+    >>> _hint("0.25"), _hint("1e99999999"), _hint("2.5e-3")
+    ('1/4', '1/2', '1/400')
+    """
     if not _SMALL_DECIMAL.fullmatch(text):
         return "1/2"
     try:

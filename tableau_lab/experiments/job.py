@@ -73,6 +73,7 @@ class RunJob:
                    seconds=round(run.seconds, 4))
         if run.parasitic_components:
             out["max_parasitic_component"] = {k: max(v) for k, v in run.parasitic_components.items()}
+        out["degraded"] = run.degraded() or None        # why the run failed in substance (Run.degraded)
         return out
 
 

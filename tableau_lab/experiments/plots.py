@@ -26,7 +26,9 @@ def draw(scene, meta, arrays, out: Path) -> list:
     names = []
     runs = meta["runs"]
     suffix = "" if meta["complete"] else ".incomplete"
-    title = style.plain(scene.title + ("" if meta["complete"] else " (incomplete)"))
+    bad = sum(r["status"] == "degraded" for r in runs)
+    title = style.plain(scene.title + ("" if meta["complete"] else " (incomplete)")
+                        + (f" ({bad} of {len(runs)} runs DEGRADED)" if bad else ""))
     for kind in scene.plots:
         if kind == "invariants":
             invs = [k for k in scene.problem.invariants if any(f"run{i}_{k}" in arrays for i in range(len(runs)))]
@@ -37,27 +39,13 @@ def draw(scene, meta, arrays, out: Path) -> list:
                     t, e = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_{k}")
                     if t is None or e is None:
                         continue
-                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), label=style.plain(r["label"]),
-                                **style.series_style(i))
+                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), label=_label(r), **style.series_style(i))
                 ax.set_ylabel(style.invariant_error(k))
             axes[-1, 0].set_xlabel(style.T_LABEL)
             style.legend(list(axes[:, 0]), "right")
             style.title(fig, title)
         elif kind in ("orbit", "state"):
-            fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
-            for i, r in enumerate(runs):
-                y = arrays.get(f"run{i}_y")
-                if y is None:
-                    continue
-                d = y.shape[1] // 2 if scene.problem.kind == "hamiltonian" else 1
-                if kind == "orbit" and d >= 2:
-                    ax.plot(y[:, 0], y[:, 1], lw=0.7, label=style.plain(r["label"]), **style.series_style(i))
-                    ax.set_xlabel("$q_1$"), ax.set_ylabel("$q_2$")
-                    ax.set_aspect("equal", adjustable="datalim")
-                else:
-                    ax.plot(y[:, 0], y[:, d], lw=0.7, label=style.plain(r["label"]), **style.series_style(i))
-                    ax.set_xlabel("$q$"), ax.set_ylabel("$p$")
-            style.legend(ax, "below", ncols=1)
+            fig = _phase(plt, scene.problem, kind, runs, arrays)
             style.title(fig, title)
         elif kind == "parasitic":
             fig, ax = plt.subplots(figsize=(style.PRINT_WIDTH, 3.4))
@@ -74,6 +62,68 @@ def draw(scene, meta, arrays, out: Path) -> list:
         style.save(fig, out / name)
         names.append(name)
     return names
+
+
+def _label(run) -> str:
+    """A run's legend label; a degraded or failed run says so."""
+    flag = {"degraded": " (DEGRADED)", "failed": " (failed)"}.get(run.get("status"), "")
+    return style.plain(run["label"]) + flag
+
+
+GOOD = ("completed", "stopped")       # runs drawn in the main phase panel; the others get a panel of their own
+
+
+def _phase(plt, problem, kind, runs, arrays):
+    """The orbit (q₁, q₂) or phase plot (first coordinate, its momentum) of every run, axes
+    named by the problem's own variables; an angle (``problem.angles``) wrapped into [−π, π),
+    the line broken where it wraps; degraded and failed runs in a second panel, so that a run
+    that wandered off does not squeeze the others into a line."""
+    names = [str(s) for s in problem.state]
+    one = len(names) == 1                           # one variable: drawn against time
+    half = len(problem.q) if problem.kind == "hamiltonian" else 1
+    orbit = kind == "orbit" and problem.kind == "hamiltonian" and half >= 2
+    cols = (0, 1) if orbit or one else (0, half)
+    names = ["t", *names] if one else names
+    angles = set(getattr(problem, "angles", ()))
+    groups = [[i for i, r in enumerate(runs) if f"run{i}_y" in arrays and (r["status"] in GOOD) == good]
+              for good in (True, False)]
+    groups = [g for g in groups if g] or [[]]
+    fig, axes = plt.subplots(1, len(groups), figsize=(style.SQUARE_SIZE[0] * (1 + 0.6 * (len(groups) - 1)),
+                                                      style.SQUARE_SIZE[1]), squeeze=False)
+    for ax, members in zip(axes[0], groups):
+        for i in members:
+            y = np.array(arrays[f"run{i}_y"], dtype=float)
+            if one:
+                y = np.column_stack([np.asarray(arrays[f"run{i}_t"], dtype=float)[: len(y)], y[:, 0]])
+            xy = [y[:, c].copy() for c in cols]
+            for k, c in enumerate(cols):
+                if names[c] in angles:
+                    xy[k] = np.mod(xy[k] + np.pi, 2 * np.pi) - np.pi
+            wrapped = [v for c, v in zip(cols, xy) if names[c] in angles]
+            jumps = np.flatnonzero(np.any([np.abs(np.diff(v)) > np.pi for v in wrapped], axis=0)) + 1 if wrapped else []
+            x, v = (np.insert(a, jumps, np.nan) for a in xy)
+            ax.plot(x, v, lw=0.7, label=_label(runs[i]), **style.series_style(i))
+        if one:
+            ax.set_xlabel(style.T_LABEL), ax.set_ylabel(_axis(names[1], angles))
+        else:
+            ax.set_xlabel(_axis(names[cols[0]], angles)), ax.set_ylabel(_axis(names[cols[1]], angles))
+        if orbit:
+            ax.set_aspect("equal", adjustable="datalim")
+        if len(groups) > 1:
+            ax.set_title("degraded or failed runs" if members and runs[members[0]]["status"] not in GOOD
+                         else "runs that completed", loc="left")
+    if len(groups) == 1:
+        style.legend(axes[0, 0], "below", ncols=1)
+    else:                                 # the two panels hold different runs: every panel's entries
+        style.legend(list(axes[0]), "below", notes=False, ncols=1, entries=[
+            (ln.get_label(), {"color": ln.get_color(), "marker": ln.get_marker(), "linestyle": ln.get_linestyle()})
+            for ax in axes[0] for ln in ax.get_lines()])
+    return fig
+
+
+def _axis(name: str, angles) -> str:
+    """An axis label from a state variable's name; an angle says it is taken mod 2π."""
+    return f"${style.math_name(name)}$" + (r" (mod $2\pi$)" if name in angles else "")
 
 
 def _zetas(values) -> str:
@@ -156,7 +206,7 @@ def draw_roundoff(result: dict, target: Path, title: str) -> None:
     for i, key in enumerate(("plain", "compensated")):
         v = np.array(result[key])
         ax.loglog(n[keep], np.maximum(v[keep], 1e-20),
-                  label=f"{key} summation (fitted exponent {result['slope_' + key]:.2f})", **style.series_style(i))
+                  label=f"{key} summation (fitted exponent {_slope(result['slope_' + key])})", **style.series_style(i))
     ref = np.array(result["plain"])[keep]
     if len(ref):
         ax.loglog(n[keep], ref[-1] * np.sqrt(n[keep] / n[keep][-1]), color="0.35", linestyle=":", marker="None",
@@ -166,6 +216,10 @@ def draw_roundoff(result: dict, target: Path, title: str) -> None:
     style.legend(ax, "right")
     style.title(fig, style.plain(title))
     style.save(fig, target)
+
+
+def _slope(s) -> str:
+    return "—" if s is None else f"{s:.2f}"
 
 
 def convergence_title(results: list) -> str:

@@ -21,7 +21,12 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from math import isfinite as math_isfinite
+
+from ..budget import DEFAULT_SECONDS, computing, time_limit
+from ..errors import InputError
 from ..exact.tableau_json import TableauError, load
+from ..inputs import MAX_STEPS
 from ..numeric.arith import is_exact, arith
 from ..numeric.codegen import compile_problem, reference
 from ..numeric.export import to_numeric
@@ -30,7 +35,70 @@ from ..numeric.problems import get_problem
 from .executor import executor
 from .job import RunJob
 
-__all__ = ["quick_run", "prepare_quick", "convergence", "Convergence", "fit_order", "roundoff"]
+__all__ = ["quick_run", "prepare_quick", "convergence", "Convergence", "fit_order", "roundoff", "step_size",
+           "step_count", "final_time", "generate"]
+
+
+def step_size(h, what: str = "h"):
+    """A step size as the API and the command line take it: an exact string ("1/100"; "0.01" is
+    1/100) read by the project's number grammar (:func:`~tableau_lab.exact.grammar.parse_number`),
+    an integer, a sympy number, or a float; refused (InputError naming ``what``) unless it is a
+    positive real number within float64's range (every run's time grid is float64).
+
+    >>> step_size("1/100"), step_size("0.01"), step_size(0.1)
+    (1/100, 1/100, 0.1)
+    >>> step_size("-1/100", "--h")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.errors.InputError: --h -1/100: the step size must be positive
+    """
+    import math
+    from ..exact.grammar import EntryError, parse_number
+    text = h
+    if isinstance(h, str):
+        try:
+            h = parse_number(h)
+        except EntryError as exc:
+            raise InputError(f"{what}: {exc}") from None
+    elif isinstance(h, bool) or not (isinstance(h, (int, float)) or is_exact(h)):
+        raise InputError(f"{what}: {str(h)[:60]!r} is not a step size: give a positive number, e.g. \"1/100\"")
+    if is_exact(h):
+        if not (h.is_real and h > 0):
+            raise InputError(f"{what} {text}: the step size must be positive")
+        hf = float(h)
+    else:
+        hf = float(h)
+        if not hf > 0:
+            raise InputError(f"{what} {text}: the step size must be positive")
+    if not (math.isfinite(hf) and hf > 0):
+        raise InputError(f"{what} {text}: rounds to {hf} in float64; give a step size between 1e-300 and 1e300")
+    return h
+
+
+def final_time(T, what: str | None = None):
+    """A final time: a positive real number within float64's range (InputError naming
+    ``what``, by default "T = value").
+
+    >>> final_time(0)
+    Traceback (most recent call last):
+    ...
+    tableau_lab.errors.InputError: T = 0: the final time must be a positive number within float64's range
+    """
+    try:
+        ok = bool(T > 0) and math_isfinite(float(T))
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise InputError(f"{what or f'T = {str(T)[:40]}'}: the final time must be a positive number within "
+                         "float64's range")
+    return T
+
+
+def step_count(steps, what: str = "steps") -> int:
+    """A number of steps: an integer from 1 to ``inputs.MAX_STEPS`` (InputError naming ``what``)."""
+    if isinstance(steps, bool) or not isinstance(steps, int) or not 1 <= steps <= MAX_STEPS:
+        raise InputError(f"{what}: {str(steps)[:40]} is not a number of steps (an integer from 1 to {MAX_STEPS})")
+    return steps
 
 
 def compiled(problem, precision: str):
@@ -67,11 +135,15 @@ def prepare_quick(method, problem, h, steps, *, precision="float64", project=(),
     process without sympy (``experiments/job.py``): only the code this run calls (f, f′ for
     implicit methods and GLMs, the invariants, the gradients projected on, the derivatives of
     the starting and finishing series) and the compiled loop's file."""
+    h, steps = step_size(h), step_count(steps)
     m, P, cp, nm = _setup(method, problem, precision, overrides)
+    project = P.check_projection(project)
     invs, a = tuple(P.invariants), nm.arith
     if isinstance(h, int) or is_exact(h):
         with a.context():
             h = a.number(h)                       # rounded once, here: the job carries no sympy number
+    if not frozen:
+        generate(cp, nm, invs, project)
     if frozen:
         from ..analysis.trees import order as tree_order
         from ..numeric.frozen import freeze
@@ -81,6 +153,27 @@ def prepare_quick(method, problem, h, steps, *, precision="float64", project=(),
         nm = dataclasses.replace(nm, exact=None)
     return RunJob(nm, cp, h, steps, start, tuple(project), invs, monitor, precision, m.name, P.name,
                   len(P.q) if P.kind == "hamiltonian" else None)
+
+
+def generate(cp, nm, invariants=(), project=()) -> None:
+    """Generate the code a run of ``nm`` on the compiled problem ``cp`` calls — f, f′ (implicit
+    methods, GLMs), the invariants, the gradients projected on, the derivatives of a starting
+    or finishing series — now, inside the caller's time budget, not lazily at the run's first
+    step (a user problem's Jacobian can take minutes to generate)."""
+    import numpy as np
+    from ..analysis.trees import order as tree_order
+    y = cp.y0
+    with np.errstate(all="ignore"), nm.arith.context():     # values are checked by the run (step 0)
+        cp.f(y)
+        if not nm.explicit or nm.r > 1:
+            cp.jac(y)
+        for k in tuple(invariants) + tuple(project):
+            cp.invariant(k, y)
+        for k in project:
+            cp.gradient(k, y)
+        p = max((tree_order(t) for t in (*nm.starting, *nm.finishing)), default=0)
+        if p > 1:
+            cp.elementary_differentials(p)(y)
 
 
 def fit_order(hs, errs, floor: float):
@@ -131,7 +224,7 @@ class Convergence:
 
 def convergence(method, problem, T=10.0, steps=None, *, precision="float64", start="exact", overrides=None,
                 ref_dps: int = 40, n0: int = 50, max_steps: int = 1 << 15, scheduler=None,
-                workers: int | None = None) -> Convergence:
+                workers: int | None = None, timeout: float | None = DEFAULT_SECONDS) -> Convergence:
     """Global error at T against the problem's reference solution.  With ``steps`` given, those
     step counts; otherwise n = n0, 2n0, 4n0, … until three successive local slopes agree to 0.1
     (the asymptotic regime), the error reaches the round-off plateau, or ``max_steps``.  Runs that
@@ -141,10 +234,14 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
 
     The runs go through :func:`~tableau_lab.experiments.executor.executor` (``scheduler``,
     ``workers``: a local process pool by default, "serial", a Dask scheduler's address, or an
-    open executor); the result is the same, bit for bit, whichever ran them."""
+    open executor); the result is the same, bit for bit, whichever ran them.  ``T`` must be a
+    positive number (InputError); the reference solution is computed within the time budget
+    ``timeout`` (seconds; BudgetError), as the exact commands' work."""
+    T = final_time(T)
     m, P, _, nm = _setup(method, problem, precision, overrides)
     a = nm.arith
-    ref = reference(P, T, max(ref_dps, a.dps + 8))
+    with time_limit(timeout), computing(f"the reference solution of {P.name} at T = {float(T):g}"):
+        ref = reference(P, T, max(ref_dps, a.dps + 8))
     out = Convergence(m.name, P.name, precision, T, nm.order if start == "exact" else nm.order_identity)
     Texact = sp.nsimplify(T)
     with a.context():                          # the reference at the working precision, once
@@ -243,7 +340,8 @@ def roundoff(method, problem, h, steps, *, starts=4, every=None, dps: int = 32, 
     acc = {"compensated": 0.0, "plain": 0.0}
     for _ in range(starts):
         factors = [sp.Rational(int(x), 1000) for x in 1000 + rng.integers(-100, 101, size=P.dimension)]
-        y064 = np.array([float(v * f) for v, f in zip(P.initial_values, factors)])
+        # the problem's exact start (parameters substituted: Kepler's 1 − e), perturbed exactly, rounded once
+        y064 = nm64.arith.array([v * f for v, f in zip(P.initial_state(), factors)])
         with nm_mp.arith.context():
             ref = integrate(nm_mp, cp_mp, [mpmath.mpf(v) for v in y064], mpmath.mpf(h64), steps,
                             record_every=every, record_states=True)

@@ -22,7 +22,13 @@ for is computed: no invariant gradients without projection, no states unless a p
 ``"monitor": "1e-3"`` (an exact positive number) bounds the parasitic components of GLM input
 vectors (:mod:`~tableau_lab.numeric.integrate`, checked at the records): a run that exceeds it
 stops with status ``"stopped"`` and its message names ζ, the value, the bound and μ.  A stopped
-run is a result, not a failure (the scene stays complete).  For every GLM with eigenvalues
+run is a result, not a failure (the scene stays complete).
+
+A run that goes to its end with an invariant error or a parasitic component of relative size
+``limits.DEGRADED`` (1e-2) or more (:meth:`~tableau_lab.numeric.integrate.Run.degraded`) has the
+status ``"degraded"`` and the reason as its message; the scene stays complete, the figures say
+so (a label, the title, and phase plots draw such runs in a panel of their own), and ``run``
+exits 4.  For every GLM with eigenvalues
 ζ ≠ 1 of V on the unit circle the data hold ``run<i>_parasitic_<j>`` (the component of the j-th
 ζ at the records) and, when μ ≠ 0, ``run<i>_predicted_<j>`` (∫ max Re eig(μ f′) dt); meta.json
 lists the ζ, μ and the largest component per run.
@@ -50,6 +56,7 @@ import numpy as np
 import sympy as sp
 
 from .. import __version__
+from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
 from ..files import atomic_write, atomic_write_text
 from ..inputs import MAX_STEPS, SAFE_NAME, printable, read_json
@@ -94,21 +101,21 @@ class Scene:
     modified_energy: int | None = None   # terms of H̃ to plot beside H (None: no modified-energy plot)
 
 
-def _exact(v, where, path):
+def scene_number(v, where, path):
     """An exact number from an integer or an ASCII string ("1/100", "1e-3", "sqrt(2)/2")."""
     from ..exact.grammar import EntryError, parse_number
     if isinstance(v, bool) or not isinstance(v, (int, str)):
         raise SceneError(f"{printable(path)}: {where}: write numbers as integers or exact strings such as \"1/100\", "
-                         f"not {_show(v)}")
+                         f"not {shown(v)}")
     if isinstance(v, str) and not v.isascii():
-        raise SceneError(f"{printable(path)}: {where}: {_show(v)}: a number is written with ASCII digits only")
+        raise SceneError(f"{printable(path)}: {where}: {shown(v)}: a number is written with ASCII digits only")
     try:
         return parse_number(str(v))
     except EntryError as exc:
         raise SceneError(f"{printable(path)}: {where}: {exc}") from None
 
 
-def _show(v, width=60) -> str:
+def shown(v, width=60) -> str:
     """A JSON value, shortened, for a message."""
     try:
         text = printable(json.dumps(v))
@@ -124,7 +131,7 @@ def _positive(v) -> bool:
         return False
 
 
-def _float64(v, where, src) -> float:
+def float64_number(v, where, src) -> float:
     """``v`` in float64, refused if it rounds to 0 or overflows."""
     try:
         x = float(v)
@@ -136,7 +143,7 @@ def _float64(v, where, src) -> float:
     return x
 
 
-def _read_json(path):
+def read_scene(path):
     """The JSON object of a scene file, read strictly (:func:`tableau_lab.inputs.read_json`)."""
     data = read_json(path, SceneError, "scene file")
     if not isinstance(data, dict):
@@ -144,7 +151,7 @@ def _read_json(path):
     return data
 
 
-def _problem(prob, path):
+def scene_problem(prob, path):
     """The problem of a scene: a name, {"name": ..., "set": {...}} or {"define": {...}}."""
     from ..numeric.problems import ProblemError, get_problem, problem_from_dict
     src = printable(path)
@@ -167,8 +174,8 @@ def _problem(prob, path):
                 where = f"problem.set.{k}"
                 if isinstance(v, list) and not 0 < len(v) <= MAX_LIST:
                     raise SceneError(f"{src}: {where}: a list of 1 to {MAX_LIST} exact numbers is needed")
-                over[k] = tuple(_exact(x, f"{where}[{i}]", path) for i, x in enumerate(v)) if isinstance(v, list) \
-                    else _exact(v, where, path)
+                over[k] = tuple(scene_number(x, f"{where}[{i}]", path) for i, x in enumerate(v, 1)) if isinstance(v, list) \
+                    else scene_number(v, where, path)
             problem = get_problem(prob["name"], **over)
         else:
             raise SceneError(shape)
@@ -177,19 +184,31 @@ def _problem(prob, path):
     return problem
 
 
-def _text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
+def method_file(scene, name, where) -> Path:
+    """A method file named in a scene (relative to the scene file), resolved; SceneError naming
+    ``where`` when there is none."""
+    try:
+        found = (Path(scene).parent / name).resolve()
+        if found.exists():
+            return found
+    except (OSError, RuntimeError, ValueError):
+        pass
+    raise SceneError(f"{printable(scene)}: {where}: no file {printable(name)} (relative to the scene file)")
+
+
+def scene_text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
     """A string value (at most ``limit`` characters); ``notes`` may be a list of strings."""
     v = d.get(key, default)
     parts = v if key == "notes" and isinstance(v, list) else [v]
     if not all(isinstance(x, str) for x in parts) or sum(len(x) for x in parts) > limit:
-        raise SceneError(f"{src}: {where}: a string of at most {limit} characters is needed, not {_show(v)}")
+        raise SceneError(f"{src}: {where}: a string of at most {limit} characters is needed, not {shown(v)}")
     return v
 
 
 def _choice(d, key, where, src, default, allowed):
     v = d.get(key, default)
     if not isinstance(v, str) or v not in allowed:
-        raise SceneError(f"{src}: {where}: {_show(v)} is not one of {', '.join(allowed)}")
+        raise SceneError(f"{src}: {where}: {shown(v)} is not one of {', '.join(allowed)}")
     return v
 
 
@@ -204,75 +223,77 @@ def _precision(d, where, src, default):
     except ValueError:
         ok = False
     if not ok:
-        raise SceneError(f"{src}: {where}: {_show(prec)} is not a precision: use float64, dd or mp:DIGITS with "
+        raise SceneError(f"{src}: {where}: {shown(prec)} is not a precision: use float64, dd or mp:DIGITS with "
                          f"5 <= DIGITS <= 10000 (e.g. mp:32)")
     return prec
 
 
 def _count(v, where, src, low, high):
     if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= high:
-        raise SceneError(f"{src}: {where} must be an integer between {low} and {high}, not {_show(v)}")
+        raise SceneError(f"{src}: {where} must be an integer between {low} and {high}, not {shown(v)}")
     return v
 
 
-def load_scene(path) -> Scene:
-    """Read and validate a scene file: every key's type and range, the problem built, the
-    method files read as JSON (nothing run).  Messages name the file and the key."""
+def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
+    """Read and validate a scene file: every key's type and range, the problem built (within
+    the time budget ``timeout``, as the exact commands': a user-defined problem can be costly),
+    the method files read as JSON (nothing run).  Messages name the file and the key."""
     from ..exact.tableau_json import TableauError, read
+    from ..numeric.problems import ProblemError
     path = Path(path)
     src = printable(path)
-    data = _read_json(path)
+    data = read_scene(path)
     unknown = set(data) - KEYS
     if unknown:
         raise SceneError(f"{src}: unknown keys {sorted(unknown)} (allowed: {sorted(KEYS)})")
     if data.get("format", FORMAT) != FORMAT:
-        raise SceneError(f"{src}: format: {_show(data.get('format'))} is not {FORMAT!r}")
+        raise SceneError(f"{src}: format: {shown(data.get('format'))} is not {FORMAT!r}")
     name = data.get("name")
     if not isinstance(name, str) or not NAME.fullmatch(name):
-        raise SceneError(f"{src}: name: {_show(name)} is not a file-name-safe name: 1 to 100 ASCII letters, "
+        raise SceneError(f"{src}: name: {shown(name)} is not a file-name-safe name: 1 to 100 ASCII letters, "
                          f"digits, - _ . starting with a letter or digit (it names the output folder)")
-    title = _text(data, "title", "title", src, name)
-    seed = _text(data, "seed", "seed", src)
-    _text(data, "notes", "notes", src, limit=MAX_NOTES)
+    title = scene_text(data, "title", "title", src, name)
+    seed = scene_text(data, "seed", "seed", src)
+    scene_text(data, "notes", "notes", src, limit=MAX_NOTES)
     if "h" not in data:
         raise SceneError(f"{src}: h: missing; give the step size as an exact number such as \"1/100\"")
-    h = _exact(data["h"], "h", path)
+    h = scene_number(data["h"], "h", path)
     if not _positive(h):
-        raise SceneError(f"{src}: h must be a positive exact number, got {_show(data['h'])}")
-    _float64(h, "h", src)
+        raise SceneError(f"{src}: h must be a positive exact number, got {shown(data['h'])}")
+    float64_number(h, "h", src)
     if ("steps" in data) == ("T" in data):
         raise SceneError(f"{src}: give exactly one of steps and T")
     if "steps" in data:
         steps = _count(data["steps"], "steps", src, 1, MAX_STEPS)
     else:
-        T = _exact(data["T"], "T", path)
+        T = scene_number(data["T"], "T", path)
         if not _positive(T):
-            raise SceneError(f"{src}: T must be a positive exact number, got {_show(data['T'])}")
+            raise SceneError(f"{src}: T must be a positive exact number, got {shown(data['T'])}")
         n = T / h
         if not n.is_Integer:
-            raise SceneError(f"{src}: T: T / h = {_show(data['T'])} / {_show(data['h'])} is not a whole number of steps")
+            raise SceneError(f"{src}: T: T / h = {shown(data['T'])} / {shown(data['h'])} is not a whole number of steps")
         if n > MAX_STEPS:
-            raise SceneError(f"{src}: T: T / h = {_show(data['T'])} / {_show(data['h'])} is more than the limit "
+            raise SceneError(f"{src}: T: T / h = {shown(data['T'])} / {shown(data['h'])} is more than the limit "
                              f"of {MAX_STEPS} steps (MAX_STEPS)")
         steps = int(n)
     every = _count(data.get("record_every", max(1, steps // 1000)), "record_every", src, 1, steps)
     plots = data.get("plots", ["invariants"])
     if not isinstance(plots, list) or not all(isinstance(p, str) for p in plots) or len(set(plots)) != len(plots):
-        raise SceneError(f"{src}: plots: a list of distinct names ({', '.join(PLOTS)}) is needed, not {_show(plots)}")
+        raise SceneError(f"{src}: plots: a list of distinct names ({', '.join(PLOTS)}) is needed, not {shown(plots)}")
     bad = [p for p in plots if p not in PLOTS]
     if bad:
         raise SceneError(f"{src}: plots: unknown plots {[printable(p) for p in bad]} (known: {', '.join(PLOTS)})")
     monitor = None
     if "monitor" in data:
-        bound = _exact(data["monitor"], "monitor", path)
+        bound = scene_number(data["monitor"], "monitor", path)
         if not _positive(bound):
-            raise SceneError(f"{src}: monitor must be a positive bound such as \"1e-3\", got {_show(data['monitor'])}")
-        monitor = _float64(bound, "monitor", src)
+            raise SceneError(f"{src}: monitor must be a positive bound such as \"1e-3\", got {shown(data['monitor'])}")
+        monitor = float64_number(bound, "monitor", src)
     modified = None
     if "modified_energy" in data:
         me = data["modified_energy"]
         if not isinstance(me, dict):
-            raise SceneError(f"{src}: modified_energy must be an object such as {{\"terms\": 2}}, not {_show(me)}")
+            raise SceneError(f"{src}: modified_energy must be an object such as {{\"terms\": 2}}, not {shown(me)}")
         extra = sorted(set(me) - MODIFIED_ENERGY_KEYS)
         if extra:
             raise SceneError(f"{src}: modified_energy: unknown keys {[printable(k) for k in extra]} "
@@ -283,36 +304,36 @@ def load_scene(path) -> Scene:
     runs = data.get("runs")
     if not isinstance(runs, list) or not 0 < len(runs) <= MAX_RUNS:
         raise SceneError(f"{src}: runs must be a non-empty list of at most {MAX_RUNS} "
-                         f"{{\"method\": FILE, ...}}, not {_show(runs)}")
+                         f"{{\"method\": FILE, ...}}, not {shown(runs)}")
     for i, r in enumerate(runs):
-        where = f"runs[{i}]"
+        where = f"runs[{i + 1}]"
         if not isinstance(r, dict) or "method" not in r:
             raise SceneError(f"{src}: {where} must be an object with method and optional {sorted(RUN_KEYS - {'method'})}")
         if set(r) - RUN_KEYS:
             raise SceneError(f"{src}: {where}: unknown keys {sorted(set(r) - RUN_KEYS)} (allowed: {sorted(RUN_KEYS)})")
         if not isinstance(r["method"], str) or not 0 < len(r["method"]) <= MAX_TEXT:
-            raise SceneError(f"{src}: {where}.method: a file name (a string) is needed, not {_show(r['method'])}")
+            raise SceneError(f"{src}: {where}.method: a file name (a string) is needed, not {shown(r['method'])}")
         project = r.get("project", [])
         if not isinstance(project, list) or not all(isinstance(k, str) for k in project) \
                 or len(set(project)) != len(project):
-            raise SceneError(f"{src}: {where}.project: a list of distinct invariant names is needed, not {_show(project)}")
+            raise SceneError(f"{src}: {where}.project: a list of distinct invariant names is needed, not {shown(project)}")
         _precision(r, f"{where}.precision", src, precision)
         _choice(r, "start", f"{where}.start", src, start, STARTS)
-        _text(r, "label", f"{where}.label", src)
-    problem = _problem(data.get("problem"), path)
+        scene_text(r, "label", f"{where}.label", src)
+    with time_limit(timeout), computing(f"the problem of {src}"):
+        problem = scene_problem(data.get("problem"), path)
     if modified is not None and problem.kind != "hamiltonian":
         raise SceneError(f"{src}: modified_energy: the problem {printable(problem.name)} is not Hamiltonian "
                          f"(a modified energy needs H(q, p))")
+    if "plots" not in data and not problem.invariants:
+        plots = ["state"]                          # nothing to draw against time but the state
+    if "invariants" in plots and not problem.invariants:
+        raise SceneError(f"{src}: plots: the problem {printable(problem.name)} has no invariants to plot "
+                         f"(declare some under problem.define.invariants, or drop \"invariants\")")
     out_runs, read_methods = [], {}
     for i, r in enumerate(runs):
-        where = f"runs[{i}]"
-        try:
-            mpath = (path.parent / r["method"]).resolve()
-            found = mpath.exists()
-        except (OSError, RuntimeError, ValueError):
-            found = False
-        if not found:
-            raise SceneError(f"{src}: {where}.method: no file {printable(r['method'])} (relative to the scene file)")
+        where = f"runs[{i + 1}]"
+        mpath = method_file(path, r["method"], f"{where}.method")
         if mpath not in read_methods:
             try:
                 read_methods[mpath] = read(mpath)          # a regular file of strict JSON, or refused now
@@ -323,6 +344,10 @@ def load_scene(path) -> Scene:
         if bad:
             raise SceneError(f"{src}: {where}.project: {[printable(k) for k in bad]} are not invariants of "
                              f"{problem.name} ({', '.join(problem.invariants)})")
+        try:
+            problem.check_projection(project)
+        except ProblemError as exc:
+            raise SceneError(f"{src}: {where}.project: {printable(exc)}") from None
         out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project),
                          "precision": r.get("precision", precision), "start": r.get("start", start),
                          "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}"
@@ -331,19 +356,23 @@ def load_scene(path) -> Scene:
                  modified)
 
 
-def run_one(sc: Scene, i: int, progress: bool = False):
+def run_one(sc: Scene, i: int, progress: bool = False, timeout: float | None = DEFAULT_SECONDS):
     """Run ``sc.runs[i]``; returns (arrays without the ``run<i>_`` prefix, its meta entry,
-    interrupted).  A run stopped by an error, the monitor or Ctrl-C keeps its records."""
+    interrupted).  A run stopped by an error, the monitor or Ctrl-C keeps its records.  The
+    exact stage (the method read and rounded, the problem's code generated) runs within the
+    time budget ``timeout`` (BudgetError), the run itself within the scene's step budget."""
     from ..exact.tableau_json import load
     from ..numeric.export import to_numeric
     from ..numeric.integrate import IntegrationError, ParasiticBoundExceeded, integrate
-    from .runs import compiled
+    from .runs import compiled, generate
 
     r = sc.runs[i]
     want_states = any(p in ("orbit", "state") for p in sc.plots) or sc.modified_energy is not None
-    m = load(r["method"])
-    nm = to_numeric(m, r["precision"])
-    cp = compiled(sc.problem, r["precision"])
+    with time_limit(timeout), computing(f"{sc.path}: runs[{i + 1}] ({printable(r['label'])})"):
+        m = load(r["method"])
+        nm = to_numeric(m, r["precision"])
+        cp = compiled(sc.problem, r["precision"])
+        generate(cp, nm, tuple(sc.problem.invariants), r["project"])
     status, message, interrupted = "completed", "", False
     try:
         with StepBar(sc.steps, f"{sc.name}: {r['label']}", show=bool(progress)) as tick:
@@ -359,6 +388,9 @@ def run_one(sc: Scene, i: int, progress: bool = False):
         interrupted = isinstance(exc, KeyboardInterrupt)
         if run is None:
             raise
+    degraded = run.degraded() if status == "completed" else ""
+    if degraded:
+        status, message = "degraded", f"degraded: {degraded}"
     arrays = {"t": np.array(run.times)}
     for k, v in run.invariant_errors.items():
         arrays[k] = np.array([float(x) for x in v])
@@ -450,7 +482,7 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
             "record_every": sc.record_every, "tableau_lab": __version__,
             **({"monitor": sc.monitor} if sc.monitor is not None else {}),
             **({"modified_energy": {"terms": sc.modified_energy}} if sc.modified_energy is not None else {}),
-            "complete": all(r["status"] in ("completed", "stopped") for r in meta_runs),
+            "complete": all(r["status"] in ("completed", "degraded", "stopped") for r in meta_runs),
             "runs": meta_runs}
     suffix = "" if meta["complete"] else ".incomplete"
     with confined(out), output_lock(out), deferred_interrupt():
@@ -536,20 +568,20 @@ def _not_run(sc: Scene, i: int) -> dict:
             "max_invariant_error": {}}
 
 
-def run_scene(path, out_root="reports", progress: bool | None = None) -> dict:
+def run_scene(path, out_root="reports", progress: bool | None = None, timeout: float | None = DEFAULT_SECONDS) -> dict:
     """Run every run of a scene, write data, metadata and plots; returns the metadata.  Ctrl-C
     (``KeyboardInterrupt``) stops the runs; the runs that finished and the records of the one
     interrupted are written as an incomplete set (the others listed as ``"not run"``), then
     ``KeyboardInterrupt`` is raised again.  Interrupted before any run produced records, the
     folder is left as it was."""
-    sc = load_scene(path)
+    sc = load_scene(path, timeout)
     guard_scene_outputs(sc, Path(out_root) / sc.name)      # before any run
     show = sys.stderr.isatty() if progress is None else progress
     results = [None] * len(sc.runs)
     interrupted = False
     try:
         for i in range(len(sc.runs)):
-            results[i] = run_one(sc, i, show)
+            results[i] = run_one(sc, i, show, timeout)
             if results[i][2]:
                 interrupted = True
                 break

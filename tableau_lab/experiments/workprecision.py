@@ -27,14 +27,18 @@ from pathlib import Path
 
 import numpy as np
 
+from ..budget import DEFAULT_SECONDS
 from ..files import atomic_write_text, output_phase
 
 from .compiled_peer import PEER as COMPILED_PEER, dop853_point, max_invariant_error
 __all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus", "cheapest"]
 
 FORMAT = "tableau_lab/workprecision/1"
-PEERS = ("DOP853", "RK45", "RK23", "Radau", "LSODA", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
+PEERS = ("DOP853", "RK45", "RK23", "Radau", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
 # (experiments/compiled_peer.py: numbalsoda, f through a C function pointer: the fair CPU peer)
+METHOD_KEYS = {"method", "steps", "label"}     # keys of an entry of "methods"
+PEER_KEYS = {"method", "rtol", "atol_factor"}   # keys of an entry of "peers"
+MAX_SWEEP = 100                                 # step counts of one method, tolerances of one peer
 LEVELS = (1e-6, 1e-8, 1e-10, 1e-12)   # energy-error thresholds of the summary: the cheapest run reaching each
 
 
@@ -50,54 +54,110 @@ class WPScene:
     invariant: str
 
 
-def load_wp_scene(path) -> WPScene:
-    from .scene import NAME, SceneError, _exact, _problem, _read_json
+def load_wp_scene(path, timeout: float | None = DEFAULT_SECONDS) -> WPScene:
+    """Read and validate a work–precision scene: the keys, the problem (built within the time
+    budget ``timeout``, as the exact commands'), every sweep within the step budget of a run
+    scene (``inputs.MAX_STEPS`` per run, the reference's runs included), peers among
+    :data:`PEERS`.  Messages name the file and the entry (one-based: ``methods[1].steps[2]``)."""
+    from ..budget import computing, time_limit
+    from ..inputs import MAX_STEPS, printable
+    from .scene import (MAX_RUNS, NAME, SceneError, float64_number, method_file, read_scene, scene_number, scene_problem,
+                        scene_text, shown)
     path = Path(path)
-    data = _read_json(path)
+    src = printable(path)
+    data = read_scene(path)
     allowed = {"format", "name", "title", "problem", "T", "methods", "peers", "invariant", "notes"}
     unknown = set(data) - allowed
     if unknown:
-        raise SceneError(f"{path}: unknown keys {sorted(unknown)} (allowed: {sorted(allowed)})")
+        raise SceneError(f"{src}: unknown keys {sorted(map(printable, unknown))} (allowed: {sorted(allowed)})")
     if data.get("format") != FORMAT:
-        raise SceneError(f"{path}: format must be {FORMAT!r}")
+        raise SceneError(f"{src}: format must be {FORMAT!r}")
     name = data.get("name")
     if not isinstance(name, str) or not NAME.fullmatch(name):
-        raise SceneError(f"{path}: name must be ASCII letters, digits, - _ . starting with a letter or digit "
+        raise SceneError(f"{src}: name must be ASCII letters, digits, - _ . starting with a letter or digit "
                          "(the output folder's name)")
-    problem = _problem(data.get("problem"), path)
-    T = _exact(data.get("T"), "T", path)
-    if not T > 0:
-        raise SceneError(f"{path}: T must be positive")
-    methods = []
-    for k, m in enumerate(data.get("methods", [])):
+    title = scene_text(data, "title", "title", src, name)
+    scene_text(data, "notes", "notes", src, limit=20000)
+    T = scene_number(data.get("T"), "T", path)
+    if not (T.is_real and T > 0):
+        raise SceneError(f"{src}: T must be positive, not {shown(data.get('T'))}")
+    float64_number(T, "T", src)
+    longest = max(reference_steps(T))
+    if longest > MAX_STEPS:
+        raise SceneError(f"{src}: T = {shown(data.get('T'))}: the reference solution would take {longest:.3g} steps, "
+                         f"more than the limit of {MAX_STEPS} steps of a run (MAX_STEPS); T ≤ "
+                         f"{MAX_STEPS // (2 * REFERENCE_STEPS_PER_UNIT)} is within it")
+    methods, peers = data.get("methods", []), data.get("peers", [])
+    for key, v in (("methods", methods), ("peers", peers)):
+        if not isinstance(v, list) or len(v) > MAX_RUNS:
+            raise SceneError(f"{src}: {key} must be a list of at most {MAX_RUNS} objects, not {shown(v)}")
+    with time_limit(timeout), computing(f"the problem of {src}"):
+        problem = scene_problem(data.get("problem"), path)
+    out_methods = []
+    for k, m in enumerate(methods, 1):
         where = f"methods[{k}]"
-        if not isinstance(m, dict) or not isinstance(m.get("method"), str):
-            raise SceneError(f"{path}: {where} must be an object with a \"method\" path")
-        mp = (path.parent / m["method"]).resolve()
-        if not mp.exists():
-            raise SceneError(f"{path}: {where}: method file {mp} not found")
+        if not isinstance(m, dict) or not isinstance(m.get("method"), str) or not m["method"]:
+            raise SceneError(f"{src}: {where} must be an object with a \"method\" path")
+        if set(m) - METHOD_KEYS:
+            raise SceneError(f"{src}: {where}: unknown keys {sorted(map(printable, set(m) - METHOD_KEYS))} "
+                             f"(allowed: {sorted(METHOD_KEYS)})")
+        mp = method_file(path, m["method"], f"{where}.method")
         steps = m.get("steps")
-        if not isinstance(steps, list) or not steps or not all(isinstance(n, int) and n > 0 for n in steps):
-            raise SceneError(f"{path}: {where}.steps must be a list of positive integers")
-        methods.append((mp, tuple(steps), m.get("label", mp.stem)))
-    peers = []
-    for k, p in enumerate(data.get("peers", [])):
+        if not isinstance(steps, list) or not 0 < len(steps) <= MAX_SWEEP:
+            raise SceneError(f"{src}: {where}.steps must be a list of 1 to {MAX_SWEEP} step counts, not {shown(steps)}")
+        for j, n in enumerate(steps, 1):
+            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STEPS:
+                raise SceneError(f"{src}: {where}.steps[{j}] must be an integer between 1 and {MAX_STEPS} "
+                                 f"(MAX_STEPS, the step budget of a run), not {shown(n)}")
+            float64_number(T / n, f"{where}.steps[{j}]: the step size T/n", src)
+        out_methods.append((mp, tuple(steps), scene_text(m, "label", f"{where}.label", src, mp.stem) or mp.stem))
+    out_peers = []
+    for k, p in enumerate(peers, 1):
         where = f"peers[{k}]"
         if not isinstance(p, dict) or p.get("method") not in PEERS:
-            raise SceneError(f"{path}: {where}.method must be one of {', '.join(PEERS)}")
-        try:
-            rtols = tuple(float(x) for x in p.get("rtol", []))
-        except (TypeError, ValueError):
-            raise SceneError(f"{path}: {where}.rtol must be a list of numbers such as \"1e-8\"") from None
-        if not rtols or not all(0 < x < 1 for x in rtols):
-            raise SceneError(f"{path}: {where}.rtol must be a non-empty list of numbers in (0, 1)")
-        peers.append((p["method"], rtols, float(p.get("atol_factor", 1.0))))
-    if not methods and not peers:
-        raise SceneError(f"{path}: nothing to run (no methods, no peers)")
+            given = shown(p.get("method")) if isinstance(p, dict) else shown(p)
+            raise SceneError(f"{src}: {where}.method must be one of {', '.join(PEERS)} (the known peers), not {given}")
+        if set(p) - PEER_KEYS:
+            raise SceneError(f"{src}: {where}: unknown keys {sorted(map(printable, set(p) - PEER_KEYS))} "
+                             f"(allowed: {sorted(PEER_KEYS)})")
+        rtols = p.get("rtol", [])
+        if not isinstance(rtols, list) or not 0 < len(rtols) <= MAX_SWEEP:
+            raise SceneError(f"{src}: {where}.rtol must be a list of 1 to {MAX_SWEEP} numbers in (0, 1) such as "
+                             f"\"1e-8\", not {shown(rtols)}")
+        values = []
+        for j, x in enumerate(rtols, 1):
+            v = _tolerance(x, f"{where}.rtol[{j}]", path)
+            if not (v.is_real and 0 < v < 1):
+                raise SceneError(f"{src}: {where}.rtol[{j}] must be a number in (0, 1), not {shown(x)}")
+            values.append(float64_number(v, f"{where}.rtol[{j}]", src))
+        af = _tolerance(p.get("atol_factor", 1), f"{where}.atol_factor", path)
+        if not (af.is_real and af > 0):
+            raise SceneError(f"{src}: {where}.atol_factor must be a positive number, not {shown(p.get('atol_factor'))}")
+        out_peers.append((p["method"], tuple(values), float64_number(af, f"{where}.atol_factor", src)))
+    if not out_methods and not out_peers:
+        raise SceneError(f"{src}: nothing to run (no methods, no peers)")
     inv = data.get("invariant", "H")
-    if inv not in problem.invariants:
-        raise SceneError(f"{path}: invariant {inv!r} unknown for {problem.name} ({', '.join(problem.invariants)})")
-    return WPScene(path, name, data.get("title", name), problem, T, tuple(methods), tuple(peers), inv)
+    if not isinstance(inv, str) or inv not in problem.invariants:
+        raise SceneError(f"{src}: invariant {shown(inv)} unknown for {printable(problem.name)} "
+                         f"({', '.join(problem.invariants) or 'it has none'})")
+    return WPScene(path, name, title, problem, T, tuple(out_methods), tuple(out_peers), inv)
+
+
+def _tolerance(v, where, path):
+    """A tolerance: an exact string or integer as every scene number, or a JSON float (the
+    decimal it is written as)."""
+    from .scene import scene_number
+    return scene_number(repr(v) if isinstance(v, float) else v, where, path)
+
+
+REFERENCE_STEPS_PER_UNIT = 500       # steps of the reference run per unit of T (at least REFERENCE_MIN_STEPS)
+REFERENCE_MIN_STEPS = 2000
+
+
+def reference_steps(T, steps=None) -> tuple:
+    """The step counts (n, 2n) of the two reference runs over [0, T] (:func:`reference_state`)."""
+    n = steps or max(REFERENCE_MIN_STEPS, int(float(T) * REFERENCE_STEPS_PER_UNIT))
+    return n, 2 * n
 
 
 # -- one point each (module-level: they run in worker processes) ---------------------------------
@@ -162,8 +222,7 @@ def reference_state(problem, T, steps=None):
     from .runs import _setup
     import sympy as sp
     _, _, cp, nm = _setup(gauss(3), problem, "dd", None)
-    n = steps or max(2000, int(float(T) * 500))
-    runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in (n, 2 * n)]
+    runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in reference_steps(T, steps)]
     gap = max(abs(float(a - b)) for a, b in zip(*runs))
     return np.array([float(x) for x in runs[1]]), gap
 

@@ -71,12 +71,37 @@ class Run:
     tracked: dict = field(default_factory=dict)         # name -> max |I(y^[n]_1) − I(y0)| every track_every steps
     velocity_evaluations: int = 0                        # separable problems: q-rate evaluations (nfev: forces)
     fallbacks: int = 0                                   # steps whose first stage iteration failed
+    invariant_scales: dict = field(default_factory=dict)  # name -> |I(y0)| (1 where I(y0) = 0): "relative" below
+    state_scale: float = 1.0                             # max |y0_i| (1 where y0 = 0): the parasitic components' scale
 
     def max_invariant_error(self) -> dict:
         """Largest |I − I(y0)| at the records, and over every step where the compiled loop
         tracked it."""
         return {k: max([abs(float(x)) for x in v] + [self.tracked.get(k, 0.0)])
                 for k, v in self.invariant_errors.items()}
+
+    def degraded(self) -> str:
+        """Why a run that went to its end failed in substance, or "": an invariant error (largest
+        |I − I(y0)|, over the records and the tracked steps) or a parasitic component of a GLM's
+        input reaching ``limits.DEGRADED`` relative to |I(y0)| (to max |y0_i| for the
+        components); NaN counts.
+
+        >>> r = Run("m", "p", "float64", 0.1, 10, "identity", (), invariant_errors={"H": [0.0, 0.5]},
+        ...         invariant_scales={"H": 0.7})
+        >>> r.degraded()
+        'H drifted by 5.00e-01, 0.714 of |H(y0)| (the bound: 0.01)'
+        """
+        why = []
+        for k, v in self.max_invariant_error().items():
+            scale = self.invariant_scales.get(k, 1.0)
+            if not v < limits.DEGRADED * scale:
+                why.append(f"{k} drifted by {v:.2e}, {v / scale:.3g} of |{k}(y0)| (the bound: {limits.DEGRADED:g})")
+        for z, c in self.parasitic_components.items():
+            big = max(c, default=0.0)
+            if not big < limits.DEGRADED * self.state_scale:
+                why.append(f"the parasitic component ζ = {z} reached {big:.2e}, {big / self.state_scale:.3g} of "
+                           f"max |y0_i| (the bound: {limits.DEGRADED:g})")
+        return "; ".join(why)
 
     def even_records(self) -> None:
         """Cut the per-record lists to their common length: a Ctrl-C that lands inside a record
@@ -210,6 +235,20 @@ def _mode(solver, nm, prob, y0, h, masks) -> int:
     return limits.FIXED if mode == limits.SPLIT and not own else mode
 
 
+def _finite_start(nm, prob, y0, targets, precision) -> None:
+    """Refuse a start where y0, f(y0), an invariant or (implicit methods, GLMs) f′(y0) is not
+    finite at the working precision (e.g. q0 = 1e200: H = q²/2 overflows): step 0 named."""
+    a = nm.arith
+    parts = [("y0", y0), ("f(y0)", prob.f(y0)), *((f"{k}(y0)", np.array([v])) for k, v in targets.items())]
+    if not nm.explicit or nm.r > 1:
+        parts.append(("the Jacobian f′(y0)", np.asarray(prob.jac(y0)).reshape(-1)))
+    for what, v in parts:
+        x = a.to_float(np.asarray(v, dtype=a.dtype).reshape(-1))
+        if not np.all(np.isfinite(x) & (np.abs(x) < limits.HUGE)):
+            raise IntegrationError(f"step 0 (t = 0): {what} is not finite in {precision} (NaN or overflow): the "
+                                   "initial value is out of the range this precision can run")
+
+
 def _use_kernel(kernel, a, prob) -> bool:
     if kernel not in ("auto", "compiled", "python"):
         raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
@@ -267,7 +306,15 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         run = Run(nm.name, problem_name, a.name, float(h), steps,
                   start if (nm.r > 1 or nm.starting) else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
-        targets = {k: prob.invariant(k, y0) for k in names}
+        try:
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):    # refused below, by name
+                targets = {k: prob.invariant(k, y0) for k in names}
+                _finite_start(nm, prob, y0, targets, a.name)
+        except IntegrationError as exc:
+            exc.partial = run
+            raise
+        run.invariant_scales = {k: abs(float(v)) or 1.0 for k, v in targets.items()}
+        run.state_scale = (float(a.norm(y0)) if d else 0.0) or 1.0
         run.invariant_errors = {k: [] for k in names}
         pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, y0, h, masks), compensated=compensated,
                           predict=predict, project=tuple(project), track=names, targets=targets,

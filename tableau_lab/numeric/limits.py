@@ -49,6 +49,8 @@ PROJECTION_STALL = 0.5      # corrections shrinking by less than this count as s
 PROJECTION_ROUNDOFF = 1000.0    # … once the residual is below this many eps
 PROJECTION_ACCEPT = 1e4     # after the last sweep, a residual below this many eps is round-off
 
+DEGRADED = 1e-2            # a run that ends with an invariant error, or a parasitic component, this large relative
+                           # to |I(y0)| (or to max |y0_i|) failed in substance: "degraded" (integrate.Run.degraded)
 HUGE = 1e300               # a value beyond this is overflow at every precision (mpmath has none of its own; results are float64)
 TRACK_EVERY = 1             # default stride of the invariant tracking: every step (its cost: docs/speed.md)
 INLINE_LINEAR_ALGEBRA = 16  # s·d up to which a compiled loop inlines (unrolls) the Newton matrix's LU

@@ -75,6 +75,7 @@ class Problem:
     source: str = ""
     reference: Callable | None = None          # (problem, t, dps) -> state, or None if it does not apply
     notes: str = ""
+    angles: tuple = ()                         # names of q variables that are angles (H 2π-periodic in them)
 
     def __post_init__(self):
         def fail(msg):
@@ -103,6 +104,9 @@ class Problem:
         for k, v in self.parameters.items():
             if v.free_symbols or not (v.is_real and v.is_finite):
                 raise fail(f"parameter {k} = {v} is not a finite real number")
+        if not set(self.angles) <= {str(s) for s in self.q}:
+            raise fail(f"angles {list(self.angles)}: each must be one of the q variables "
+                       f"{', '.join(map(str, self.q)) or '(none: not a Hamiltonian problem)'}")
 
     @property
     def state(self) -> tuple:
@@ -148,6 +152,31 @@ class Problem:
 
     def __hash__(self):
         return hash(self.key)
+
+    def check_projection(self, names) -> tuple:
+        """The invariants a run projects onto, checked: each one of the problem's, and none
+        constant (its gradient is zero: there is no level set to project onto, and Newton on
+        the multiplier would "fail" with residual 0).
+
+        >>> get_problem("kepler").check_projection(["H", "L"])
+        ('H', 'L')
+        >>> problem_from_dict({"name": "c", "y": ["x"], "f": ["-x"], "y0": [1], "invariants": {"C": "2"}}
+        ...                   ).check_projection(["C"])
+        Traceback (most recent call last):
+        ...
+        tableau_lab.numeric.problem_functions.ProblemError: problem 'c': projection onto C: C = 2 is constant (it does not depend on x): every state lies on its level set, there is nothing to project onto; leave it out of the projection
+        """
+        names = tuple(names)
+        unknown = [k for k in names if k not in self.invariants]
+        if unknown:
+            raise ProblemError(f"problem {self.name!r}: projection onto {', '.join(map(str, unknown))}: not invariants "
+                               f"of it (its invariants: {', '.join(self.invariants) or 'none'})")
+        for k in names:
+            if not (self.invariants[k].free_symbols & set(self.state)):
+                raise ProblemError(f"problem {self.name!r}: projection onto {k}: {k} = {self.invariants[k]} is constant "
+                                   f"(it does not depend on {', '.join(map(str, self.state))}): every state lies on "
+                                   "its level set, there is nothing to project onto; leave it out of the projection")
+        return names
 
     def initial_state(self, parameters=None) -> tuple:
         """The exact initial state, parameters substituted."""
@@ -283,7 +312,8 @@ def _builtin():
     yield Problem("harmonic", "hamiltonian", q=(q,), p=(p,), hamiltonian=(p**2 + q**2) / 2, q0=(1,), p0=(0,),
                   reference=_harmonic_exact, source="harmonic oscillator; exact solution q = cos t, p = -sin t")
     yield Problem("pendulum", "hamiltonian", q=(q,), p=(p,), hamiltonian=p**2 / 2 - sp.cos(q),
-                  q0=(_R(23, 10),), p0=(0,), source=f"{HLW06}, I.1 (mathematical pendulum); the seed's q0 = 2.3, p0 = 0",
+                  q0=(_R(23, 10),), p0=(0,), angles=("q",),
+                  source=f"{HLW06}, I.1 (mathematical pendulum); the seed's q0 = 2.3, p0 = 0",
                   notes="the seed's second case (p0, q0) = (1, 0): get_problem('pendulum', q0=0, p0=1)")
     yield _kepler("kepler", _R(1, 200))
     yield _kepler("kepler_unperturbed", 0)
@@ -339,7 +369,7 @@ def problem_from_dict(d: dict) -> Problem:
     if not isinstance(label, str) or not 0 < len(label) <= 100:
         raise ProblemError("a problem is an object with a 'name' (a string of at most 100 characters)")
     kind = "hamiltonian" if "H" in d else "general"
-    allowed = ("name", *_KEYS[kind], "invariants", "parameters", "source", "notes")
+    allowed = ("name", *_KEYS[kind], "invariants", "parameters", "source", "notes") + (("angles",) if kind == "hamiltonian" else ())
     for key in [k for k in d if k not in allowed] + [k for k in _KEYS[kind] if k not in d]:
         raise ProblemError(f"problem {label!r}, entry {key!r}: {'missing' if key in allowed else 'unknown key'}; "
                            f"a {kind} problem has the keys {', '.join(allowed)}")
@@ -378,7 +408,11 @@ def problem_from_dict(d: dict) -> Problem:
         body.update(q=state[:len(d["q"])], p=state[len(d["q"]):], hamiltonian=read("H", d["H"], names))
     else:
         body.update(y=state, rhs=tuple(read(f"f[{i + 1}]", v, names) for i, v in enumerate(items("f"))))
+    angles = d.get("angles", [])
+    if not isinstance(angles, list) or not all(isinstance(a, str) for a in angles):
+        raise fail("angles", "a list of q names (the variables that are angles, wrapped in phase plots) is needed")
     problem = Problem(label, kind, **body, source=d.get("source", "user-defined"), notes=d.get("notes", ""),
+                      angles=tuple(angles),
                       invariants={k: read(f"invariants.{k}", v, names) for k, v in items("invariants", True).items()},
                       parameters={k: read(f"parameters.{k}", v, {}) for k, v in items("parameters", True).items()})
     problem.check_initial_state()

@@ -495,14 +495,18 @@ def _reproducible_env() -> dict:
     return env
 
 
+# what a PDF report needs (Debian/Ubuntu names; .ci/run installs the same): pdflatex and the
+# packages above, and lmodern for Type 1 (vector) fonts
+TEX_PACKAGES = ("texlive-latex-base", "texlive-latex-recommended", "lmodern")
+
+
 def compile_pdf(tex_path: Path, required: bool = False) -> Path | None:
     """pdflatex twice in a scratch directory; the PDF and the log are moved beside the .tex.
     Returns None when pdflatex is absent and not required."""
     exe = shutil.which("pdflatex")
     if exe is None:
         if required:
-            raise ReportError(f"{tex_path}: pdflatex is not installed (apt-get install texlive-latex-base "
-                              "texlive-latex-recommended)")
+            raise ReportError(f"{tex_path}: pdflatex is not installed (apt-get install {' '.join(TEX_PACKAGES)})")
         return None
     given = Path(tex_path)
     tex_path = given.resolve()
