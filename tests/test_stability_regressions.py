@@ -147,3 +147,16 @@ def test_a_complex_root_is_refused_by_the_printer_with_a_reason():
     from tableau_lab.exact.grammar import real_root_index
     q = sp.Poly((x ** 3 - x - 1) ** 2 * (x + 5), x)
     assert real_root_index(sp.CRootOf(x ** 3 - x - 1, 0), q) == 2
+
+
+def test_nodepy_lmms_are_read_as_glms():
+    """from_nodepy reads NodePy's LinearMultistepMethod (exact α, β): its BDF4 has the characteristic
+    polynomial of ours (HW93 III.1 coefficients), and an LMM with floating-point α is refused."""
+    import pytest
+    lm = pytest.importorskip("nodepy.linear_multistep_method")
+    from tableau_lab.exact.interop import InexactMethod, from_nodepy
+    from tableau_lab.exact.multistep import bdf
+    ours, theirs = stability(bdf(4)), stability(from_nodepy(lm.backward_difference_formula(4)))
+    assert sp.expand(ours.polynomial - theirs.polynomial) == 0
+    with pytest.raises(InexactMethod, match="alpha"):
+        from_nodepy(lm.Adams_Moulton(2))
