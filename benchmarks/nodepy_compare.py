@@ -18,7 +18,7 @@ from pathlib import Path
 import sympy as sp
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 
 from tableau_lab.analysis.algebraic_stability import algebraic_stability  # noqa: E402
 from tableau_lab.analysis.real_interval import real_stability_interval  # noqa: E402
@@ -134,22 +134,12 @@ def compare(rkm, name):
 
 def main(out=ROOT / "reports" / "nodepy"):
     try:
-        from nodepy import rk
+        import nodepy  # noqa: F401
     except ImportError:
         print("NodePy is not installed: pip install nodepy", file=sys.stderr)
         return 2
-    rows, skipped = [], []
-    methods = sorted(rk.loadRKM("All").items())
-    # NodePy's generated families (sizes for which they are defined, s ≤ 6 where the size is s)
-    families = [("SSPRK2", m) for m in range(2, 7)] + [("SSPRK3", m) for m in (4, 9)] \
-        + [("SSPIRK1", m) for m in range(1, 7)] + [("SSPIRK2", m) for m in range(1, 7)] \
-        + [("SSPIRK3", m) for m in range(2, 7)] + [("extrap", s) for s in range(1, 7)] \
-        + [("DC", s) for s in range(0, 4)] + [("RKC1", m) for m in range(2, 7)] + [("RKC2", m) for m in range(2, 7)]
-    for fam, size in families:
-        try:
-            methods.append((f"{fam}({size})", getattr(rk, fam)(size)))
-        except Exception as exc:          # a size NodePy does not build
-            skipped.append((f"{fam}({size})", f"NodePy: {type(exc).__name__}: {exc}"[:120]))
+    from nodepy_set import rk_methods
+    methods, skipped = rk_methods()
     for name, rkm in methods:
         try:
             rows.append(compare(rkm, name))

@@ -109,7 +109,7 @@ def _stability(args) -> int:
             raise TableauError(path, str(exc)) from None
         if args.plot:
             from .experiments.stability_plots import draw_stability
-            for png in draw_stability(rep.linear, args.plot, Path(path).stem):
+            for png in draw_stability(rep, args.plot, path, window_=args.window):
                 print(f"wrote {png}", file=sys.stderr)
         return rep, ()
     return _each_method(args, analyse)
@@ -731,7 +731,13 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument("files", nargs="+", metavar="FILE")
     st.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
     st.add_argument("--plot", metavar="DIR", help="write the stability region and the root moduli on the axis "
-                                                  "as PNG files into DIR")
+                                                  "as PNG files into DIR, named after the file or family "
+                                                  "(bdf:4 -> bdf-4_region.png); the region's window encloses "
+                                                  "the boundary locus, the real interval, +-iY* and the A(alpha) "
+                                                  "sector when computed")
+    st.add_argument("--window", type=_window, metavar="XMIN,XMAX,YMIN,YMAX",
+                    help="with --plot: the region's window instead of the one from the analysis, "
+                         "e.g. --window=-12,3,-8,8 (with =, as the value starts with a minus sign)")
     st.set_defaults(run=_stability)
     sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
                         description="Treat the named unknowns of a tableau as parameters and find every solution "
@@ -932,6 +938,15 @@ def _count(lo: int, hi: int):
         return n
     read.__name__ = "integer"
     return read
+
+
+def _window(text):
+    """--window XMIN,XMAX,YMIN,YMAX (experiments.stability_plots.parse_window)."""
+    from .experiments.stability_plots import parse_window
+    try:
+        return parse_window(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def _seconds(text: str) -> float:

@@ -62,16 +62,33 @@ class InternalStabilityResult(Result):
         return f"Internal stability functions ${rows}${tail}."
 
 
+def _functions(m: Method) -> tuple:
+    """Qⱼ = z·(bᵀ adj(I − zA))ⱼ / det(I − zA) in lowest terms, from the adjugate and determinant of
+    I − zA over K[z] (a ``DomainMatrix``: 0.2 s for NodePy's 17-stage DC(4), where sympy's symbolic
+    ``Matrix.adjugate`` took minutes)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    from ..exact.field import field_of, to_dm
+    K = field_of([m.A, m.b])
+    R = K[str(_Z)]
+    z, s = R.gens[0], m.s
+    A, b = to_dm(sp.Matrix(m.A), K).to_list(), to_dm(sp.Matrix(m.b).T, K).to_list()[0]
+    M = DomainMatrix([[(R.one if i == j else R.zero) - z * R(A[i][j]) for j in range(s)] for i in range(s)], (s, s), R)
+    adj, det = M.adj_det()
+    row = (DomainMatrix([[R(x) for x in b]], (1, s), R) * adj).to_list()[0]
+    out = []
+    for q in row:
+        g = (z * q).gcd(det)                      # in lowest terms first: sympy's cancel is then cheap
+        out.append(sp.cancel((z * q).exquo(g).as_expr() / det.exquo(g).as_expr()))
+    return tuple(out)
+
+
 def internal_stability(m: Method) -> InternalStabilityResult:
     """Qⱼ(z) and their largest modulus on the real stability interval (module docstring)."""
     if m.kind != "rk":
         return InternalStabilityResult(m.name, (), None, None, f"defined here for Runge–Kutta methods, not {m.kind}")
     from .real_interval import real_stability_interval
-    s = m.s
-    M = sp.eye(s) - _Z * sp.Matrix(m.A)
-    row = (_Z * sp.Matrix(m.b).T * M.adjugate()).applyfunc(sp.expand)
-    det = sp.expand(M.det())
-    Q = tuple(sp.cancel(row[0, j] / det) for j in range(s))
+    Q = _functions(m)
     beta = real_stability_interval(m).beta
     if beta is None:
         return InternalStabilityResult(m.name, Q, None, None, "the real interval is not computed")

@@ -75,6 +75,7 @@ from ..exact.methods import Method
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
+           "e_polynomial",
            "sign", "sign_at", "rational_between", "last_good_cut", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
 
 W, Z, X, Y = sp.symbols("w z x y")
@@ -262,17 +263,20 @@ def _dm_lists(K, *Ms):
     return [to_dm(sp.Matrix(M), K).to_list() for M in Ms]
 
 
-def characteristic_polynomial(m: Method):
+def characteristic_polynomial(m: Method, parametric: bool = False):
     """(P, K): P(w, z) = det[[I − zA, −U], [−zB, wI − V]] as a ring element of K[w, z]; for a
     partitioned RK method P(w, x) on the harmonic oscillator with x = hω (a ring element of K[w, x]).
+    A method with free parameters only with ``parametric`` (K is then their field of rational
+    functions: :mod:`parametric_stability`; the numeric analyses here need numbers).
 
     >>> from tableau_lab.exact.tableau_json import load
     >>> P, K = characteristic_polynomial(load("methods/stormer_verlet.json"))
     >>> P.as_expr()
     w**2 + w*x**2 - 2*w + 1
     """
-    if m.parameters:
-        raise ValueError(f"{m.name}: stability needs a method without free parameters")
+    if m.parameters and not parametric:
+        raise ValueError(f"{m.name}: this stability analysis needs numbers for the free parameters "
+                         f"{', '.join(map(str, m.parameters))}")
     if m.kind == "prk":
         K = field_of([m.A, m.b, m.Ahat, m.bhat])
         R = K["w", "x"]
@@ -415,23 +419,108 @@ def _drop_t(p):
     return p.drop(p.ring.gens[0])
 
 
+class _FlintQQ:
+    """The operations :func:`_critical_polynomials` needs, on python-flint ``fmpq_mpoly`` (ℚ[t, y]):
+    the resultant of two degree-34 polynomials of NodePy's 17-step sand_cc4 takes 0.6 s here and
+    126 s in sympy's dense subresultant sequence."""
+
+    def __init__(self, R):
+        import flint
+        self.R = R
+        self.ctx = flint.fmpq_mpoly_ctx.get(tuple(str(g) for g in R.symbols), "lex")
+        self.fmpq = flint.fmpq
+
+    def lift(self, p):
+        return self.ctx.from_dict({m: self.fmpq(int(c.numerator), int(c.denominator)) for m, c in p.terms()})
+
+    def drop(self, f):
+        return self.R.from_dict({m: QQ(int(c.p), int(c.q)) for m, c in f.to_dict().items()})
+
+    @staticmethod
+    def is_zero(p):
+        return p.is_zero()
+
+    @staticmethod
+    def cofactors(a, b):
+        g = a.gcd(b)
+        return g, a / g, b / g
+
+    @staticmethod
+    def degree_t(p):
+        return -1 if p.is_zero() else p.degrees()[0]
+
+    @staticmethod
+    def sqf_part(p):
+        return reduce(lambda x, y: x * y, [f for f, _ in p.factor_squarefree()[1]], p.context().from_dict({(0, 0): 1}))
+
+    @staticmethod
+    def coeff_t(p, k):
+        return p.context().from_dict({(0, m[1]): c for m, c in p.to_dict().items() if m[0] == k})
+
+    @staticmethod
+    def discriminant(p):
+        return p.discriminant("t")
+
+    @staticmethod
+    def resultant(a, b):
+        return a.resultant(b, "t")
+
+
+class _SympyOps:
+    """The same operations on sympy ring elements of K[t, y] (K a number field)."""
+
+    lift = drop = staticmethod(lambda p: p)
+
+    @staticmethod
+    def is_zero(p):
+        return not p
+
+    @staticmethod
+    def cofactors(a, b):
+        return a.cofactors(b)
+
+    @staticmethod
+    def degree_t(p):
+        return p.degree(p.ring.gens[0])
+
+    @staticmethod
+    def sqf_part(p):
+        return p.sqf_part()
+
+    @staticmethod
+    def coeff_t(p, k):
+        return p.coeff_wrt(p.ring.gens[0], k)
+
+    @staticmethod
+    def discriminant(p):
+        return p.discriminant()
+
+    @staticmethod
+    def resultant(a, b):
+        return a.resultant(b)
+
+
 def _critical_polynomials(ax: _Axis) -> list:
     """Polynomials in K[y] whose real roots contain every y where the configuration of the roots
-    relative to the unit circle can change (see the module docstring)."""
-    t = ax.FR.ring.gens[0]
-    polys = [ax.lc[0] ** 2 + ax.lc[1] ** 2, ax.at_minus_one[0] ** 2 + ax.at_minus_one[1] ** 2]
-    g, a, b = ax.FR.cofactors(ax.FI)
-    if g.degree(t) > 0:
-        gs = g.sqf_part()
-        polys += [gs.coeff_wrt(t, gs.degree(t)), gs.discriminant()]
-    if a and b:
-        da, db = a.degree(t), b.degree(t)
+    relative to the unit circle can change (see the module docstring); over ℚ computed with
+    python-flint (:class:`_FlintQQ`), over a number field with sympy."""
+    ops = _FlintQQ(ax.FR.ring) if ax.K.is_QQ else _SympyOps
+    lc, m1 = (ops.lift(p) for p in (ax.lc[0] ** 2 + ax.lc[1] ** 2, ax.at_minus_one[0] ** 2 + ax.at_minus_one[1] ** 2))
+    polys = [lc, m1]
+    g, a, b = ops.cofactors(ops.lift(ax.FR), ops.lift(ax.FI))
+    if ops.degree_t(g) > 0:
+        gs = ops.sqf_part(g)
+        polys += [ops.coeff_t(gs, ops.degree_t(gs)), ops.discriminant(gs)]
+    if not ops.is_zero(a) and not ops.is_zero(b):
+        da, db = ops.degree_t(a), ops.degree_t(b)
         if da > 0 and db > 0:
-            polys.append(a.resultant(b))
+            polys.append(ops.resultant(a, b))
         elif da > 0 or db > 0:
             polys.append(a if da == 0 else b)
     out = []
+    t = ax.FR.ring.gens[0]
     for p in polys:
+        p = ops.drop(p)
         if p.ring.ngens == 2:
             if p.degree(t) > 0:
                 raise AssertionError("critical polynomial still depends on t")
@@ -539,6 +628,25 @@ class EndpointRoot:
     modulus: float
 
 
+def _numeric_roots(mpmath, coeffs) -> list:
+    """The roots of the polynomial with (mpmath) ``coeffs``, highest first, at the working
+    precision: Durand–Kerner (``mpmath.polyroots``), and where that does not converge (a cluster of
+    multiple roots slows it to a crawl: NodePy's 17-step sand_cc4 at its Y*) the eigenvalues of
+    the companion matrix (QR iteration, ``mpmath.eig``), which converge for any multiplicity."""
+    if len(coeffs) <= 1:
+        return []
+    try:
+        return mpmath.polyroots(coeffs, maxsteps=200, extraprec=300)
+    except mpmath.libmp.NoConvergence:
+        n = len(coeffs) - 1
+        C = mpmath.matrix(n, n)
+        for j in range(n):
+            C[0, j] = -coeffs[j + 1] / coeffs[0]
+        for i in range(1, n):
+            C[i, i - 1] = 1
+        return list(mpmath.eig(C, left=False, right=False))
+
+
 def _endpoint_roots(P, Ystar, imaginary) -> tuple:
     """The roots w of P(w, iY*) (or P(w, Y*)) with multiplicities: exact when Y* is a radical
     (square-free factors of degree ≤ 2 solved), else 40-digit values clustered into multiple roots."""
@@ -554,14 +662,15 @@ def _endpoint_roots(P, Ystar, imaginary) -> tuple:
         return tuple(out)
     import mpmath
     K = P.ring.domain
+    low = min(k for (k, _), _ in P.terms())          # w^low divides P: the root 0, exactly
     with mpmath.workdps(40):
         yv = mpmath.mpf(str(Ystar.evalf(45)))
         zv = mpmath.mpc(0, yv) if imaginary else yv
-        coeffs = [mpmath.mpc(0)] * (P.degree(P.ring.gens[0]) + 1)
+        coeffs = [mpmath.mpc(0)] * (P.degree(P.ring.gens[0]) + 1 - low)
         for (k, l), c in P.terms():
-            coeffs[-1 - k] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** l
-        roots = mpmath.polyroots(coeffs, maxsteps=400, extraprec=300)
-    groups = []
+            coeffs[-1 - (k - low)] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** l
+        roots = _numeric_roots(mpmath, coeffs)
+    groups = [[mpmath.mpc(0), low]] if low else []
     for v in roots:
         for g in groups:
             if abs(g[0] - v) < 1e-8:
@@ -728,10 +837,9 @@ def _numeric_root(C, a, b) -> float:
     return float((sp.Rational(a) + sp.Rational(b)) / 2)
 
 
-def _a_stability_rk(N, D, K):
-    """RK: poles of R in Re z > 0 and E(y) = |D(iy)|² − |N(iy)|² ≥ 0 on the real line."""
-    g = N.gcd(D)
-    Dr = D.exquo(g)
+def e_polynomial(N, D, K):
+    """E(y) = |D(iy)|² − |N(iy)|² ∈ K[y] for R = N/D: |R(iy)| ≤ 1 exactly where E(y) ≥ 0 (over a
+    field of parameters too, where its sign needs numbers)."""
     Ry = ring("y", K)[0]
     y = Ry.gens[0]
 
@@ -741,7 +849,13 @@ def _a_stability_rk(N, D, K):
             part = _i_power(c, l, y ** l, Ry.zero)
             re, im = re + part[0], im + part[1]
         return re * re + im * im
-    E = on_axis(D) - on_axis(N)
+    return on_axis(D) - on_axis(N)
+
+
+def _a_stability_rk(N, D, K):
+    """RK: poles of R in Re z > 0 and E(y) = |D(iy)|² − |N(iy)|² ≥ 0 on the real line."""
+    Dr = D.exquo(N.gcd(D))
+    E = e_polynomial(N, D, K)
     if not all_roots_right(Dr, K):
         return False, "R(z) has a pole with Re z ≤ 0", E
     if not E:
@@ -844,12 +958,17 @@ class StabilityReport(Result):
 
 def stability_report(m: Method) -> StabilityReport:
     """Linear stability, algebraic stability and, for RK methods, the real-axis interval and the SSP
-    coefficient; for GLMs zero-stability, the A(α) angle and the parasitic growth parameters."""
+    coefficient; for GLMs zero-stability, the A(α) angle and the parasitic growth parameters.  A
+    method with free parameters gets what holds over their field
+    (:func:`~tableau_lab.analysis.parametric_stability.parametric_stability`)."""
     from .a_alpha import a_alpha
     from .algebraic_stability import algebraic_stability
     from .parasitism import growth_parameters
     from .symplectic import g_symplectic
     from .zero_stability import zero_stability
+    if m.parameters:
+        from .parametric_stability import parametric_stability
+        return parametric_stability(m)
     gsym = g_symplectic(m) if m.kind != "prk" else None
     lin = stability(m, gsym)
     alg = algebraic_stability(m, a_stable=lin.a_stable, gsym=gsym)

@@ -516,9 +516,33 @@ class _Printer(sp.printing.str.StrPrinter):
     """sympy's str printer, with a real root written as ``root(POLY, k)`` (k from 1)."""
 
     def _print_ComplexRootOf(self, r):
-        reals = list(dict.fromkeys(sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X).real_roots()))
-        k = reals.index(r) + 1
-        return f"root({self._print(r.poly.as_expr().subs(r.poly.gen, _X))}, {k})"
+        P = sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
+        return f"root({self._print(P.as_expr())}, {real_root_index(r, P)})"
+
+
+def real_root_index(r, P=None) -> int:
+    """k such that the real root ``r`` (a sympy ``CRootOf``) is ``root(P, k)``: its place among the
+    distinct real roots of P (default: its own polynomial), ascending, from 1.  Decided on P's
+    isolating intervals (rational ends, one distinct root each), not by comparing sympy objects:
+    sympy writes one root in several forms (CRootOf(x⁵ + 6x⁴ + 162x³ + …, 0) is also
+    3·CRootOf(x⁵ + 2x⁴ + 18x³ + …, 0), a root of a non-squarefree P is counted once here).
+    A root that is not real has no ``root(…)`` form: ValueError.
+
+    >>> x = sp.Symbol("x")
+    >>> r = sp.CRootOf._new(sp.PurePoly(x**5 + 6*x**4 + 162*x**3 + 648*x**2 + 1944*x + 3888), 0)
+    >>> real_root_index(r), parse_entry(format_entry(r)) == 3*sp.CRootOf(x**5 + 2*x**4 + 18*x**3 + 24*x**2 + 24*x + 16, 0)
+    (1, True)
+    """
+    P = P if P is not None else sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
+    if not r.is_real:
+        raise ValueError(f"{r} is not a real number: the grammar's root(POLY, k) writes real roots only")
+    for k, ((a, b), _) in enumerate(P.intervals(), 1):
+        if a == b:
+            if r == a:                          # a rational root (sympy would have made r that number)
+                return k
+        elif bool(sp.Rational(a) < r) and bool(r < sp.Rational(b)):
+            return k
+    raise ValueError(f"{r} is not a real root of {P.as_expr()}")
 
 
 def _print(e) -> str:

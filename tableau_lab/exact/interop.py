@@ -21,7 +21,7 @@ import numpy as np
 import sympy as sp
 
 from .grammar import parse_entry
-from .methods import MethodError, RungeKutta
+from .methods import GeneralLinearMethod, MethodError, RungeKutta
 
 __all__ = ["from_nodepy", "to_nodepy", "from_lists", "InexactMethod"]
 
@@ -48,9 +48,12 @@ def _exact(x, where: str, name: str):
     raise MethodError(f"{name}: {where} has type {type(x).__name__}, not a number")
 
 
-def from_nodepy(rkm) -> RungeKutta:
-    """The exact :class:`RungeKutta` of a NodePy ``RungeKuttaMethod`` (module docstring)."""
+def from_nodepy(rkm) -> RungeKutta | GeneralLinearMethod:
+    """The exact :class:`RungeKutta` of a NodePy ``RungeKuttaMethod`` (module docstring); a NodePy
+    ``LinearMultistepMethod`` (α, β exact) becomes the GLM of :func:`multistep.lmm`."""
     name = str(getattr(rkm, "name", "") or "NodePy method")
+    if hasattr(rkm, "alpha") and hasattr(rkm, "beta") and not hasattr(rkm, "A"):
+        return _lmm_from_nodepy(rkm, name)
     A = np.asarray(rkm.A, dtype=object)
     b = np.asarray(rkm.b, dtype=object).ravel()
     s = len(b)
@@ -67,6 +70,13 @@ def from_nodepy(rkm) -> RungeKutta:
             notes = (f"embedded weights not kept: {exc}",)
     return RungeKutta(A=sp.ImmutableMatrix(Ax), b=sp.ImmutableMatrix(bx), bhat=bh, name=name, notes=notes,
                       source=f"NodePy {_version()} ({getattr(rkm, 'shortname', '') or name})")
+
+
+def _lmm_from_nodepy(lmm_, name: str) -> GeneralLinearMethod:
+    from .multistep import lmm
+    alpha = [_exact(x, f"alpha[{j + 1}]", name) for j, x in enumerate(np.asarray(lmm_.alpha, dtype=object).ravel())]
+    beta = [_exact(x, f"beta[{j + 1}]", name) for j, x in enumerate(np.asarray(lmm_.beta, dtype=object).ravel())]
+    return lmm(alpha, beta, name=name, source=f"NodePy {_version()} ({getattr(lmm_, 'shortname', '') or name})")
 
 
 def to_nodepy(m: RungeKutta):

@@ -5,7 +5,26 @@ polynomial is converted once to floating-point coefficients and its roots are ta
 the exact analysis (``analysis.stability``) is what the figures illustrate, not what they prove.
 Y* is printed as a decimal in the figures; its exact form is the figures' caption (the files'
 metadata, :func:`~tableau_lab.experiments.figure_style.save`) and in ``tableau-lab stability``'s
-report."""
+report.
+
+*The window* (:func:`window`) comes from the analysis, not from a fixed box: it encloses the
+boundary locus {z : P(e^{iθ}, z) = 0} — every point where a root crosses the unit circle, so
+every bounded piece of the stability region and every bounded instability island (Radau IIA's in
+Re z > 0, BDF4's lobe) lies inside it whole — together with the real interval [−β, 0], ±iY*
+and the origin.  Whether the locus is bounded is decided exactly: a root z of P(e^{iθ}, z) runs
+to infinity only where the leading coefficient L(w) of P in z vanishes on |w| = 1
+(:func:`~tableau_lab.analysis.roots.disc_counts`).  An unbounded locus (Gauss: the imaginary
+axis) is enclosed where |L(e^{iθ})| ≥ ``UNBOUNDED_CUT`` · max |L| (away from the escape
+directions) and |z| ≤ ``UNBOUNDED_SCALE`` times the median |z| there: a view of the part near the
+origin, as no window holds an unbounded curve.  The A(α) sector is drawn when it was computed.  A user's window
+(``--window XMIN,XMAX,YMIN,YMAX``, ``window=`` here) overrides all this.
+
+>>> from tableau_lab.analysis.stability import stability
+>>> from tableau_lab.exact.library import family
+>>> x0, x1, y0, y1 = window(stability(family("radau_iia", s=3)))      # the island in Re z > 0, whole
+>>> x0 < 0 < 10.0 < x1 < 15 and y0 == -y1
+True
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,7 +34,15 @@ import sympy as sp
 
 from . import figure_style as style
 
-__all__ = ["coefficient_array", "root_moduli", "draw_region", "draw_axis_moduli", "draw_stability"]
+__all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_bounded", "window", "parse_window",
+           "figure_stem", "draw_region", "draw_axis_moduli", "draw_stability"]
+
+LOCUS_POINTS = 4096        # θ samples of the boundary locus
+UNBOUNDED_CUT = 0.5        # an unbounded locus is enclosed where |L(e^{iθ})| ≥ this · max |L|
+UNBOUNDED_SCALE = 3.0      # … and |z| ≤ this · the median |z| there (its other large branches left out)
+PAD = 0.12                 # the window's margin, relative to its larger side
+MIN_ASPECT = 0.5           # neither side of the window shorter than this times the other
+DEFAULT_HALF = 5.0         # half-size of the window when nothing bounded is there to enclose
 
 
 def coefficient_array(polynomial, variable: str = "z") -> np.ndarray:
@@ -28,6 +55,22 @@ def coefficient_array(polynomial, variable: str = "z") -> np.ndarray:
     return C
 
 
+def _roots(coeffs: np.ndarray) -> tuple:
+    """The roots of each row's polynomial (coefficients of v^0 … v^r, shape (N, r + 1)) as the
+    eigenvalues of its companion matrix (shape (N, r)), and a mask of the rows whose leading
+    coefficient vanishes (a root at infinity)."""
+    r = coeffs.shape[1] - 1
+    lead = coeffs[:, r]
+    bad = np.abs(lead) < 1e-300
+    lead = np.where(bad, 1.0, lead)
+    monic = coeffs[:, :r] / lead[:, None]
+    comp = np.zeros((coeffs.shape[0], r, r), dtype=complex)
+    if r > 1:
+        comp[:, 1:, :-1] = np.eye(r - 1)
+    comp[:, :, -1] = -monic
+    return np.linalg.eigvals(comp), bad
+
+
 def root_moduli(C: np.ndarray, values) -> np.ndarray:
     """|w| of the r roots of Σ C[k, l] w^k v^l at each complex v (shape: values.shape + (r,));
     a root at infinity (vanishing leading coefficient) is +inf."""
@@ -35,18 +78,121 @@ def root_moduli(C: np.ndarray, values) -> np.ndarray:
     flat = v.ravel()
     powers = flat[:, None] ** np.arange(C.shape[1])[None, :]          # (N, d + 1)
     coeffs = powers @ C.T.astype(complex)                              # (N, r + 1): w^0 .. w^r
-    r = C.shape[0] - 1
-    lead = coeffs[:, r]
-    bad = np.abs(lead) < 1e-300
-    lead = np.where(bad, 1.0, lead)
-    monic = coeffs[:, :r] / lead[:, None]
-    comp = np.zeros((flat.size, r, r), dtype=complex)
-    if r > 1:
-        comp[:, 1:, :-1] = np.eye(r - 1)
-    comp[:, :, -1] = -monic
-    mods = np.abs(np.linalg.eigvals(comp))
+    roots, bad = _roots(coeffs)
+    mods = np.abs(roots)
     mods[bad] = np.inf
-    return mods.reshape(v.shape + (r,))
+    return mods.reshape(v.shape + (C.shape[0] - 1,))
+
+
+def locus_bounded(polynomial, variable: str = "z") -> bool:
+    """Whether the boundary locus {z : P(w, z) = 0, |w| = 1} is bounded, exactly: a root z runs to
+    infinity only where the leading coefficient L(w) of P in z vanishes on the unit circle
+    (counted exactly, :func:`~tableau_lab.analysis.roots.disc_counts`)."""
+    from sympy.polys.rings import ring
+
+    from ..analysis.roots import disc_counts
+    from ..exact.field import field_of
+    P = sp.Poly(sp.sympify(polynomial), sp.Symbol(variable))
+    if P.degree() <= 0:
+        return True
+    L = sp.Poly(P.LC(), sp.Symbol("w"))
+    if L.degree() <= 0:
+        return True
+    K = field_of(L.coeffs())
+    R = ring("w", K)[0]
+    return disc_counts(R.from_dict({m: K.from_sympy(c) for m, c in L.terms()}), K)[1] == 0
+
+
+def boundary_locus(polynomial, variable: str = "z", n: int = LOCUS_POINTS, bounded: bool | None = None) -> np.ndarray:
+    """Points z of the boundary locus, P(e^{iθ}, z) = 0 on a grid of n angles θ (floats: what the
+    figure draws); of an unbounded locus (``bounded`` False, decided by :func:`locus_bounded` when
+    None) the part where |L(e^{iθ})| ≥ UNBOUNDED_CUT · max |L| and |z| ≤ UNBOUNDED_SCALE · median |z|."""
+    C = coefficient_array(polynomial, variable)            # C[k, l]: w^k z^l
+    if C.shape[1] < 2:
+        return np.zeros(0, dtype=complex)
+    if bounded is None:
+        bounded = locus_bounded(polynomial, variable)
+    w = np.exp(2j * np.pi * np.arange(n) / n)
+    coeffs = (w[:, None] ** np.arange(C.shape[0])[None, :]) @ C.astype(complex)     # (n, d + 1): z^0 .. z^d
+    roots, bad = _roots(coeffs)
+    keep = ~bad
+    if not bounded:
+        lead = np.abs(coeffs[:, -1])
+        keep &= lead >= UNBOUNDED_CUT * lead.max()
+    pts = roots[keep].ravel()
+    pts = pts[np.isfinite(pts)]
+    if not bounded and pts.size:
+        pts = pts[np.abs(pts) <= UNBOUNDED_SCALE * np.median(np.abs(pts))]
+    return pts
+
+
+def _finite(v) -> float | None:
+    if v is None:
+        return None
+    v = sp.sympify(v)
+    return None if v in (sp.oo, sp.zoo) or not v.is_finite else float(v)
+
+
+def window(result, real=None, sector=None) -> tuple:
+    """(xmin, xmax, ymin, ymax) of the region plot from the exact analysis (module docstring):
+    the box of the boundary locus, the origin, −β of the real interval (``real``: a
+    ``RealIntervalResult``) and ±iY*, with a margin PAD, symmetric about the real axis (P has
+    real coefficients), neither side shorter than MIN_ASPECT times the other."""
+    pts = list(boundary_locus(result.polynomial, result.variable)) + [0j]
+    beta = _finite(getattr(real, "beta", None))
+    if beta:
+        pts.append(complex(-beta, 0))
+    Y = _finite(result.imaginary_interval)
+    if Y:
+        pts.append(complex(0, Y))
+    pts = np.asarray(pts)
+    x0, x1 = float(pts.real.min()), float(pts.real.max())
+    h = float(np.abs(pts.imag).max())
+    if x1 - x0 < 1e-12 and h < 1e-12:                 # nothing bounded to enclose
+        return (-DEFAULT_HALF, DEFAULT_HALF / 2, -DEFAULT_HALF, DEFAULT_HALF)
+    pad = PAD * max(x1 - x0, 2 * h)
+    x0, x1, h = x0 - pad, x1 + pad, h + pad
+    if x1 - x0 < MIN_ASPECT * 2 * h:                    # too narrow: widen about the middle
+        mid, half = (x0 + x1) / 2, MIN_ASPECT * h
+        x0, x1 = mid - half, mid + half
+    h = max(h, MIN_ASPECT * (x1 - x0) / 2)
+    return (x0, x1, -h, h)
+
+
+def parse_window(text: str) -> tuple:
+    """``XMIN,XMAX,YMIN,YMAX`` as four finite floats with XMIN < XMAX, YMIN < YMAX (ValueError
+    saying what is wrong otherwise).
+
+    >>> parse_window("-12,3,-8,8")
+    (-12.0, 3.0, -8.0, 8.0)
+    """
+    parts = [p.strip() for p in str(text).split(",")]
+    if len(parts) != 4:
+        raise ValueError(f"{text!r}: write four numbers XMIN,XMAX,YMIN,YMAX, e.g. -12,3,-8,8")
+    try:
+        vals = tuple(float(p) for p in parts)
+    except ValueError:
+        raise ValueError(f"{text!r}: write four numbers XMIN,XMAX,YMIN,YMAX, e.g. -12,3,-8,8") from None
+    if not all(np.isfinite(vals)) or max(map(abs, vals)) > 1e12:
+        raise ValueError(f"{text!r}: the numbers must be finite and at most 1e12 in size")
+    if not (vals[0] < vals[1] and vals[2] < vals[3]):
+        raise ValueError(f"{text!r}: need XMIN < XMAX and YMIN < YMAX")
+    return vals
+
+
+def figure_stem(path) -> str:
+    """A file-name stem for a method's figures from its file or family name: the name's stem with
+    every run of characters other than letters, digits, '_', '.', '-' made one '-' (``bdf:4`` →
+    ``bdf-4``; no ':' in a file name), at most 100 characters, ``method`` when nothing is left.
+
+    >>> figure_stem("bdf:4"), figure_stem("methods/gauss2.json"), figure_stem(":::")
+    ('bdf-4', 'gauss2', 'method')
+    """
+    import re
+
+    from ..inputs import SAFE_NAME
+    stem = re.sub(r"[^A-Za-z0-9_.-]+", "-", Path(str(path)).stem).strip("-.")[:100].rstrip("-.")
+    return stem if SAFE_NAME.fullmatch(stem) else "method"
 
 
 def _ymax(result) -> float:
@@ -59,22 +205,51 @@ def _caption(result) -> str:
     return f"{result.method}: Y* = {sp.sstr(result.imaginary_interval)} ({result.interval_kind}), exactly"
 
 
-def draw_region(result, target: Path, n: int = 401) -> Path:
-    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY* marked."""
+def _sector_degrees(sector) -> float | None:
+    """α in degrees of a computed A(α) sector (0 < α ≤ 90°), else None."""
+    if sector is None or getattr(sector, "status", None) != "computed" or sector.alpha is None:
+        return None
+    a = float(sector.alpha)
+    return float(np.degrees(a)) if a > 0 else None
+
+
+def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sector=None) -> Path:
+    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY*, the real interval and
+    the A(α) sector marked, in ``window_`` (default: :func:`window`)."""
     plt = style.pyplot()
     C = coefficient_array(result.polynomial, result.variable)
-    ext = _ymax(result) * 1.25
-    xs, ys = np.linspace(-ext, ext / 2, n), np.linspace(-ext, ext, n)
+    x0, x1, y0, y1 = window_ if window_ is not None else window(result, real, sector)
+    xs, ys = np.linspace(x0, x1, n), np.linspace(y0, y1, n)
     Zg = xs[None, :] + 1j * ys[:, None]
     rho = root_moduli(C, Zg).max(axis=-1)
     fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
     ax.contourf(xs, ys, (rho <= 1 + 1e-9).astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5)
     ax.contour(xs, ys, np.minimum(rho, 10), levels=[1.0], colors="k", linewidths=0.8)
     ax.axhline(0, color="grey", lw=0.5), ax.axvline(0, color="grey", lw=0.5)
+    labelled = False
     Y = result.imaginary_interval
     if Y not in (0, sp.oo):
         ax.plot([0, 0], [-float(Y), float(Y)], color=style.PALETTE[1], lw=2.5, marker="None", linestyle="-",
                 label=f"$|y| < Y^* = {style.decimal(Y)}$ on the imaginary axis")
+        labelled = True
+    beta = _finite(getattr(real, "beta", None))
+    if beta:
+        ax.plot([-beta, 0], [0, 0], color=style.PALETTE[2], lw=2.5, marker="None", linestyle="-",
+                label=f"$[-\\beta, 0]$, $\\beta = {style.decimal(real.beta)}$ on the real axis")
+        labelled = True
+    alpha = _sector_degrees(sector)
+    if alpha is not None:
+        reach = 2 * max(abs(x0), abs(x1), abs(y0), abs(y1))
+        a = np.radians(alpha)
+        ends = [reach * complex(-np.cos(a), sgn * np.sin(a)) for sgn in (1, -1)]
+        ax.fill([ends[0].real, 0, ends[1].real], [ends[0].imag, 0, ends[1].imag], color=style.PALETTE[4],
+                alpha=0.18, lw=0)
+        for k, e in enumerate(ends):
+            ax.plot([0, e.real], [0, e.imag], color=style.PALETTE[4], lw=1.4, ls="--", marker="None",
+                    label=f"A($\\alpha$) sector, $\\alpha = {alpha:.2f}°$" if k == 0 else None)
+        labelled = True
+    ax.set_xlim(x0, x1), ax.set_ylim(y0, y1)
+    if labelled:
         style.legend(ax, "below", ncols=1)
     ax.set_xlabel(r"$\mathrm{Re}\,z$"), ax.set_ylabel(r"$\mathrm{Im}\,z$")
     ax.set_aspect("equal")
@@ -83,11 +258,12 @@ def draw_region(result, target: Path, n: int = 401) -> Path:
     return Path(target)
 
 
-def draw_axis_moduli(result, target: Path, n: int = 2000) -> Path:
-    """|w| of every root along the imaginary axis z = iy (or x = hω), with Y* marked."""
+def draw_axis_moduli(result, target: Path, n: int = 2000, top: float | None = None) -> Path:
+    """|w| of every root along the imaginary axis z = iy (or x = hω) up to ``top`` (default from
+    Y*), with Y* marked."""
     plt = style.pyplot()
     C = coefficient_array(result.polynomial, result.variable)
-    ys = np.linspace(0, _ymax(result), n)
+    ys = np.linspace(0, top if top else _ymax(result), n)
     vals = 1j * ys if result.variable == "z" else ys.astype(complex)
     mods = np.sort(root_moduli(C, vals), axis=-1)
     fig, ax = plt.subplots(figsize=(style.PRINT_WIDTH, 3.4))
@@ -108,10 +284,18 @@ def draw_axis_moduli(result, target: Path, n: int = 2000) -> Path:
     return Path(target)
 
 
-def draw_stability(result, out: Path, stem: str) -> list:
-    """Both figures (the region only for y′ = λy, not for partitioned methods) into ``out``."""
-    out = Path(out)
-    paths = [draw_axis_moduli(result, out / f"{stem}_axis.png")]
-    if result.variable == "z":
-        paths.insert(0, draw_region(result, out / f"{stem}_region.png"))
-    return paths
+def draw_stability(result, out: Path, stem: str, window_=None) -> list:
+    """Both figures (the region only for y′ = λy, not for partitioned methods) into ``out``, named
+    from :func:`figure_stem` of ``stem``.  ``result``: a ``StabilityResult``, or a
+    ``StabilityReport`` (then its real interval and A(α) sector are drawn and enclosed too);
+    ``window_``: (xmin, xmax, ymin, ymax) instead of :func:`window`."""
+    out, stem = Path(out), figure_stem(stem)
+    linear = getattr(result, "linear", result)
+    real, sector = getattr(result, "real", None), getattr(result, "sector", None)
+    if linear.variable != "z":
+        return [draw_axis_moduli(linear, out / f"{stem}_axis.png")]
+    box = window_ if window_ is not None else window(linear, real, sector)
+    Y = _finite(linear.imaginary_interval)
+    top = max(box[3], 1.25 * Y) if Y else box[3]
+    return [draw_region(linear, out / f"{stem}_region.png", window_=box, real=real, sector=sector),
+            draw_axis_moduli(linear, out / f"{stem}_axis.png", top=top)]
