@@ -300,11 +300,12 @@ def _unescape_mathjax(text: str) -> str:
 
 
 def _hostile_displays(name: str) -> list:
-    from tableau_lab.analysis.design import RepairResult
+    from tableau_lab.analysis.design import DesignResult, RepairResult
     from tableau_lab.analysis.modified import modified_equation
     from tableau_lab.experiments.design_search import SearchResult
     m = RungeKutta.from_lists([[0, 0], [sp.Rational(1, 2), 0]], [0, 1], name=name)
     return [m, modified_equation(m, 2), RepairResult(name=name, suspects=(), printed={}, design=None),
+            DesignResult(name=name, requirements=(name,), unknowns=(), status="solved", solutions=()),
             SearchResult(family=name, free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
                          constraints=(), candidates=(), evaluations=0)]
 

@@ -41,7 +41,7 @@ from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
 from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
-from .trees import bracket, density, leaf_removals, order, trees_of_order
+from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
 __all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
 
@@ -105,20 +105,12 @@ class GLMOrderResult(Result):
         }
 
     def to_latex(self):
-        rows = [f"{_tex(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
+        rows = [f"{bracket_tex(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
                 for t, xi in self.starting.items()]
         r = len(self.u)
         return ("Order " + str(self.order) + " relative to the starting method\n"
                 + r"\[ \begin{array}{c|" + "c" * r + "} t & " + " & ".join(f"\\xi_{{{i + 1}}}(t)" for i in range(r))
                 + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
-
-
-def _tex(b: str) -> str:
-    """Bracket notation (τ, superscript multiplicities) in LaTeX."""
-    out = b.replace("τ", r"\tau ")
-    for d, sup in zip("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"):
-        out = out.replace(sup, f"^{{{d}}}")
-    return out
 
 
 class _Solver:

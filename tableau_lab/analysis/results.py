@@ -113,9 +113,6 @@ def markdown_text(text: str, line_start: bool = True) -> str:
     return "".join(out)
 
 
-_prose = markdown_text
-
-
 def _table(body: str) -> str:
     """A ``tabular`` body as a Markdown table, its first row the header; ``|`` in math as ``\\vert``."""
     rows = [[latex_markdown(c.strip(), table=True) for c in re.split(r"(?<!\\)&", r)]
@@ -143,7 +140,7 @@ def latex_markdown(tex: str, table: bool = False) -> str:
     Markdown with MathJax math: ``$$…$$`` blocks, ``$…$`` inline, Markdown tables, prose escaped."""
     out, pos, inline_before = [], 0, False
     for mo in _SEGMENT.finditer(tex):
-        out.append(_prose(tex[pos:mo.start()], not inline_before))       # after a display: a new line
+        out.append(markdown_text(tex[pos:mo.start()], not inline_before))       # after a display: a new line
         pos = mo.end()
         inline_before = mo["i1"] is not None or mo["i2"] is not None
         display, inline = _display_body(mo), (mo["i1"] if mo["i1"] is not None else mo["i2"])
@@ -154,7 +151,7 @@ def latex_markdown(tex: str, table: bool = False) -> str:
         else:
             inline = inline.strip()
             out.append("$" + (inline.replace("|", r"\vert ") if table else inline) + "$")
-    out.append(_prose(tex[pos:], not inline_before))
+    out.append(markdown_text(tex[pos:], not inline_before))
     text = re.sub(r"[ \t]*\n[ \t]*(\n[ \t]*)+", "\n\n", "".join(out))
     return text.strip().replace("\n", " ") if table else text.strip()
 

@@ -17,10 +17,11 @@ Trees are hashable, totally ordered and canonical, so equal trees are equal tupl
 """
 from __future__ import annotations
 
+import re
 from functools import lru_cache
 from math import factorial
 
-__all__ = ["TAU", "trees_of_order", "trees_up_to", "from_children", "order", "density", "symmetry",
+__all__ = ["bracket_tex", "TAU", "trees_of_order", "trees_up_to", "from_children", "order", "density", "symmetry",
            "butcher_product", "bracket", "latex", "leaf_removals", "subtrees", "parse_tree", "TreeError",
            "differential", "forests"]
 
@@ -112,6 +113,16 @@ def bracket(t) -> str:
         return "τ"
     return "[" + "".join(bracket(c) + ("".join(_SUP[int(d)] for d in str(n)) if n > 1 else "")
                          for c, n in _groups(t)) + "]"
+
+
+def bracket_tex(b: str) -> str:
+    r"""A tree written in bracket notation (:func:`bracket`, τ and superscript multiplicities) in
+    LaTeX, for tables keyed by brackets.
+
+    >>> bracket_tex("[τ¹²[τ]]")
+    '[\\tau ^{12}[\\tau ]]'
+    """
+    return re.sub(f"[{_SUP}]+", lambda m: "^{" + "".join(_SUPER_DIGITS[c] for c in m[0]) + "}", b.replace("τ", r"\tau "))
 
 
 @lru_cache(maxsize=None)

@@ -27,7 +27,7 @@ import sympy as sp
 from ..analysis.glm_order import condition_residuals
 from ..analysis.order import order as order_of
 from ..analysis.prk_order import condition_table
-from ..analysis.trees import bracket, trees_of_order
+from ..analysis.trees import bracket, bracket_tex, trees_of_order
 from ..analysis.parasitism import growth_parameters
 from ..analysis.symplectic import g_symplectic, rk_symplectic
 from .backward_error import modified_section
@@ -310,11 +310,11 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
            rf"with $w = {vec(o.w)}$ the left eigenvector of $V$ for the eigenvalue 1 ($w^{{\mathsf T}}u = 1$): "
            r"since $w^{\mathsf T}(V - I) = 0$ it does not depend on $\xi(t)$, and the output condition can be "
            r"solved for $\xi(t)$ only if it is zero."]
-    body = [f"${_tree(t)}$ & " + " & ".join(f"${C.tex(x)}$" for x in o.starting[t]) + f" & ${vec(v)}$" + r" \\"
+    body = [f"${bracket_tex(t)}$ & " + " & ".join(f"${C.tex(x)}$" for x in o.starting[t]) + f" & ${vec(v)}$" + r" \\"
             for t, v in values.items() if orders[t] <= p]
     late = [(t, v) for t, v in values.items() if orders[t] == p + 1]
     body.append(r"\midrule " + rf"$|t| = {p + 1}$ & \multicolumn{{{r}}}{{c}}{{(not needed)}} & $w^{{\mathsf T}}R(t)$ \\")
-    body += [f"${_tree(t)}$ & \\multicolumn{{{r}}}{{c}}{{}} & ${C.tex(v)}$" + r" \\" for t, v in late]
+    body += [f"${bracket_tex(t)}$ & \\multicolumn{{{r}}}{{c}}{{}} & ${C.tex(v)}$" + r" \\" for t, v in late]
     out.append(r"{\small\begin{longtable}{l" + "c" * r + r"c} \toprule $t$ & "
                + " & ".join(f"$\\xi_{{{i + 1}}}(t)$" for i in range(r)) + r" & $R(t)$ \\ \midrule \endhead"
                + "\n" + "\n".join(body) + r" \bottomrule \end{longtable}}")
@@ -326,7 +326,7 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
             rf"\textbf{{Not every $R(t)$ with $|t| \le {p}$ is zero}}: the starting method above does not "
             rf"give order {p}. ")
     if failing:
-        text += (rf"At $|t| = {p + 1}$, $w^{{\mathsf T}}R(t) \ne 0$ for " + ", ".join(f"${_tree(t)}$" for t in failing)
+        text += (rf"At $|t| = {p + 1}$, $w^{{\mathsf T}}R(t) \ne 0$ for " + ", ".join(f"${bracket_tex(t)}$" for t in failing)
                  + rf". Changing the principal parts $\theta(s) = w^{{\mathsf T}}\xi(s)$, $|s| = {p}$ "
                  r"($\xi(s) \mapsto \xi(s) + \theta(s)u$, which changes no condition of lower order) adds "
                  rf"$L_{{{p + 1}}}\theta$ to these values, and the linear system $L_{{{p + 1}}}\theta = "
@@ -342,12 +342,12 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
     if o.errors:
         out.append(rf"The error terms at order {p + 1} (the residuals left when $\theta$ satisfies a maximal "
                    r"independent set of the conditions): "
-                   + "; ".join(f"${_tree(t)}$: ${C.tex(v)}$" for t, v in list(o.errors.items())[:6]) + ".")
+                   + "; ".join(f"${bracket_tex(t)}$: ${C.tex(v)}$" for t, v in list(o.errors.items())[:6]) + ".")
     if o.errors_identity_start:
         out.append(rf"With $\theta \equiv 0$ (the identity as first starting component) the order is "
                    rf"{o.order_identity_start}: the conditions $w^{{\mathsf T}}R(t) = 0$ of order "
                    rf"{o.order_identity_start + 1} fail for "
-                   + ", ".join(f"${_tree(t)}$" for t in o.errors_identity_start) + ".")
+                   + ", ".join(f"${bracket_tex(t)}$" for t in o.errors_identity_start) + ".")
     out.append(C.flush())
     facts["order_conditions"] = dict(
         _conditions_facts(p, values, orders, failing), theta_can_repair=repairable,
@@ -360,13 +360,6 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
 def _parse(text):
     from ..exact.grammar import parse_entry
     return parse_entry(text)
-
-
-def _tree(bracket: str) -> str:
-    out = bracket.replace("τ", r"\tau ")
-    for d, sup in zip("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"):
-        out = out.replace(sup, f"^{{{d}}}")
-    return out
 
 
 def method_document(m: Method, figures=(), stability: bool = False) -> tuple[str, dict]:
