@@ -467,7 +467,7 @@ KILLED = {   # command, and the files a complete run leaves in its output folder
                     {"convergence_harmonic_float64.json"} | _figures("convergence_harmonic_float64")),
     "report": (lambda out: [sys.executable, "-m", "tableau_lab", "report", str(METHODS / "gauss2.json"), "--pdf",
                             "--out", str(out)],
-               {"gauss2.json", "gauss2.tex", "gauss2.pdf", "gauss2.log"}),
+               {"gauss2.report.json", "gauss2.tex", "gauss2.pdf", "gauss2.log"}),
 }
 
 
