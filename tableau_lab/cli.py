@@ -100,9 +100,9 @@ def _stability(args) -> int:
     def analyse(method, path):
         if args.plot:                      # before the analysis: no figure over an input
             from .experiments.figure_style import siblings
+            from .experiments.stability_plots import figure_paths
             from .files import refuse_outputs
-            refuse_outputs([f for kind in ("region", "axis") for f in
-                            siblings(Path(args.plot) / f"{Path(path).stem}_{kind}.png")], [path])
+            refuse_outputs([f for png in figure_paths(args.plot, path).values() for f in siblings(png)], [path])
         try:
             rep = stability_report(method)
         except ValueError as exc:          # e.g. free parameters: no numeric stability analysis

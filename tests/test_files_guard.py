@@ -398,7 +398,7 @@ CORRUPT = {
     "roundoff-no-slope_plain": ("roundoff_x.json", _drop(_roundoff(), "slope_plain"), "slope_plain"),
     "roundoff-no-problem": ("roundoff_x.json", _drop(_roundoff(), "problem"), "problem"),
     "roundoff-plain-text": ("roundoff_x.json", _set(_roundoff(), "plain", "x"), "plain"),
-    "roundoff-n-strings": ("roundoff_x.json", _set(_roundoff(), "n", ["a", "b", "c"]), "n[0]"),
+    "roundoff-n-strings": ("roundoff_x.json", _set(_roundoff(), "n", ["a", "b", "c"]), "n[1]"),
     "roundoff-unequal": ("roundoff_x.json", _set(_roundoff(), "plain", [1e-16]), "roundoff"),
     "roundoff-slope-null": ("roundoff_x.json", _set(_roundoff(), "slope_compensated", None), "slope_compensated"),
     "convergence-no-problem": ("convergence_x.json", _drop(_convergence(), "problem"), "problem"),
@@ -446,7 +446,7 @@ def test_replot_refuses_damaged_scene_metadata(tmp_path, case):
     (folder / "meta.json").write_text(json.dumps(meta))
     code, err = cli("replot", folder)
     refused(code, err, folder / "meta.json")
-    assert {"runs-empty": "runs", "runs-not-objects": "runs[0]", "no-scene": "scene",
+    assert {"runs-empty": "runs", "runs-not-objects": "runs[1]", "no-scene": "scene",
             "label-number": "label"}[case] in err
 
 

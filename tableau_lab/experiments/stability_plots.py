@@ -35,7 +35,7 @@ import sympy as sp
 from . import figure_style as style
 
 __all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_bounded", "window", "parse_window",
-           "figure_stem", "draw_region", "draw_axis_moduli", "draw_stability"]
+           "figure_stem", "figure_paths", "draw_region", "draw_axis_moduli", "draw_stability"]
 
 LOCUS_POINTS = 4096        # θ samples of the boundary locus
 UNBOUNDED_CUT = 0.5        # an unbounded locus is enclosed where |L(e^{iθ})| ≥ this · max |L|
@@ -284,18 +284,29 @@ def draw_axis_moduli(result, target: Path, n: int = 2000, top: float | None = No
     return Path(target)
 
 
+def figure_paths(out: Path, stem: str) -> dict:
+    """The figures :func:`draw_stability` writes for a method named ``stem`` into ``out``, by kind
+    (``region``, ``axis``), each as its PNG (the other formats are its siblings).
+
+    >>> sorted(p.name for p in figure_paths(Path("f"), "bdf:4").values())
+    ['bdf-4_axis.png', 'bdf-4_region.png']
+    """
+    stem = figure_stem(stem)
+    return {kind: Path(out) / f"{stem}_{kind}.png" for kind in ("region", "axis")}
+
+
 def draw_stability(result, out: Path, stem: str, window_=None) -> list:
     """Both figures (the region only for y′ = λy, not for partitioned methods) into ``out``, named
     from :func:`figure_stem` of ``stem``.  ``result``: a ``StabilityResult``, or a
     ``StabilityReport`` (then its real interval and A(α) sector are drawn and enclosed too);
     ``window_``: (xmin, xmax, ymin, ymax) instead of :func:`window`."""
-    out, stem = Path(out), figure_stem(stem)
+    paths = figure_paths(out, stem)
     linear = getattr(result, "linear", result)
     real, sector = getattr(result, "real", None), getattr(result, "sector", None)
     if linear.variable != "z":
-        return [draw_axis_moduli(linear, out / f"{stem}_axis.png")]
+        return [draw_axis_moduli(linear, paths["axis"])]
     box = window_ if window_ is not None else window(linear, real, sector)
     Y = _finite(linear.imaginary_interval)
     top = max(box[3], 1.25 * Y) if Y else box[3]
-    return [draw_region(linear, out / f"{stem}_region.png", window_=box, real=real, sector=sector),
-            draw_axis_moduli(linear, out / f"{stem}_axis.png", top=top)]
+    return [draw_region(linear, paths["region"], window_=box, real=real, sector=sector),
+            draw_axis_moduli(linear, paths["axis"], top=top)]
