@@ -12,7 +12,7 @@ from tableau_lab.analysis.results import Combined, Result, latex_markdown
 from tableau_lab.exact.render import markdown_literal
 from tableau_lab.exact.library import family, library_path
 from tableau_lab.exact.methods import RungeKutta
-from tableau_lab.exact.tableau_json import load
+from tableau_lab.exact.tableau_json import load, loads
 
 PKG = Path(__file__).resolve().parents[1] / "tableau_lab"
 
@@ -136,7 +136,9 @@ def _results() -> list:
            RepairResult(name="e_2", suspects=(), printed={}, design=None),
            SearchResult(family="rk_2<x>", free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
                         constraints=("order=2",), candidates=(), evaluations=0)]
-    return out + [Combined((out[7], out[-10]), ("parasitism", "series")), Combined((out[0], out[7]))]
+    parametric = stability_report(loads('{"name": "sdirk_g", "kind": "rk", "A": [["g", 0], ["1 - 2*g", "g"]], '
+                                        '"b": ["1/2", "1/2"]}'))
+    return out + [parametric, Combined((out[7], out[-10]), ("parasitism", "series")), Combined((out[0], out[7]))]
 
 
 @pytest.fixture(scope="module")
