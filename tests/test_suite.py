@@ -120,7 +120,12 @@ def test_reduced_suite(tmp_path, capsys):
         "gauss2", "gauss3", "implicit_midpoint", "stormer_verlet", "symplectic_euler", "leapfrog", "example4_glm",
         "glm43", "glm4_symmetric", "glm6_moonshot"}
     assert {tuple(r["projection"]) for r in rows} == {(), ("H",)}
-    assert all(r["status"] == "completed" and r["steps"] == 1000 for r in rows)     # t = 10: before any blow-up
+    assert all(r["steps"] == 1000 for r in rows)     # t = 10: before any blow-up
+    # every run completed; symplectic Euler (order 1) at h = 1/100 oscillates in energy by 1.01 % of |H0|
+    # (6.7e-3 of 0.666): just past limits.DEGRADED (issue 29), so "degraded", the reason named
+    assert all(r["status"] == "completed" or (r["status"] == "degraded" and r["file"] == "symplectic_euler"
+                                              and "H drifted" in r["message"]) for r in rows), \
+        [(r["label"], r["status"]) for r in rows if r["status"] != "completed"]
     by = {(r["file"], bool(r["projection"])): r for r in rows}
     ex4, g43 = by["example4_glm", False], by["glm43", False]
     assert complex(ex4["mu"][0]).real > 2 and ex4["growth"]["measured"] > 5 and ex4["growth"]["agree"]

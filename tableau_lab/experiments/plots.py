@@ -78,9 +78,9 @@ def _phase(plt, problem, kind, runs, arrays):
     named by the problem's own variables; an angle (``problem.angles``) wrapped into [−π, π),
     the line broken where it wraps; degraded and failed runs in a second panel, so that a run
     that wandered off does not squeeze the others into a line."""
-    names = [str(s) for s in problem.state]
+    names = _state_names(problem, runs, arrays)
     one = len(names) == 1                           # one variable: drawn against time
-    half = len(problem.q) if problem.kind == "hamiltonian" else 1
+    half = len(names) // 2 if problem.kind == "hamiltonian" else 1
     orbit = kind == "orbit" and problem.kind == "hamiltonian" and half >= 2
     cols = (0, 1) if orbit or one else (0, half)
     names = ["t", *names] if one else names
@@ -119,6 +119,19 @@ def _phase(plt, problem, kind, runs, arrays):
             (ln.get_label(), {"color": ln.get_color(), "marker": ln.get_marker(), "linestyle": ln.get_linestyle()})
             for ax in axes[0] for ln in ax.get_lines()])
     return fig
+
+
+def _state_names(problem, runs, arrays) -> list:
+    """The problem's state variables by name; without them (a problem described by its kind
+    alone, as a replot of old data may be), q, p or q1 … qk, p1 … pk, or y1 … yd."""
+    state = getattr(problem, "state", None)
+    if state:
+        return [str(s) for s in state]
+    d = next((np.shape(arrays[f"run{i}_y"])[1] for i in range(len(runs)) if f"run{i}_y" in arrays), 2)
+    if problem.kind != "hamiltonian":
+        return [f"y{j + 1}" for j in range(d)] if d > 1 else ["y"]
+    k = d // 2
+    return ["q", "p"] if k == 1 else [f"{v}{j + 1}" for v in "qp" for j in range(k)]
 
 
 def _axis(name: str, angles) -> str:
