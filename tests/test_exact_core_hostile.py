@@ -87,3 +87,20 @@ def test_budget_wrapped_by_library_code_is_still_the_budget():
     with pytest.raises(BudgetError, match="time budget of 0.05 s exceeded"):
         with time_limit(0.05):
             convert()
+
+
+def test_from_lists_never_evaluates_text(tmp_path):
+    """A string entry given to the Python constructors is read by the tableau grammar, never by
+    sympify (which evaluates Python: on 5ea0488 this entry created the marker file)."""
+    import pytest
+
+    from tableau_lab.exact.methods import GeneralLinearMethod, MethodError, RungeKutta
+    marker = tmp_path / "pwned"
+    evil = f"__import__('os').system('touch {marker}')"
+    for make in (lambda: RungeKutta.from_lists([[evil]], [1]),
+                 lambda: RungeKutta(A=[[evil]], b=[1], c=[0]),
+                 lambda: GeneralLinearMethod(A=[[0]], U=[[1]], B=[[evil]], V=[[1]])):
+        with pytest.raises(MethodError, match="names must start with a letter"):
+            make()
+    assert not marker.exists()
+    assert RungeKutta.from_lists([[0, 0], ["2/3", 0]], ["1/4", "3/4"]).A[1, 0] == sp.Rational(2, 3)

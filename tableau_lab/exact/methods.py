@@ -39,9 +39,49 @@ class MethodError(InputError):
     """A tableau whose matrices do not form a method (shapes, nodes, entries)."""
 
 
+def _exact(e, what: str):
+    """One matrix entry, exactly and without evaluating text: a string is read by the tableau
+    grammar (never ``sympify``, which evaluates Python), an int or a ``Fraction`` becomes a
+    rational, a sympy number is kept; floats and every other type are refused."""
+    from fractions import Fraction
+    from numbers import Integral
+
+    from .grammar import EntryError, parse_entry
+    if isinstance(e, sp.Basic):
+        return e
+    if isinstance(e, Integral) and not isinstance(e, bool):
+        e = int(e)                                   # numpy's integers too
+    if isinstance(e, Fraction):
+        return sp.Rational(e.numerator, e.denominator)
+    try:
+        return parse_entry(e)
+    except EntryError as exc:
+        raise MethodError(f"{what}: {exc}") from None
+
+
+def _exact_rows(x, what: str):
+    """A matrix, a list of rows or a flat list (a column) with every entry through :func:`_exact`.
+
+    >>> _exact_rows([["1/2", 0]], "A")
+    [[1/2, 0]]
+    >>> _exact_rows(["__import__('os')"], "b")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.exact.methods.MethodError: b, entry 1: names must start with a letter, not '_' (at position 1 of "__import__('os')")
+    """
+    if isinstance(x, sp.MatrixBase):
+        return x
+    if isinstance(x, (str, bytes)) or not hasattr(x, "__iter__"):
+        return x                                     # refused by the matrix check with its shape
+    rows = list(x)
+    if rows and all(not isinstance(r, (str, bytes)) and hasattr(r, "__iter__") for r in rows):
+        return [[_exact(e, f"{what}, row {i}, column {j}") for j, e in enumerate(r, 1)] for i, r in enumerate(rows, 1)]
+    return [_exact(e, f"{what}, entry {i}") for i, e in enumerate(rows, 1)]
+
+
 def _matrix(x, what: str) -> sp.ImmutableMatrix:
     try:
-        M = sp.ImmutableMatrix(x)
+        M = sp.ImmutableMatrix(_exact_rows(x, what))
     except (TypeError, ValueError) as exc:
         raise MethodError(f"{what} is not a matrix: {exc}") from None
     for e in M:
@@ -72,7 +112,9 @@ def _lists(args: dict, call: str) -> dict:
             raise MethodError(f"{call}: argument {i} ({k}) is {what}, not a matrix: {k} is a list of {shape}; "
                               "a name goes in name=...")
         try:
-            out[k] = sp.ImmutableMatrix(x)
+            out[k] = sp.ImmutableMatrix(_exact_rows(x, k))
+        except MethodError as exc:
+            raise MethodError(f"{call}: argument {i}: {exc}") from None
         except (TypeError, ValueError) as exc:
             raise MethodError(f"{call}: argument {i} ({k}) is not a matrix: {str(exc).strip()[:200]}") from None
     return out
