@@ -318,7 +318,7 @@ def check_schema(value, schema, source, error, path=()):
     >>> check_schema({"runs": [{"n": 1}, {"n": "x"}]}, {"runs": ListOf({"n": int}, 10)}, "d.json", ValueError)
     Traceback (most recent call last):
     ...
-    ValueError: d.json: runs[1].n: must be an integer, not 'x'
+    ValueError: d.json: runs[2].n: must be an integer, not 'x'
     >>> check_schema({"runs": []}, {"runs": ListOf({"n": int}, 10, least=1)}, "d.json", ValueError)
     Traceback (most recent call last):
     ...
