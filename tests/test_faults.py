@@ -212,10 +212,10 @@ def test_ctrl_c_between_runs_keeps_the_finished_ones(compiled, tmp_path, monkeyp
     from tableau_lab.experiments import scene as S
     real = S.run_one
 
-    def run_one(sc, i, progress=False):
+    def run_one(sc, i, *args, **kwargs):
         if i == 2:
             raise KeyboardInterrupt
-        return real(sc, i, progress)
+        return real(sc, i, *args, **kwargs)
     monkeypatch.setattr(S, "run_one", run_one)
     with pytest.raises(KeyboardInterrupt):
         S.run_scene(compiled["scene"], out_root=tmp_path / "out", progress=False)
