@@ -201,7 +201,7 @@ def stage_iteration(solver, nm, prob, y0, h, d, split: bool = True) -> int:
         J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
         rho = float(np.max(np.abs(np.linalg.eigvals(J)))) if d else 0.0
         contraction = nm.stage_scale(h) * rho
-    f_ops = problem.operations if problem is not None else d
+    f_ops = getattr(problem, "operations", 0) or d
     return limits.choose_iteration(solver, explicit=False, separable=separable, contraction=contraction, s=nm.s,
                                    d=d, f_ops=f_ops, lower=nm.lower)
 
