@@ -59,8 +59,8 @@ def text(data: dict) -> str:
         f"{_range(ratios(S, MOON, OLD, 'error'))}× the error at T. It reaches max |H − H₀| ≤ "
         + " / ".join(f"{lv:.0e}" for lv in LEVELS) + f" in {times[MOON]} CPU s.",
         "- Where the CPU time falls although the step count doubles, the compiled loop has switched the stage "
-        "equations from simplified Newton to fixed-point iteration (h·‖A‖∞·ρ(f′) < FIXED_POINT_BELOW, "
-        "`tableau_lab/numeric/limits.py`): " + "; ".join(
+        "equations from simplified Newton to fixed-point iteration (the data predate issue 29: the rule was "
+        "h·‖A‖∞·ρ(f′) < 0.1, now the cheaper by `limits.iteration_costs`, docs/speed.md): " + "; ".join(
             f"{k.split(' (')[0]} {a['steps']:,} → {b['steps']:,} steps: {a['cpu']:.3f} → {b['cpu']:.3f} s"
             for k in (GAUSS, OLD, NEW, MOON) for a, b in zip(S[k], S[k][1:]) if b["cpu"] < a["cpu"])
         + ". The f-evaluation panels do not have this effect."])

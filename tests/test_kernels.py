@@ -173,8 +173,8 @@ def test_double_double_agrees_with_mpmath_32(name, problem, project):
 
 def test_stage_iteration_choice_and_switch_to_newton():
     """"auto": fixed point (on the q stages: all built-in problems are separable) where
-    h·‖A‖∞·ρ(f′) is small, whatever the dimension; simplified Newton where it is not (FPU
-    with ω = 50 at h = 0.05).  Forced fixed point on that stiff case fails, and after
+    h·‖A‖∞·ρ(f′) is small, whatever the dimension; simplified Newton where fixed point does not
+    contract (FPU with ω = 50 at h = 0.05).  Forced fixed point on that stiff case fails, and after
     SWITCH_AFTER failed steps the run goes on with Newton, to the same result; every iteration
     reaches the same stages (compiled = pure, fixed point = Newton) on a non-stiff problem."""
     from tableau_lab.numeric.integrate import stage_iteration
@@ -194,6 +194,32 @@ def test_stage_iteration_choice_and_switch_to_newton():
     newton = integrate(nm, fpu, fpu.y0, 0.05, 200, solver="newton", kernel="compiled")
     assert forced.fallbacks >= limits.SWITCH_AFTER and newton.fallbacks == 0
     assert np.max(np.abs(forced.final - newton.final)) < 1e-10
+
+
+def test_stage_iteration_chosen_by_cost():
+    """Issue 29, item 12: the stage iteration is the cheaper by the cost model
+    (limits.iteration_costs), not a threshold on κ = h·‖A‖∞·ρ(f′): fixed point on the q stages
+    where it contracts fast enough — 3-stage Gauss on Kepler (e = 0.6) at h = 1/50 and 1/25,
+    2-stage Gauss on the outer solar system at h = 100 days (5ea0488 chose Newton at κ ≥ 0.1, and
+    its step cost 6× and 47× the smaller h's for the same f-evaluations) — and Newton where
+    fixed point does not contract (FPU, ω = 50, h = 0.05: hω = 2.5).  The model's sweep count is
+    an upper bound of the sweeps the chosen iteration makes, and that iteration converges without
+    a fallback to the stages Newton finds."""
+    from tableau_lab.numeric.integrate import stage_iteration
+    g2, g3 = (to_numeric(load(METHODS / f"{m}.json")) for m in ("gauss2", "gauss3"))
+    kepler, solar, fpu = compile_problem("kepler"), compile_problem("outer_solar_system"), compile_problem("fpu")
+    for h in (0.01, 0.02, 0.04):
+        assert stage_iteration("auto", g3, kepler, kepler.y0, h, 4) == limits.SPLIT, h
+    assert stage_iteration("auto", g2, solar, solar.y0, 100, 36) == limits.SPLIT
+    for nm in (g2, g3):
+        assert stage_iteration("auto", nm, fpu, fpu.y0, 0.05, 12) == limits.NEWTON
+    h, steps = 0.04, 2000
+    kappa = g3.stage_scale(h) * float(np.max(np.abs(np.linalg.eigvals(kepler.jac(kepler.y0)))))
+    auto = integrate(g3, kepler, kepler.y0, h, steps, kernel="compiled")
+    newton = integrate(g3, kepler, kepler.y0, h, steps, kernel="compiled", solver="newton")
+    assert auto.fallbacks == 0
+    assert auto.newton_iterations / steps <= 1 + limits.START_GAP / np.log(1 / kappa ** 2)
+    assert np.max(np.abs(auto.final - newton.final)) < 1e-11
 
 
 def test_arrays_that_do_not_fit_the_compiled_shape_are_refused(monkeypatch):

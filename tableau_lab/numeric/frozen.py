@@ -44,6 +44,7 @@ class ProblemInfo:
     key: str                   # a digest of the problem with its parameter values
     kernel_files: dict = field(default_factory=dict)   # kind -> kernels.write_problem_module's (name, path)
     separable: bool = False    # H = T(p) + V(q): the stage iteration on the q stages alone
+    operations: int = 0        # of one f-evaluation: the stage-iteration cost model's price of f (Problem.operations)
 
 
 class FrozenProblem(ProblemFunctions):
@@ -118,5 +119,5 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
         files = {kind: write_problem_module(P, kind) for kind in kernels}
     info = ProblemInfo(P.name, P.kind, tuple(str(x) for x in getattr(P, "q", ()) or ()), tuple(P.invariants),
                        P.dimension, hashlib.sha256(repr((P.key, cp.backend, cp.dps)).encode()).hexdigest()[:20],
-                       files, P.separable)
+                       files, P.separable, P.operations)
     return FrozenProblem(info, cp.backend, cp.dps, cp.constants, cp.y0, codes)

@@ -211,28 +211,32 @@ def component_masks(prob, d: int):
     return ([1] * d, [0] * d)
 
 
-def stage_iteration(solver, nm, prob, y0, h, d) -> int:
-    """The stage iteration mode (:func:`limits.choose_iteration`): h·‖A‖∞·ρ(f′(y₀)) from the
-    Jacobian at y₀ (the spectral radius, not the largest entry: q′ = p/m has huge entries 1/m
-    and small eigenvalues); the q stages alone for a separable problem with q/p masks."""
+def stage_iteration(solver, nm, prob, y0, h, d, split: bool = True) -> int:
+    """The stage iteration mode (:func:`limits.choose_iteration`, the cheaper by its cost
+    model): κ = h·‖A‖∞·ρ(f′(y₀)) from the Jacobian at y₀ (the spectral radius, not the largest
+    entry: q′ = p/m has huge entries 1/m and small eigenvalues), f's price from the problem's
+    expressions (d without them); the q stages alone for a separable problem unless ``split``
+    is False (masks other than its q/p halves)."""
     if nm.explicit or solver == "newton":
         return limits.choose_iteration(solver, explicit=nm.explicit, separable=False, contraction=0.0)
-    separable = bool(getattr(getattr(prob, "problem", None), "separable", False))
+    problem = getattr(prob, "problem", None)
+    separable = split and bool(getattr(problem, "separable", False))
     contraction = 0.0
     if solver == "auto":
         J = nm.arith.to_float(prob.jac(y0).reshape(-1)).reshape(d, d)
         rho = float(np.max(np.abs(np.linalg.eigvals(J)))) if d else 0.0
         contraction = nm.stage_scale(h) * rho
-    return limits.choose_iteration(solver, explicit=False, separable=separable, contraction=contraction)
+    f_ops = getattr(problem, "operations", 0) or d
+    return limits.choose_iteration(solver, explicit=False, separable=separable, contraction=contraction, s=nm.s,
+                                   d=d, f_ops=f_ops, lower=nm.lower)
 
 
 def _mode(solver, nm, prob, y0, h, masks) -> int:
     """:func:`stage_iteration`, with the q stages alone only where the masks are the problem's
     own q/p halves."""
     d = len(y0)
-    mode = stage_iteration(solver, nm, prob, y0, h, d)
     own = [list(map(int, m)) for m in masks] == [list(m) for m in component_masks(prob, d)]
-    return limits.FIXED if mode == limits.SPLIT and not own else mode
+    return stage_iteration(solver, nm, prob, y0, h, d, split=own)
 
 
 def _finite_start(nm, prob, y0, targets, precision) -> None:

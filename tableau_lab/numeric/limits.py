@@ -4,23 +4,28 @@ precision (compiled modules import them: numba takes them as compile-time consta
 driver (:mod:`kernels`) lays out the flag and counter arrays with the indices below.
 
 The stage iteration (:func:`choose_iteration`; Hairer, Lubich & Wanner, *Geometric Numerical
-Integration*, 2nd ed., Sec. VIII.6): fixed-point iteration where h·‖A‖∞·ρ(f′(y₀)) <
-``FIXED_POINT_BELOW`` (non-stiff: the iteration contracts by about that factor a sweep, and
-needs neither a Jacobian nor an LU factorisation), simplified Newton otherwise.  A problem whose
-q-rate depends on p only and whose p-rate on q only (H = T(p) + V(q)) iterates on the q stages
-alone (``SPLIT``: the contraction is then of order (h·‖A‖)²‖∂f_p/∂q‖‖∂f_q/∂p‖, as in Hairer's
-GNI_IRK2 for q″ = f(q)).  A step whose fixed-point iteration fails is redone by simplified
-Newton; after ``SWITCH_AFTER`` such steps the run goes on with Newton (the problem has become
-stiff along the solution).
+Integration*, 2nd ed., Sec. VIII.6): the cheaper of fixed point and simplified Newton by a cost
+model in arithmetic operations (:func:`iteration_costs`).  With κ = h·‖A_q‖∞·ρ(f′(y₀)), fixed
+point contracts by about κ a sweep (by κ² on the q stages of a separable problem, ``SPLIT``: the
+contraction is of order (h·‖A‖)²‖∂f_p/∂q‖‖∂f_q/∂p‖, as in Hairer's GNI_IRK2 for q″ = f(q)) and
+needs about 1 + ``START_GAP``/ln(1/κ) sweeps of s f-evaluations from the predicted start (none
+if that exceeds ``STAGE_SWEEPS``: it would not converge within the cap); simplified Newton
+needs a Jacobian, the LU of I − hA ⊗ f′ (s·d, or s blocks of d for a diagonally implicit
+method) and about ``NEWTON_SWEEPS`` sweeps, each with a solve.  ``START_GAP`` and
+``NEWTON_SWEEPS`` are measured (``python benchmarks/stage_cost.py``, docs/speed.md).  The rule
+was a threshold, κ < 0.1: Gauss 3 on Kepler went to Newton at h = 1/50 and cost 6× the step
+of h = 1/100 for the same f-evaluations (issue 29, item 12).  A step whose fixed-point
+iteration fails is redone by simplified Newton; after ``SWITCH_AFTER`` such steps the run goes
+on with Newton (the problem has become stiff along the solution).
 
->>> choose_iteration("auto", explicit=False, separable=True, contraction=0.02)
+>>> choose_iteration("auto", explicit=False, separable=True, contraction=0.2, s=3, d=4, f_ops=28)
 2
->>> choose_iteration("auto", explicit=False, separable=False, contraction=0.5) == NEWTON
+>>> choose_iteration("auto", explicit=False, separable=True, contraction=2.0, s=2, d=12, f_ops=89) == NEWTON
 True
 """
 from __future__ import annotations
 
-from math import comb
+import math
 
 # -- stage iteration modes (flags[F_MODE]) ---------------------------------------------------
 NEWTON = 0          # simplified Newton: one Jacobian (at the first stage input) and one LU per step
@@ -39,10 +44,12 @@ STALL_THETA = 0.9           # contraction rate at which a sweep no longer counts
 ROUNDOFF_FLOOR = 1000.0     # attainable accuracy, in units of eps × the size of the values
 HISTORY = 6                 # steps of stage derivatives kept to extrapolate the next step's start
 # extrapolation in n through the last HISTORY values: Σₘ (−1)^(m+1) C(HISTORY, m) F⁽ⁿ⁻ᵐ⁾, m = 1 … HISTORY
-HISTORY_WEIGHTS = tuple(float((-1) ** (m + 1) * comb(HISTORY, m)) for m in range(1, HISTORY + 1))
+HISTORY_WEIGHTS = tuple(float((-1) ** (m + 1) * math.comb(HISTORY, m)) for m in range(1, HISTORY + 1))
 SPLIT_TOL_ULPS = 1.0        # the q-stage iteration stops when its correction is this many ulps of q
 SWITCH_AFTER = 3            # failed fixed-point steps after which the run switches to Newton
-FIXED_POINT_BELOW = 0.1     # h·‖A‖∞·ρ(f′) below which fixed-point iteration is chosen
+# the stage-iteration cost model (iteration_costs), measured by benchmarks/stage_cost.py:
+START_GAP = 20.0            # ln(error of the predicted start / tolerance): sweeps ≈ 1 + START_GAP/ln(1/rate)
+NEWTON_SWEEPS = 3.0         # sweeps of simplified Newton per step
 
 PROJECTION_SWEEPS = 50      # Newton sweeps on the multipliers
 PROJECTION_STALL = 0.5      # corrections shrinking by less than this count as stalled …
@@ -65,16 +72,48 @@ S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACK
 N_STATS = 10                # S_STEP: the step under way; S_DONE: the last step finished (a Ctrl-C keeps up to it)
 MISFIT = 5                  # the loop's status when its arrays do not fit its shape (stepcore.fits)
 
-__all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration"]
+__all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs"]
 
 
-def choose_iteration(solver: str, *, explicit: bool, separable: bool, contraction: float) -> int:
-    """The stage iteration mode for ``solver`` "auto", "newton" or "fixedpoint";
-    ``contraction`` = h·‖A‖∞·ρ(f′(y₀)) (see the module docstring)."""
+def iteration_costs(contraction: float, *, separable: bool, s: int, d: int, f_ops: float,
+                    lower: bool = False) -> tuple:
+    """(fixed point, simplified Newton): the arithmetic operations of one step's stage
+    equations by each (module docstring), ``f_ops`` those of one f-evaluation, ``contraction``
+    κ = h·‖A_q‖∞·ρ(f′(y₀)); fixed point is ``inf`` where its rate (κ, or κ² on the q stages of a
+    separable problem) would not converge within ``STAGE_SWEEPS`` sweeps.  Per sweep both evaluate
+    f at the s stages and form the s·d stage sums (2s²d); Newton adds a Jacobian (d² entries of
+    about f's size: d·f_ops), its matrix (2(sd)²) and LU (2(sd)³/3; s blocks of d: 2sd³/3), and a
+    solve per sweep (2(sd)²; by blocks 3sd² + s²d).
+
+    >>> fixed, newton = iteration_costs(0.2, separable=True, s=3, d=4, f_ops=28)   # Gauss 3, Kepler, h = 1/25
+    >>> round(fixed), round(newton)
+    (1212, 2884)
+    """
+    rate = contraction * contraction if separable else contraction
+    sums = 2.0 * s * s * d
+    sweep = s * f_ops + sums + (s * d if separable else 0.0)     # + the velocities of the q-stage iteration
+    sweeps = 1.0 + START_GAP / math.log(1.0 / rate) if 0.0 < rate < 1.0 else (1.0 if rate == 0.0 else math.inf)
+    fixed = sweep * sweeps if sweeps <= STAGE_SWEEPS else math.inf
+    n = s * d
+    if lower:
+        factor, solve = 2.0 * s * d ** 3 / 3.0, 3.0 * s * d * d + s * s * d
+    else:
+        factor, solve = 2.0 * n ** 3 / 3.0, 2.0 * n * n
+    newton = d * f_ops + 2.0 * n * n + factor + NEWTON_SWEEPS * (s * f_ops + sums + solve)
+    return fixed, newton
+
+
+def choose_iteration(solver: str, *, explicit: bool, separable: bool, contraction: float, s: int = 1,
+                     d: int = 1, f_ops: float = 1.0, lower: bool = False) -> int:
+    """The stage iteration mode for ``solver`` "auto", "newton" or "fixedpoint": for "auto" the
+    cheaper by :func:`iteration_costs` (its arguments; ties go to fixed point, which needs no
+    Jacobian)."""
     if solver not in ("auto", "newton", "fixedpoint"):
         raise ValueError(f"solver must be 'auto', 'newton' or 'fixedpoint', not {solver!r}")
     if explicit or solver == "newton":
         return NEWTON
-    if solver == "auto" and not contraction < FIXED_POINT_BELOW:
-        return NEWTON
+    if solver == "auto":
+        fixed, newton = iteration_costs(contraction, separable=separable, s=s, d=d, f_ops=f_ops, lower=lower)
+        if not fixed <= newton:
+            return NEWTON
     return SPLIT if separable else FIXED

@@ -132,6 +132,17 @@ class Problem:
         return tuple(sp.diff(H, s) for s in self.p) + tuple(-sp.diff(H, s) for s in self.q)
 
     @cached_property
+    def operations(self) -> int:
+        """Arithmetic operations of one evaluation of f, counted on its expression trees (an
+        n-ary sum or product is n − 1, a function call one; no common subexpressions taken
+        out): the stage-iteration cost model's price of f (:func:`limits.iteration_costs`).
+
+        >>> get_problem("pendulum").operations           # (p, -sin(q))
+        2
+        """
+        return sum(max(len(e.args) - 1, 1) for expr in self.f_expr for e in sp.preorder_traversal(expr) if e.args)
+
+    @cached_property
     def separable(self) -> bool:
         """H = T(p) + V(q): the q-rate reads p only and the p-rate q only (the stage equations
         can then be iterated on the q stages alone, :mod:`stepcore`)."""
