@@ -198,7 +198,7 @@ def _design(args) -> int:
     """Search a solution family for its best member and certify it (experiments/design_search.py)."""
     from .analysis.family import FamilyError, families_of
     from .budget import computing
-    from .experiments.design_search import search
+    from .experiments.design_search import SearchError, check_constraints, search
     from .experiments.executor import SchedulerError
     from .exact.tableau_json import TableauError, save
 
@@ -211,8 +211,17 @@ def _design(args) -> int:
     if not all(map(lambda v: abs(v) < 1e6, box)):
         print(f"tableau-lab: error: --box {args.box!r}: bounds within ±1e6", file=sys.stderr)
         return EXIT_INPUT
+    for opt, items in (("--require", args.require), ("--constrain", args.constrain)):
+        empty = next((item for item in items or () if not _split([item])), None)
+        if empty is not None:
+            print(f"tableau-lab: error: {opt} {empty!r}: no condition given", file=sys.stderr)
+            return EXIT_INPUT
     requirements = _split(args.require)
-    constraints = tuple(_split(args.constrain))
+    try:
+        constraints = check_constraints(_split(args.constrain))
+    except SearchError as exc:
+        print(f"tableau-lab: error: --constrain: {exc}", file=sys.stderr)
+        return EXIT_INPUT
     if args.save:
         _guard_save(args)                        # before any work
     if args.checkpoint:
@@ -764,12 +773,15 @@ def build_parser() -> argparse.ArgumentParser:
     ds = sub.add_parser("design", help="search a solution family for its best member, then certify it exactly",
                         description="The families of `solve FILE --require …` are searched numerically (a Sobol "
                                     "sample, then Nelder–Mead) for one objective under constraints; each optimum is "
-                                    "snapped to exact values (small rationals, or the exact solutions of the "
+                                    "snapped to exact values (the rationals of smallest height within the objective "
+                                    "tolerance, or the exact solutions of the "
                                     "constraints on the family) and re-verified by the ordinary analyses. Objectives: "
                                     "imaginary-interval, real-interval (maximise); error-norm, mu (minimise). "
                                     "Constraints: order=P, parasitism-free, explicit-first-stage. Without --require, "
-                                    "the tableau's unknowns are the free parameters. Exit 0: a certified member; 1: none; "
-                                    "2: bad input.")
+                                    "the tableau's unknowns are the free parameters. An optimum that a face of --box keeps "
+                                    "within tolerance is flagged box-bound; a member several optima certify to is "
+                                    "printed once, with its height. Exit 0: a certified member; 1: none; "
+                                    "2: bad input (also an unreachable --scheduler).")
     _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic); none: the tableau's "
                         "unknowns are the free parameters", required=False)
     ds.add_argument("--maximize", action="append", metavar="OBJECTIVE",

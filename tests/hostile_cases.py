@@ -411,3 +411,31 @@ CASES += [Case("run-method-json-float-1e99999999", "method file", "size",
                {"scene.json": _scene({"problem": {"define": {"name": "d", "y": ["x"], "f": ["-x"], "y0": ["1"]}},
                                       "plots": ["invariants"]}), "m.json": GOOD}, 2, "no invariants to plot")]
 # issue 29: runs (end) ----------------------------------------------------------------------------
+# issue 29: design — option values refused before any search (exit 2, the option and value named),
+# an unreachable or unusable scheduler refused within its connect timeout
+DESIGN = ("design", "{d}/m.json", "--maximize", "imaginary-interval", "--samples", "8", "--starts", "1")
+FAMILY = rk([["0", "0"], ["1/2", "0"]], b=["1 - b2", "b2"], c=["0", "1/2"])       # free b2
+DESIGN_BAD = [("constrain-order-x", ("--constrain", "order=x"), "order=x"),
+              ("constrain-order-negative", ("--constrain", "order=-3"), "order=-3"),
+              ("constrain-order-zero", ("--constrain", "order=0"), "order=0"),
+              ("constrain-order-huge", ("--constrain", "order=99"), "order=99"),
+              ("constrain-order-power", ("--constrain", "order=10**9"), "order=10**9"),
+              ("constrain-order-empty", ("--constrain", "order="), "order="),
+              ("constrain-order-arabic", ("--constrain", "order=٤"), "order="),
+              ("constrain-value", ("--constrain", "parasitism-free=2"), "parasitism-free=2"),
+              ("constrain-unknown", ("--constrain", "fast"), "fast"),
+              ("constrain-inject", ("--constrain", "__import__('os').system('touch PWNED')"), "__import__"),
+              ("constrain-empty", ("--constrain", ""), "--constrain"),
+              ("constrain-commas", ("--constrain", ",,"), "--constrain"),
+              ("require-empty", ("--require", ""), "--require"),
+              ("require-comma", ("--require", ","), "--require"),
+              ("require-order-x", ("--require", "order=x"), "order=x"),
+              ("require-order-negative", ("--require", "order=-3"), "order=-3"),
+              ("scheduler-tls", ("--scheduler", "tls://127.0.0.1:1"), "tls://127.0.0.1:1"),
+              ("scheduler-closed-port", ("--scheduler", "tcp://127.0.0.1:1"), "tcp://127.0.0.1:1"),
+              ("scheduler-ucx", ("--scheduler", "ucx://127.0.0.1:1"), "ucx://127.0.0.1:1"),
+              ("scheduler-no-port", ("--scheduler", "tcp://127.0.0.1"), "scheduler"),
+              ("scheduler-garbage", ("--scheduler", "::::"), "scheduler")]
+CASES += [Case(f"design-{k}", "design", "range", DESIGN + extra, {"m.json": FAMILY}, 2, fragment)
+          for k, extra, fragment in DESIGN_BAD]
+# /issue 29: design

@@ -92,6 +92,8 @@ def parse_requirements(items) -> tuple[Requirement, ...]:
             key = key.strip().lower()
             if key in ORDER_KEYWORDS:
                 try:
+                    if not val.strip().isascii():         # int() would read other scripts' digits
+                        raise ValueError(val)
                     n = int(val)
                 except ValueError:
                     raise DesignError(f"requirement {part!r}: {key} needs a positive integer, e.g. {key}=4") from None

@@ -59,9 +59,7 @@ w**2 - 2*w*z - 1
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from fractions import Fraction
 from functools import reduce
-from math import floor
 
 import sympy as sp
 from sympy import QQ
@@ -72,6 +70,7 @@ from ..exact.field import field_of, to_dm
 from ..exact.subfield import subfield
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..exact.rationals import simplest_between
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
@@ -564,22 +563,6 @@ def _positive_roots(C: sp.Poly) -> list:
     return ivs
 
 
-def _simplest_between(lo, hi):
-    """The rational with the smallest denominator (then numerator) in the open interval (lo, hi),
-    0 ≤ lo < hi (hi = None: no upper bound)."""
-    lo = Fraction(lo)
-    n = floor(lo) + 1
-    if hi is None or n < Fraction(hi):
-        return Fraction(n)
-    hi = Fraction(hi)
-    n = floor(lo)
-    if lo == n:
-        inner = _simplest_between(1 / (hi - n), None)
-    else:
-        inner = _simplest_between(1 / (hi - n), 1 / (lo - n))
-    return n + 1 / inner
-
-
 def _sample(ax: _Axis, y0) -> tuple[bool, bool]:
     """(every root on the unit circle, every root in the closed unit disc) at the rational y0."""
     K = ax.K
@@ -818,7 +801,7 @@ def _radii(ax: _Axis):
     radii = [None, None]
     for k, (a, b) in enumerate(points):
         hi = ivs[k][0] if k < len(ivs) else None
-        y0 = _simplest_between(b, hi)
+        y0 = simplest_between(b, hi, open_lo=True, open_hi=True)
         eq, le = _sample(ax, y0)
         samples.append((sp.Rational(y0.numerator, y0.denominator), eq, le))
         for i, ok in enumerate((eq, le)):

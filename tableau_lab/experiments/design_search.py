@@ -7,13 +7,15 @@ exactly (issue 18).
 2. A Sobol sample of the box (scipy.stats.qmc) ranks the starting points; Nelder–Mead refines the
    best of them on the penalised score (constraint violations weigh ``PENALTY``); distinct local
    optima are kept.
-3. **Certify**: the optimum is snapped to exact values — rationals of growing height first, then,
+3. **Certify**: the optimum is snapped to exact values — the rationals of smallest height within the
+   objective tolerance first (:mod:`..exact.rationals`, one parameter at a time), then,
    when the constraints are equations the rationals cannot meet (an order, μ = 0), the family is
    solved again with those constraints as exact requirements and the nearest real solution is
    taken; on families with more than EXACT_FREE parameters, the parameters the constraints leave
    free are snapped and the determined ones solved exactly (a partial snap) — and the member is
    re-verified by the ordinary analyses (order, G-symplecticity, μ, the exact stability interval).
-   A member that cannot be certified is reported as such.
+   A member that cannot be certified is reported as such; one that several optima certify to is
+   reported once; an optimum that a face of the box keeps within tolerance is flagged box-bound.
 
 >>> from tableau_lab.analysis.family import families_of
 >>> fam = families_of("methods/design/pn_family.json", ["g-symplectic"])[0]
@@ -37,12 +39,14 @@ from ..analysis.family import Family, FamilyError
 from ..analysis.results import Result
 from ..analysis.trees import trees_of_order
 from ..exact.grammar import format_entry
+from ..exact.rationals import by_height, height
 from ..exact.render import latex_text
 from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
                                   series_defects)
 
-__all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError", "is_checkpoint"]
+__all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError",
+           "check_constraints", "is_checkpoint"]
 
 PENALTY = 1e3            # weight of a constraint violation in the score
 MAX_CERTIFIED = 8        # candidates certified per search (each costs exact analyses)
@@ -50,8 +54,13 @@ FRONT_POINTS = 12        # a Pareto front is thinned to at most this many member
 EXACT_FREE = 3           # certification solves the constraints exactly on families with at most this many free parameters
 ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
-DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # rational snapping, smallest height first
+DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # a partial snap's rationals, smallest height first
 SNAP_TOLERANCE = 1e-6    # a snapped member must keep the objective values to this (relative) tolerance
+SNAP_HEIGHT = 10 ** 6    # a rational snap takes no rational of larger height (max |numerator|, denominator)
+SNAP_ATTEMPTS = 8        # rationals tried per parameter (smallest height first) before the snap gives up
+FIRST_STEP = 1e-10       # the tolerance interval of a parameter is probed from this (relative) step outwards
+INTERVAL_PRECISION = 1e-6  # ... and its ends bisected to this fraction of its half-width
+FACE_PROBES = 8          # an optimum is box-bound when these points up to a face all keep the tolerance
 PARTIAL_TOLERANCE = 1e-3  # a partly snapped member (the rest solved exactly) may lose this much (relative)
 PARTIAL_ATTEMPTS = 3     # exact solves tried per candidate after a partial snap
 RANK_TOLERANCE = 1e-6    # singular values of the constraint Jacobian below this (relative) do not count
@@ -93,6 +102,14 @@ class Candidate:
     exact: dict = field(default_factory=dict)     # parameter -> exact value
     verified: dict = field(default_factory=dict)  # property -> exact result
     note: str = ""
+    box_bound: tuple = ()             # (parameter, face) for each box face within tolerance of the optimum
+    repeats: int = 0                  # other local optima that certified to exactly this member
+
+    @property
+    def height(self) -> int | None:
+        """The largest height max(|p|, q) of the exact parameters when they are all rational p/q."""
+        vals = [sp.sympify(v) for v in self.exact.values()]
+        return max(height(v) for v in vals) if vals and all(v.is_Rational for v in vals) else None
 
 
 @dataclass(frozen=True)
@@ -117,8 +134,17 @@ class SearchResult(Result):
             vals = ", ".join(f"{k} {'≥' if k.endswith('interval') and v >= YMAX else '='} {v:.6g}"
                              for k, v in c.values.items())
             lines.append(f"  {i}. {pt}: {vals}; violation {c.violation:.1e}")
+            if c.box_bound:
+                lines.append("     box-bound: " + ", ".join(f"{s} = {f:g}" for s, f in c.box_bound)
+                             + " (a face of --box keeps the objective within tolerance: the optimum may lie "
+                               "beyond it; widen --box)")
+            if c.repeats:
+                lines.append(f"     also the certified member of {c.repeats} other local "
+                             f"optim{'um' if c.repeats == 1 else 'a'}")
             if c.certified is not None:
-                lines.append("     certified: " + ", ".join(f"{k} = {format_entry(v)}" for k, v in c.exact.items()))
+                h = c.height
+                lines.append("     certified: " + ", ".join(f"{k} = {format_entry(v)}" for k, v in c.exact.items())
+                             + ("" if h is None else f" (height {h})"))
                 lines += [f"       {k}: {_show(v)}" for k, v in c.verified.items()]
             elif c.note:
                 lines.append(f"     not certified: {c.note}")
@@ -130,7 +156,9 @@ class SearchResult(Result):
                 "candidates": [{"point": list(c.point), "values": c.values, "violation": c.violation,
                                 "certified": c.certified is not None,
                                 "exact": {k: str(format_entry(v)) for k, v in c.exact.items()},
-                                "verified": {k: str(v) for k, v in c.verified.items()}, "note": c.note}
+                                "verified": {k: str(v) for k, v in c.verified.items()}, "note": c.note,
+                                "height": c.height, "repeats": c.repeats,
+                                "box_bound": [{"parameter": str(s), "face": f} for s, f in c.box_bound]}
                                for c in self.candidates]}
 
     def to_latex(self):
@@ -311,6 +339,37 @@ def _generic_order(family: Family, key: str, pts) -> int:
     return max(1, min(orders, default=1))
 
 
+def check_constraints(constraints) -> tuple:
+    """The constraints as the search uses them (``order=P`` with P as ``solve`` takes it, the others
+    without a value), or SearchError naming the first that is not one.
+
+    >>> check_constraints(["order=4", "parasitism-free"])
+    ('order=4', 'parasitism-free')
+    >>> check_constraints(["order=-3"])
+    Traceback (most recent call last):
+    ...
+    tableau_lab.experiments.design_search.SearchError: constraint 'order=-3': order must be between 1 and 12
+    """
+    from ..analysis.design import DesignError, parse_requirements
+    out = []
+    for c in constraints:
+        text = str(c)
+        name, eq, value = (x.strip() for x in text.partition("="))
+        if name not in CONSTRAINTS:
+            raise SearchError(f"unknown constraint {text!r}: use {', '.join(CONSTRAINTS)} (order=P)")
+        if name == "order":
+            try:
+                req, = parse_requirements([f"order={value}"])
+            except DesignError as exc:
+                raise SearchError(f"constraint {text!r}: {str(exc).split(': ', 1)[-1]}") from None
+            out.append(f"order={req.value}")
+        elif eq:
+            raise SearchError(f"constraint {text!r}: {name} takes no value")
+        else:
+            out.append(name)
+    return tuple(out)
+
+
 def _objectives(maximize, minimize) -> tuple:
     names = tuple(maximize or ()) + tuple(minimize or ())
     if not 1 <= len(names) <= 2:
@@ -431,9 +490,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
 
     as_tuple = lambda v: (v,) if isinstance(v, str) else tuple(v or ())  # noqa: E731
     names = _objectives(as_tuple(maximize), as_tuple(minimize))
-    for c in constraints:
-        if c.split("=")[0] not in CONSTRAINTS:
-            raise SearchError(f"unknown constraint {c!r}: use {', '.join(CONSTRAINTS)}=P")
+    constraints = check_constraints(constraints)
     if not family.free:
         raise SearchError(f"{family.name}: no free parameters to search")
     lo, hi = box
@@ -492,10 +549,16 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
             optima = [optima[i] for i in keep]
     else:
         optima.sort(key=lambda c: (c.violation > FEASIBLE, -senses[0] * c.values[names[0]]))
+    for c in optima:
+        c.box_bound = _box_bound(task, c)
     if certify:
+        done = []
         for c in optima[:MAX_CERTIFIED]:
             if c.violation <= 1e-6:
-                _certify(family, c, constraints, p, key)
+                _certify(family, c, constraints, p, key, done, task.box)
+                if c.certified is not None:
+                    done.append(c)
+        optima = _distinct(optima)
     return SearchResult(family.name, tuple(family.free), names, tuple(constraints), tuple(optima), count)
 
 
@@ -528,30 +591,136 @@ def _verify(m, constraints, p) -> dict | str:
     return out
 
 
-def _close(task, point, c: Candidate) -> bool:
-    """The snapped point keeps the candidate's objective values (within SNAP_TOLERANCE, relative)."""
-    out = task.values(point)
-    return out is not None and all(abs(v - c.values[o]) <= SNAP_TOLERANCE * max(1.0, abs(c.values[o]))
-                                   for o, v in zip(task.objectives, out[0]))
+def _keeps(task, c: Candidate, point, share: float = 1.0) -> bool:
+    """The member at ``point`` keeps the candidate's objective values within ``share`` of SNAP_TOLERANCE
+    (relative) and its constraints (violation at most the candidate's, or FEASIBLE)."""
+    out = task.values(tuple(point))
+    return out is not None and out[1] <= max(FEASIBLE, c.violation) and all(
+        abs(v - c.values[o]) <= share * SNAP_TOLERANCE * max(1.0, abs(c.values[o]))
+        for o, v in zip(task.objectives, out[0]))
 
 
-def _certify(family: Family, c: Candidate, constraints, p, key: str):
+def _tolerance_interval(ok, x: float, lo: float, hi: float) -> tuple:
+    """(a, b), lo ≤ a ≤ x ≤ b ≤ hi: how far the parameter goes from x each way with ``ok`` holding
+    (steps growing fourfold from FIRST_STEP, then bisection of the last one to INTERVAL_PRECISION)."""
+    ends = []
+    for face in (lo, hi):
+        good, step, bad = x, FIRST_STEP * max(1.0, abs(x)), None
+        while good != face:
+            t = x + step if face > x else x - step
+            t = min(t, face) if face > x else max(t, face)
+            if not ok(t):
+                bad = t
+                break
+            good, step = t, 4 * step
+        while bad is not None and abs(bad - good) > INTERVAL_PRECISION * max(abs(good - x), 1e-300):
+            mid = (good + bad) / 2
+            if mid in (good, bad):
+                break
+            good, bad = (mid, bad) if ok(mid) else (good, mid)
+        ends.append(good)
+    return tuple(ends)
+
+
+def _box_bound(task, c: Candidate) -> tuple:
+    """(parameter, face) for each face of the box that the optimum reaches within tolerance: the
+    points from it to the face (FACE_PROBES of them, the face first) all keep its objective values
+    and constraints (:func:`_keeps`) — so the search cannot tell that the optimum is not beyond."""
+    out = []
+    for i, s in enumerate(task.family.free):
+        for face in task.box:
+            def at(t):
+                x = list(c.point)
+                x[i] = t
+                return x
+            probes = [c.point[i] + (face - c.point[i]) * k / FACE_PROBES for k in range(FACE_PROBES, 0, -1)]
+            if all(_keeps(task, c, at(t)) for t in probes):
+                out.append((s, face))
+    return tuple(out)
+
+
+def _same(a: dict, b: dict) -> bool:
+    """Two members' exact parameters are equal (exact zero test of each difference)."""
+    from ..exact.field import is_zero
+    return a.keys() == b.keys() and all(is_zero(sp.sympify(a[k]) - sp.sympify(b[k])) for k in a)
+
+
+def _distinct(optima: list) -> list:
+    """The candidates with each certified member once: a later one that certified to exactly the same
+    member is dropped and counted in the first one's ``repeats``."""
+    kept = []
+    for c in optima:
+        twin = c.certified is not None and next((d for d in kept if d.certified is not None
+                                                 and _same(d.exact, c.exact)), None)
+        if twin:
+            twin.repeats += 1
+        else:
+            kept.append(c)
+    return kept
+
+
+def _snap(task, c: Candidate, box) -> dict | None:
+    """The candidate's point as rationals of small height that keep its objectives within
+    SNAP_TOLERANCE, or None when none of height ≤ SNAP_HEIGHT is found: the parameters are snapped in
+    turn (every order for up to EXACT_FREE parameters, else two), and the snap of the smallest
+    largest height (then sum of heights) is kept."""
+    from itertools import permutations
+    n = len(c.point)
+    orders = list(permutations(range(n))) if n <= EXACT_FREE else [tuple(range(n)), tuple(reversed(range(n)))]
+    snaps = [s for s in (_snap_in_order(task, c, box, o) for o in orders) if s is not None]
+    if not snaps:
+        return None
+    best = min(snaps, key=lambda e: (max(map(height, e.values())), sum(map(height, e.values()))))
+    return {str(s): best[str(s)] for s in task.family.free}
+
+
+def _snap_in_order(task, c: Candidate, box, order) -> dict | None:
+    """The parameters snapped in ``order``: the k-th of n may use k/n of the tolerance, and takes the
+    rational of smallest height (ties: nearest) that keeps it, from the interval around its value
+    where that holds (:func:`_tolerance_interval`, within ``box``); SNAP_ATTEMPTS tries each."""
+    x = list(c.point)
+    exact = {}
+    n = len(x)
+    for k, i in enumerate(order):
+        share = (k + 1) / n
+
+        def ok(t):
+            y = list(x)
+            y[i] = float(t)
+            return _keeps(task, c, y, share)
+        a, b = _tolerance_interval(ok, x[i], max(box[0], -1e300), min(box[1], 1e300))
+        for j, r in enumerate(by_height(Fraction(a), Fraction(b), near=x[i])):
+            if j >= SNAP_ATTEMPTS or height(r) > SNAP_HEIGHT:
+                return None
+            if ok(r):
+                x[i], exact[str(task.family.free[i])] = float(r), sp.Rational(r.numerator, r.denominator)
+                break
+        else:
+            return None
+    return exact
+
+
+def _certify(family: Family, c: Candidate, constraints, p, key: str, done=(), box=(-np.inf, np.inf)):
+    """Certify ``c`` (see the module docstring); a snap equal to the member of an already certified
+    candidate in ``done`` takes its verified claims without computing them again."""
     names = [str(s) for s in family.free]
     task = _Task(family, tuple(c.values), tuple(constraints), p, (-np.inf, np.inf), key=key)
-    for den in DENOMINATORS:
-        exact = {n: sp.Rational(Fraction(v).limit_denominator(den)) for n, v in zip(names, c.point)}
-        if not _close(task, tuple(float(exact[n]) for n in names), c):
-            continue
+    exact = _snap(task, c, box)
+    if exact is not None:
+        twin = next((d for d in done if _same(d.exact, exact)), None)
+        if twin is not None:
+            c.certified, c.exact, c.verified = twin.certified, exact, twin.verified
+            return
         try:
             m = family.member(exact)
         except FamilyError:
-            continue
-        ver = _verify(m, constraints, p)
+            m = None
+        ver = None if m is None else _verify(m, constraints, p)
         if isinstance(ver, dict):
             c.certified, c.exact, c.verified = m, exact, ver
             return
     if not constraints:
-        c.note = (f"no rational of denominator ≤ {DENOMINATORS[-1]} keeps the objective within {SNAP_TOLERANCE:g} "
+        c.note = (f"no rational of height ≤ {SNAP_HEIGHT} keeps the objective within {SNAP_TOLERANCE:g} "
                   "(the optimum may be where an exact condition holds: require it with --constrain)")
         return
     if len(family.free) > EXACT_FREE:
@@ -569,6 +738,10 @@ def _certify(family: Family, c: Candidate, constraints, p, key: str):
         return
     if best is None:
         c.note = f"no exact member meets {', '.join(constraints)} near the optimum"
+        return
+    twin = next((d for d in done if _same(d.exact, best)), None)
+    if twin is not None:
+        c.certified, c.exact, c.verified = twin.certified, best, twin.verified
         return
     m = family.member(best)
     ver = _verify(m, constraints, p)

@@ -161,7 +161,7 @@ class _Dask(Executor):
             raise ValueError(f"a Dask scheduler address looks like tcp://HOST:PORT, not {address!r} ({exc})") from None
         try:
             self.client = Client(address, timeout=timeout, set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as exc:
+        except (OSError, TimeoutError, ValueError, TypeError) as exc:    # TypeError: tls:// without a security context
             raise SchedulerError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
                                  f"({type(exc).__name__}: {exc})") from exc
         self.workers = max(1, sum(self.client.nthreads().values()))
