@@ -1,7 +1,7 @@
 """The hostile-input corpus of the command line (issue 16): each case a command, the files it
 reads and what must happen — the exit code and a fragment of the message (the file, entry or
 option named).  Read by tests/test_hostile_cli.py (every case, in process) and by
-benchmarks/hostile_table.py (every case as a user runs it, in a subprocess with a time limit:
+benchmarks/hostile_table.py (every case as a user runs it, each in a forked child with its peak memory:
 the table of docs/reliability.md).  ``{d}`` in an argument is the case's own folder."""
 from __future__ import annotations
 
