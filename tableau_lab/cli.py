@@ -20,6 +20,7 @@ from . import __version__
 from .budget import MODIFIED_ORDER as MODIFIED_MAX_ORDER
 from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_DEGRADED, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
 from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
+from .files import derived_name
 
 EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
 BUILT_WITHIN = ("run", "workprecision", "convergence")     # their exact stage (problem, method, generated code) within --timeout
@@ -384,7 +385,7 @@ def _roundoff(args) -> int:
     from .experiments.runs import roundoff, step_size
     from .numeric.problems import ProblemError
 
-    name = _derived_name("roundoff", Path(args.method).stem, args.problem)
+    name = derived_name("roundoff", Path(args.method).stem, args.problem)
     _guard_json_and_plot(args.out, name, [args.method])            # before any run
     try:
         h = step_size(args.h, "--h")
@@ -403,17 +404,6 @@ def _roundoff(args) -> int:
           f"({exponent('plain')}), compensated {res['compensated'][-1]:.2e} "
           f"({exponent('compensated')}); wrote {where}.json and its figure (.png, .pdf, .svg)")
     return EXIT_OK
-
-
-def _derived_name(*parts) -> str:
-    """An output file name made of user-given parts (a method file's stem, a problem name): the
-    characters outside ``A-Za-z0-9_.-`` replaced by ``_``, at most 100 characters (one name, in
-    the output folder).
-
-    >>> _derived_name("roundoff", "../my method", "mp:32")
-    'roundoff_.._my_method_mp_32'
-    """
-    return re.sub(r"[^A-Za-z0-9_.-]", "_", "_".join(map(str, parts)))[:100]
 
 
 def _guard_json_and_plot(out, name, inputs) -> None:
@@ -466,7 +456,7 @@ def _convergence_runs(args, ex) -> int:
     except ValueError as exc:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
-    name = _derived_name("convergence", args.problem, args.precision.replace(":", ""))
+    name = derived_name("convergence", args.problem, args.precision.replace(":", ""))
     _guard_json_and_plot(args.out, name, args.files)               # before any run
     results, status = [], EXIT_OK
     for path in args.files:

@@ -143,6 +143,21 @@ def _long_part(path) -> str | None:
     return None
 
 
+def derived_name(*parts, fill: str = "_", default: str = "output") -> str:
+    """An output file name made of user-given parts (a method file's stem, a problem or family
+    name): each run of characters outside ``A-Za-z0-9_.-`` made one ``fill``, the ends stripped of
+    ``- _ .``, at most ``inputs.NAME_LENGTH`` characters; ``default`` when nothing is left.
+
+    >>> derived_name("roundoff", "../my method", "mp:32")
+    'roundoff_.._my_method_mp_32'
+    >>> derived_name("bdf:4", fill="-"), derived_name(":::", default="method")
+    ('bdf-4', 'method')
+    """
+    from .inputs import NAME_LENGTH, SAFE_NAME
+    name = re.sub(r"[^A-Za-z0-9_.-]+", fill, "_".join(map(str, parts))).strip("-_.")[:NAME_LENGTH].rstrip("-_.")
+    return name if SAFE_NAME.fullmatch(name) else default
+
+
 def output_name(name, source, what: str = "name") -> str:
     """``name``, read from ``source`` (a data file), as one file name inside an output folder: ASCII
     letters, digits, ``- _ .``, starting with a letter or digit, at most 100 characters (so never
@@ -157,10 +172,10 @@ def output_name(name, source, what: str = "name") -> str:
     tableau_lab.errors.InputError: data.json: name: '../../x' is not a file name (ASCII letters, digits, - _ . starting with a letter or digit, at most 100 characters)
     """
     from .errors import InputError
-    from .inputs import SAFE_NAME
+    from .inputs import NAME_LENGTH, SAFE_NAME
     if not isinstance(name, str) or not SAFE_NAME.fullmatch(name):
         raise InputError(f"{printable(source)}: {what}: {printable(repr(name))[:120]} is not a file name (ASCII "
-                         "letters, digits, - _ . starting with a letter or digit, at most 100 characters)")
+                         f"letters, digits, - _ . starting with a letter or digit, at most {NAME_LENGTH} characters)")
     return name
 
 

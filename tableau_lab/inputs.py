@@ -38,7 +38,8 @@ MAX_JSON_BYTES = 10 * 2 ** 20     # the largest JSON file read (a tableau's own 
 MAX_JSON_DEPTH = 64               # nesting of arrays and objects
 MAX_JSON_INT_DIGITS = 1000        # digits of a JSON integer (a tableau reads its own: grammar.LIMITS)
 MAX_STEPS = 10 ** 9               # steps of one run (scenes; T/h counts)
-SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")   # an output file or folder named by input (never . or ..)
+NAME_LENGTH = 100                  # characters of an output file or folder name made from input
+SAFE_NAME = re.compile(rf"[A-Za-z0-9][A-Za-z0-9_.-]{{0,{NAME_LENGTH - 1}}}")   # such a name (never . or ..)
 
 NAME_MAX = 255                    # bytes of one file name (Linux, macOS): longer ones are refused, not tried
 

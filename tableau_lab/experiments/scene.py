@@ -59,7 +59,7 @@ from .. import __version__
 from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
 from ..files import atomic_write, atomic_write_text
-from ..inputs import MAX_STEPS, SAFE_NAME, printable, read_json
+from ..inputs import MAX_STEPS, NAME_LENGTH, SAFE_NAME, printable, read_json
 from .progress import StepBar
 
 __all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
@@ -250,7 +250,7 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
         raise SceneError(f"{src}: format: {shown(data.get('format'))} is not {FORMAT!r}")
     name = data.get("name")
     if not isinstance(name, str) or not NAME.fullmatch(name):
-        raise SceneError(f"{src}: name: {shown(name)} is not a file-name-safe name: 1 to 100 ASCII letters, "
+        raise SceneError(f"{src}: name: {shown(name)} is not a file-name-safe name: 1 to {NAME_LENGTH} ASCII letters, "
                          f"digits, - _ . starting with a letter or digit (it names the output folder)")
     title = scene_text(data, "title", "title", src, name)
     seed = scene_text(data, "seed", "seed", src)

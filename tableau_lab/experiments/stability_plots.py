@@ -188,11 +188,8 @@ def figure_stem(path) -> str:
     >>> figure_stem("bdf:4"), figure_stem("methods/gauss2.json"), figure_stem(":::")
     ('bdf-4', 'gauss2', 'method')
     """
-    import re
-
-    from ..inputs import SAFE_NAME
-    stem = re.sub(r"[^A-Za-z0-9_.-]+", "-", Path(str(path)).stem).strip("-.")[:100].rstrip("-.")
-    return stem if SAFE_NAME.fullmatch(stem) else "method"
+    from ..files import derived_name
+    return derived_name(Path(str(path)).stem, fill="-", default="method")
 
 
 def _ymax(result) -> float:
