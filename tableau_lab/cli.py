@@ -406,22 +406,29 @@ def _roundoff(args) -> int:
     return EXIT_OK
 
 
+def _json_and_plot_paths(out, name) -> tuple:
+    """(out/name.json, out/name.png): what :func:`_json_and_plot` writes (the figure's other
+    formats are the PNG's siblings)."""
+    base = Path(out) / name
+    return base.with_name(name + ".json"), base.with_name(name + ".png")
+
+
 def _guard_json_and_plot(out, name, inputs) -> None:
     """Before any run: out/name.json and its figure are not one of ``inputs`` (files.py)."""
     from .experiments.figure_style import siblings
     from .files import refuse_outputs
-    base = Path(out) / name
-    refuse_outputs([base.with_name(name + ".json"), *siblings(base.with_name(name + ".png"))], inputs)
+    data, png = _json_and_plot_paths(out, name)
+    refuse_outputs([data, *siblings(png)], inputs)
 
 
 def _json_and_plot(out, name, data, draw):
     """Write out/name.json (atomically) and out/name.png (by ``draw(png_path)``); returns out/name."""
     from .files import atomic_write_text, output_phase
-    base = Path(out) / name
+    target, png = _json_and_plot_paths(out, name)
     with output_phase(out):                    # both or neither; the folder's lock; Ctrl-C deferred
-        atomic_write_text(base.with_name(name + ".json"), json.dumps(data, indent=1))
-        draw(base.with_name(name + ".png"))
-    return base
+        atomic_write_text(target, json.dumps(data, indent=1))
+        draw(png)
+    return Path(out) / name
 
 
 def _with_executor(args, body) -> int:

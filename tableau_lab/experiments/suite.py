@@ -42,6 +42,7 @@ from .scene import SceneError, load_scene, run_one, write_outputs
 __all__ = ["run_suite", "suite_task", "growth_check", "format_table", "load_suite"]
 
 CEILING = 1e-2          # the measured growth window ends where the component reaches this size
+SUMMARY_FILES = ("summary.json", "summary.md")   # what run_suite writes into OUT beside the scenes' folders
 # relative cost of a step (for the order of the tasks: the longest first)
 _COST = {"outer_solar_system": 200.0, "fpu": 6.0, "kepler": 1.5, "henon_heiles": 1.0, "pendulum": 1.0}
 
@@ -198,7 +199,7 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     from .scene import guard_scene_outputs
     for sc in scenes:                # before any run: no output over an input
         guard_scene_outputs(sc, out / sc.name)
-    refuse_outputs([out / "summary.json", out / "summary.md"], [sc.path for sc in scenes])
+    refuse_outputs([out / name for name in SUMMARY_FILES], [sc.path for sc in scenes])
     items = [(str(sc.path), i, steps) for sc in scenes for i in range(len(sc.runs))]
     cost = {sc.path: _COST.get(sc.problem.name, 1.0) * sc.steps for sc in scenes}
     order = sorted(range(len(items)), key=lambda k: -cost[Path(items[k][0])])
@@ -240,8 +241,9 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
                "steps": steps, "scenes": scene_info, "rows": rows,
                "claims": _claims(rows, {sc.name: sc.monitor for sc in scenes})}
     with output_phase(out):          # the summary's files: one set, under the folder's lock
-        atomic_write_text(out / "summary.json", json.dumps(summary, indent=1, ensure_ascii=False))
-        atomic_write_text(out / "summary.md", _markdown(summary))
+        summary_json, summary_md = (out / name for name in SUMMARY_FILES)
+        atomic_write_text(summary_json, json.dumps(summary, indent=1, ensure_ascii=False))
+        atomic_write_text(summary_md, _markdown(summary))
         summary["plots"] = _draw(pyplot(), rows, scenes, out)
     return summary
 

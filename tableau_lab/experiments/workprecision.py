@@ -227,14 +227,20 @@ def reference_state(problem, T, steps=None):
     return np.array([float(x) for x in runs[1]]), gap
 
 
+def output_paths(out: Path, name: str) -> dict:
+    """What :func:`run_wp` writes into ``out`` for a scene named ``name``: ``data`` (data.json),
+    ``figure`` (the PNG; its other formats are siblings), ``summary`` (summary.md)."""
+    return {"data": out / "data.json", "figure": out / f"{name}.png", "summary": out / "summary.md"}
+
+
 def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, workers=None):
     """All points of a work–precision scene (independent runs through the executor), the
     reference, then ``data.json`` and the PNG.  Returns the data dict."""
     from ..files import refuse_outputs
     from .executor import executor
     from .figure_style import siblings
-    out = Path(out_root) / scene.name          # before any run: no output over an input
-    refuse_outputs([out / "data.json", out / "summary.md", *siblings(out / f"{scene.name}.png")],
+    paths = output_paths(Path(out_root) / scene.name, scene.name)     # before any run: no output over an input
+    refuse_outputs([paths["data"], paths["summary"], *siblings(paths["figure"])],
                    [scene.path] + [p for p, _, _ in scene.methods])
     ref, gap = reference_state(scene.problem, scene.T)
     tasks = [(method_point, (str(p), scene.problem, scene.T, n, scene.invariant), label)
@@ -252,12 +258,11 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     data = {"name": scene.name, "title": scene.title, "problem": scene.problem.name, "T": float(scene.T),
             "invariant": scene.invariant, "reference_error_bound": gap, "series": series}
     data["speedup"] = speedup(data)
-    out = Path(out_root) / scene.name
     from .plots import draw_workprecision
-    with output_phase(out):                   # the three together, under the folder's lock
-        atomic_write_text(out / "data.json", json.dumps(data, indent=1))
-        draw_workprecision(data, out / f"{scene.name}.png")
-        atomic_write_text(out / "summary.md", f"# {data['title']}\n\n{summary_table(data)}\n")
+    with output_phase(Path(out_root) / scene.name):     # the three together, under the folder's lock
+        atomic_write_text(paths["data"], json.dumps(data, indent=1))
+        draw_workprecision(data, paths["figure"])
+        atomic_write_text(paths["summary"], f"# {data['title']}\n\n{summary_table(data)}\n")
     return data
 
 
