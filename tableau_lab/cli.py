@@ -493,17 +493,24 @@ def _bench(args) -> int:
         if not (args.method and args.problem):
             print("tableau-lab: error: give both --method and --problem (or neither, for the standard set)", file=sys.stderr)
             return EXIT_INPUT
+        hs = [h.strip() for h in args.h.split(",")]
         try:
-            res = bench.bench_case(args.method, args.problem, args.steps or 10 ** 5, h=args.h,
-                                   precision=args.precision, reps=args.reps)
-        except (OSError, ValueError) as exc:
+            if len(hs) == 1:
+                res = bench.bench_case(args.method, args.problem, args.steps or 10 ** 5, h=hs[0],
+                                       precision=args.precision, reps=args.reps)
+            else:
+                res = bench.step_sizes(args.method, args.problem, args.steps or 10 ** 5, hs,
+                                       precision=args.precision, reps=args.reps)
+        except (OSError, ValueError, TypeError) as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
             return EXIT_INPUT
         if args.json:
             print(json.dumps(res, default=float))
-        else:
+        elif len(hs) == 1:
             for k, v in res.items():
                 print(f"{k}: {v}")
+        else:
+            print(bench.step_size_table(res))
         return EXIT_CLAIM if "failed" in res else EXIT_OK
     res = bench.standard(steps=args.steps or 10 ** 5, reps=args.reps, memory=not args.no_memory)
     out = bench.save(res, args.out)
@@ -859,7 +866,8 @@ def build_parser() -> argparse.ArgumentParser:
     bn.add_argument("--method", help="one case: a method file")
     bn.add_argument("--problem", help="one case: a problem name")
     bn.add_argument("--steps", type=_count(1, MAX_STEPS), help="steps per run (default 10^5)")
-    bn.add_argument("--h", default="1/100", help="step size, exact (default 1/100)")
+    bn.add_argument("--h", default="1/100", help="step size, exact (default 1/100); several, comma-separated "
+                    "(1/100,1/25), are timed interleaved and their costs printed as ratios to the first")
     bn.add_argument("--precision", default="float64", help="float64, dd or mp:DIGITS (one case)")
     bn.add_argument("--reps", type=_count(1, MAX_REPEATS), default=5, help="runs per case; the median is reported (default 5)")
     bn.add_argument("--out", default="reports/bench", help="where the standard set is saved (default reports/bench)")

@@ -3,6 +3,7 @@ reference, failures with clear messages.  No timed assertions (benchmarks are no
 import json
 from pathlib import Path
 
+import pytest
 import numpy as np
 import sympy as sp
 
@@ -58,6 +59,29 @@ def test_bench_one_case_json(capsys):
     out = json.loads(capsys.readouterr().out)
     assert {"steps_per_second", "compile_seconds", "nfev", "max_invariant_error"} <= set(out)
     assert out["nfev"] > 2000 and out["max_invariant_error"]["H"] < 1e-9
+
+
+def test_bench_step_sizes_interleaved(capsys):
+    """Several --h in one command: each h's row is the single-h command's (same f-evaluations,
+    same invariant error: the runs do not depend on their order), and the printed f-evaluation
+    ratio is theirs; a larger step takes more sweeps of the stage iteration (Kepler, e = 0.6)."""
+    single = []
+    for h in ("1/100", "1/25"):
+        assert main(["bench", "--method", str(METHODS / "gauss3.json"), "--problem", "kepler", "--steps", "400",
+                     "--h", h, "--reps", "1", "--json"]) == 0
+        single.append(json.loads(capsys.readouterr().out))
+    assert main(["bench", "--method", str(METHODS / "gauss3.json"), "--problem", "kepler", "--steps", "400",
+                 "--h", "1/100, 1/25", "--reps", "2", "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    for one, row in zip(single, res["cases"]):
+        assert row["h"] == one["h"] and row["nfev"] == one["nfev"] and row["reps"] == 2
+        assert row["max_invariant_error"] == one["max_invariant_error"]
+    (q,) = res["cost_ratios"]
+    assert q["nfev_per_step_over_first"] == pytest.approx(single[1]["nfev"] / single[0]["nfev"], rel=1e-12)
+    assert q["nfev_per_step_over_first"] > 1 and q["us_per_step_over_first"] > 0
+    assert main(["bench", "--method", str(METHODS / "gauss3.json"), "--problem", "harmonic", "--steps", "400",
+                 "--h", "1/100,1/2", "--reps", "1"]) in (0, 1)
+    assert "cost at h = 1/2 over h = 1/100" in capsys.readouterr().out
 
 
 def test_bench_dd_agrees_with_mpmath(capsys):
@@ -117,7 +141,6 @@ def test_compiled_dop853_peer_is_scipys_algorithm():
 
 
 def test_compiled_peer_runs_where_numbalsoda_is_installed():
-    import pytest
     from tableau_lab.experiments import compiled_peer
     from tableau_lab.experiments.workprecision import peer_point
     problem = get_problem("kepler", e=sp.Rational(3, 5))

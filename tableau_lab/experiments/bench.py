@@ -32,7 +32,7 @@ from pathlib import Path
 
 import sympy as sp
 
-__all__ = ["bench_case", "compare_case", "standard", "memory_probe"]
+__all__ = ["bench_case", "step_sizes", "compare_case", "standard", "memory_probe"]
 
 # (method, problem, h, goal: our µs/step over the C loop's); GNI_IRK2 for orientation: µs/step, f-evals/step
 STANDARD = [("gauss2", "pendulum", "1/100", 1.0), ("gauss2", "kepler", "1/100", 1.0),
@@ -77,6 +77,51 @@ def bench_case(method, problem, steps, h="1/100", precision="float64", reps=5, k
     return {**out, "seconds": med, "steps_per_second": steps / med, "us_per_step": med / steps * 1e6,
             "nfev": run.nfev, "nfev_per_step": run.nfev / steps, "newton_per_step": run.newton_iterations / steps,
             "max_invariant_error": run.max_invariant_error()}
+
+
+def step_sizes(method, problem, steps, hs, precision="float64", reps=5, kernel="auto") -> dict:
+    """The same case at several step sizes, timed interleaved (h₁, h₂, …, h₁, h₂, …, ``reps``
+    rounds) in one process, so that the drift of a shared machine and the process's own layout
+    hit every h alike: one :func:`bench_case`-style row per h and ``cost_ratios``, each h's
+    median µs/step over the first h's, beside the ratio of their f-evaluations per step — the
+    stage iteration's cost is judged by how closely the first follows the second."""
+    from ..numeric.integrate import IntegrationError, integrate
+    nm, cp = _setup(method, problem, precision)
+    hs = [sp.Rational(h) for h in hs]
+    invs = tuple(cp.problem.invariants)
+    rows = [bench_case(method, problem, steps, h=h, precision=precision, reps=1, kernel=kernel) for h in hs]
+    failed = [r for r in rows if "failed" in r]
+    if failed:
+        return {"cases": rows, "failed": failed[0]["failed"]}
+    times = [[] for _ in hs]
+    try:
+        for _ in range(reps):
+            for k, h in enumerate(hs):
+                times[k].append(integrate(nm, cp, cp.y0, h, steps, record_every=steps, kernel=kernel).seconds)
+    except IntegrationError as exc:
+        return {"cases": rows, "failed": str(exc)}
+    for row, t in zip(rows, times):
+        med = statistics.median(t)
+        row.update(seconds=med, steps_per_second=steps / med, us_per_step=med / steps * 1e6, reps=reps)
+    first = rows[0]
+    ratios = [{"h": r["h"], "us_per_step_over_first": r["us_per_step"] / first["us_per_step"],
+               "nfev_per_step_over_first": r["nfev_per_step"] / first["nfev_per_step"]} for r in rows[1:]]
+    return {"cases": rows, "cost_ratios": ratios}
+
+
+def step_size_table(res: dict) -> str:
+    """:func:`step_sizes` as text: one line per h, then each cost ratio beside its f-evaluation ratio."""
+    if "failed" in res:
+        return f"failed: {res['failed']}"
+    rows = res["cases"]
+    lines = [f"{rows[0]['method']} on {rows[0]['problem']}, {rows[0]['steps']} steps, {rows[0]['reps']} interleaved "
+             f"rounds (median):"]
+    lines += [f"  h = {r['h']}: {r['us_per_step']:.3f} µs/step, {r['nfev_per_step']:.2f} f-evals/step, "
+              f"{r['newton_per_step']:.2f} sweeps/step, max abs(ΔH) {r['max_invariant_error'].get('H', float('nan')):.1e}"
+              for r in rows]
+    lines += [f"  cost at h = {q['h']} over h = {rows[0]['h']}: {q['us_per_step_over_first']:.2f} "
+              f"(f-evals {q['nfev_per_step_over_first']:.2f})" for q in res["cost_ratios"]]
+    return "\n".join(lines)
 
 
 def _c_reference():
