@@ -215,24 +215,36 @@ def _evaluate(node):
     raise ValueError("not an arithmetic expression")
 
 
+def complex_value(value, digits: int = 15) -> complex | None:
+    """An exact constant (a sympy number, a float or complex, or text such as
+    "-1/2 - sqrt(3)*I/2", read by a small arithmetic reader, never ``eval``) as a complex
+    number to ``digits``; None when it is not a number.
+
+    >>> complex_value("-1/2 - sqrt(3)*I/2") == complex(-0.5, -3 ** 0.5 / 2), complex_value("x") is None
+    (True, True)
+    """
+    if hasattr(value, "evalf"):                          # sympy, without importing it
+        try:
+            return complex(value.evalf(digits))
+        except (TypeError, ValueError):
+            value = str(value)
+    if isinstance(value, str):
+        try:
+            return complex(_evaluate(ast.parse(value.strip().replace("^", "**"), mode="eval")))
+        except (SyntaxError, ValueError, TypeError, ZeroDivisionError, OverflowError, RecursionError):
+            return None
+    return complex(value)
+
+
 def decimal(value, digits: int = 5) -> str:
     """An exact constant as a decimal with ``digits`` significant digits, for a legend or title:
     a sympy number (radicals, ``CRootOf``), a float or complex, or text such as
     "-1/2 - sqrt(3)*I/2" (read by a small arithmetic reader, never ``eval``).  Text that is not a
     number comes back shortened to 24 characters."""
-    z = value
-    if hasattr(value, "evalf"):                          # sympy, without importing it
-        try:
-            z = complex(value.evalf(digits + 10))
-        except (TypeError, ValueError):
-            z = str(value)
-    if isinstance(z, str):
-        text = z.strip()
-        try:
-            z = complex(_evaluate(ast.parse(text.replace("^", "**"), mode="eval")))
-        except (SyntaxError, ValueError, TypeError, ZeroDivisionError, OverflowError, RecursionError):
-            return text if len(text) <= 24 else text[:23] + "…"
-    z = complex(z)
+    z = complex_value(value, digits + 10)
+    if z is None:
+        text = str(value).strip()
+        return text if len(text) <= 24 else text[:23] + "…"
     if not cmath.isfinite(z):
         return "-∞" if z.real < 0 and z.imag == 0 else "∞"
     scale = max(abs(z.real), abs(z.imag))

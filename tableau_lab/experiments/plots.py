@@ -140,11 +140,12 @@ def _axis(name: str, angles) -> str:
 
 
 def _zetas(values) -> str:
-    """ζ as decimals; a conjugate pair as a ± bi."""
-    texts = [style.decimal(z) for z in values]
-    if len(texts) == 2 and texts[0] != texts[1] and texts[0].replace(" + ", " - ") == texts[1].replace(" + ", " - "):
-        return texts[0].replace(" + ", " ± ").replace(" - ", " ± ")
-    return ", ".join(texts)
+    """ζ as decimals; a conjugate pair (numbers, not their printed text, compared) as a ± bi."""
+    zs = [style.complex_value(z) for z in values]
+    if len(zs) == 2 and None not in zs and zs[0].imag != 0 and abs(zs[0] - zs[1].conjugate()) <= 1e-12 * abs(zs[0]):
+        z = zs[0]
+        return (f"{style.decimal(z.real)} ± " if z.real != 0 else "± ") + f"{style.decimal(abs(z.imag))}i"
+    return ", ".join(style.decimal(z) for z in values)
 
 
 _INPUTS = r"$\mathrm{max}_{k\geq 2}\,|y^{[n]}_k|$"     # what runs without parasitic components recorded
