@@ -62,12 +62,18 @@ def test_report_beside_its_method_keeps_the_method(tmp_path, monkeypatch):
     assert facts and (tmp_path / "myglm.tex").is_file()
 
 
-@pytest.mark.parametrize("link", ["hard", "symbolic"])
-def test_report_refuses_an_output_that_is_its_input(tmp_path, link):
+def _rk4(tmp_path, out=None):
+    """A copy of RK4 as m.json, its bytes, and an empty output folder ``out`` when named."""
     m = tmp_path / "m.json"
     shutil.copy(RK4, m)
-    before = m.read_bytes()
-    (tmp_path / "out").mkdir()
+    if out:
+        (tmp_path / out).mkdir()
+    return m, m.read_bytes()
+
+
+@pytest.mark.parametrize("link", ["hard", "symbolic"])
+def test_report_refuses_an_output_that_is_its_input(tmp_path, link):
+    m, before = _rk4(tmp_path, "out")
     tex = tmp_path / "out" / "m.tex"
     os.link(m, tex) if link == "hard" else os.symlink(m, tex)
     refused(*cli("report", m, "--out", tmp_path / "out"), tex, m)
@@ -123,10 +129,7 @@ def test_design_refuses_to_write_over_its_input(tmp_path, option):
 
 @pytest.mark.parametrize("command", ["convergence", "roundoff"])
 def test_convergence_and_roundoff_refuse_their_input(tmp_path, command):
-    m = tmp_path / "m.json"
-    shutil.copy(RK4, m)
-    before = m.read_bytes()
-    (tmp_path / "out").mkdir()
+    m, before = _rk4(tmp_path, "out")
     if command == "convergence":
         out, argv = tmp_path / "out" / "convergence_harmonic_float64.json", ("convergence", m, "--problem", "harmonic")
     else:
@@ -178,10 +181,7 @@ def test_replot_refuses_to_draw_over_its_data(tmp_path):
 
 
 def test_stability_plot_refuses_its_input(tmp_path):
-    m = tmp_path / "m.json"
-    shutil.copy(RK4, m)
-    before = m.read_bytes()
-    (tmp_path / "plots").mkdir()
+    m, before = _rk4(tmp_path, "plots")
     os.link(m, tmp_path / "plots" / "m_axis.png")
     refused(*cli("stability", m, "--plot", tmp_path / "plots"), tmp_path / "plots" / "m_axis.png", m)
     assert m.read_bytes() == before
