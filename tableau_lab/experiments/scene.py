@@ -417,18 +417,14 @@ def run_one(sc: Scene, i: int, progress: bool = False, timeout: float | None = D
     return arrays, meta, interrupted
 
 
-_MODIFIED: dict = {}        # (method file, its text, problem key, h, terms) -> (corrections, H, H̃) or the reason
+_MODIFIED: dict = {}        # (method, problem key, h, terms) -> (corrections, H, H̃) or the reason
 
 
 def _modified_energy(sc: Scene, m, nm, r, arrays) -> dict:
     """H and H̃ at the run's recorded states (into ``arrays`` as ``modified_H``, ``modified_Htilde``)
     and the meta entry; a method without a modified energy gets H alone and the reason."""
     from .modified_energy import energy_errors, modified_energy_expression, problem_hamiltonian
-    try:
-        text = Path(r["method"]).read_bytes()
-    except OSError:
-        text = b""
-    key = (str(r["method"]), text, sc.problem.key, sc.h, sc.modified_energy)
+    key = (m, sc.problem.key, sc.h, sc.modified_energy)       # the method's value: no second read of its file
     if key not in _MODIFIED:
         try:
             _MODIFIED[key] = modified_energy_expression(m, sc.problem, sc.h, sc.modified_energy)
