@@ -34,7 +34,7 @@ from ..exact.grammar import NUMBER_NAMES
 from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
-__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value"]
+__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value", "valid_name"]
 
 
 def _symbols(names: str) -> tuple:
@@ -364,6 +364,16 @@ _KEYS = {"hamiltonian": ("q", "p", "H", "q0", "p0"), "general": ("y", "f", "y0")
 NOT_NAMES = NUMBER_NAMES | {"pi"}
 
 
+def valid_name(n) -> bool:
+    """A name a user problem can declare (a state variable, parameter or invariant): a letter,
+    then letters, digits, _; not a function of the grammar, nor a number or constant name.
+
+    >>> valid_name("q1"), valid_name("sin"), valid_name("Pi"), valid_name("_x")
+    (True, False, False, False)
+    """
+    return isinstance(n, str) and bool(NAME.match(n)) and n not in FUNCTIONS and n.lower() not in NOT_NAMES
+
+
 def problem_from_dict(d: dict) -> Problem:
     """A user-defined problem from a scene file's entry; every text is read by the safe parser
     of ``expressions.py`` (numbers, declared names, + − * / ^, whitelisted functions).
@@ -399,7 +409,7 @@ def problem_from_dict(d: dict) -> Problem:
 
     def declare(key, names):
         for i, n in enumerate(names):
-            if not isinstance(n, str) or not NAME.match(n) or n in FUNCTIONS or n.lower() in NOT_NAMES:
+            if not valid_name(n):
                 raise fail(key if isinstance(names, dict) else f"{key}[{i + 1}]", f"{n!r} is not a valid name")
         return _symbols(" ".join(names))
 
