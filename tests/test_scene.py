@@ -187,3 +187,23 @@ def test_modified_energy_key_needs_a_hamiltonian_problem(tmp_path):
                runs=[{"method": str(METHODS / "gauss2.json")}], plots=["invariants"])
     with pytest.raises(SceneError, match="modified_energy: the problem decay is not Hamiltonian"):
         load_scene(p)
+
+
+def test_scene_methods_by_library_and_family_name(tmp_path, monkeypatch):
+    """Issue 30: a scene names methods as the README says it can — "gauss2" (a library name) and
+    "gauss:2" (a family) — beside files; both are the same method as methods/gauss2.json, so their
+    runs agree with the file's to the last bit (the old refusal "no file gauss2" is gone)."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "python")            # no cold compile: the Python loop
+    p = _scene(tmp_path, problem="harmonic", steps=50, record_every=10, plots=["invariants"],
+               runs=[{"method": str(METHODS / "gauss2.json")}, {"method": "gauss2"}, {"method": "gauss:2"}])
+    sc = load_scene(p)
+    assert [r["label"] for r in sc.runs] == ["gauss2", "gauss2", "gauss:2"]
+    meta = run_scene(p, out_root=tmp_path / "out", progress=False)
+    assert meta["complete"] and [r["file"] for r in meta["runs"]] == [str(METHODS / "gauss2.json"), "gauss2", "gauss:2"]
+    data = np.load(tmp_path / "out" / "t1" / "data.npz")
+    assert np.array_equal(data["run0_H"], data["run1_H"])
+    assert np.max(np.abs(data["run0_H"] - data["run2_H"])) < 1e-15   # the family's exact tableau, rounded alike
+    with pytest.raises(SceneError, match=r"runs\[1\].method: gauss:9: the number of stages"):
+        load_scene(_scene(tmp_path, runs=[{"method": "gauss:9"}]))
+    with pytest.raises(SceneError, match="no file gaus2 .*library method or family"):
+        load_scene(_scene(tmp_path, runs=[{"method": "gaus2"}]))

@@ -11,7 +11,8 @@ size and the number of steps (or the final time), what to record and how often, 
               {"method": "../../methods/explicit_euler.json", "project": ["H"], "label": "with projection"}],
      "record_every": 10, "plots": ["invariants", "orbit"]}
 
-Paths are relative to the scene file.  Numbers are exact strings ("1/100", "0.03") or
+Paths are relative to the scene file; a method that is no file there is a library name
+(``"gauss2"``) or a family with its size (``"gauss:3"``, ``"bdf:4"``) (:func:`method_file`).  Numbers are exact strings ("1/100", "0.03") or
 integers.  ``tableau-lab run SCENE...`` writes ``reports/<name>/data.npz`` (times, invariant
 errors, states, the parasitic component of GLM inputs) with ``meta.json`` beside it (scene,
 method names, problem, h, precision, tableau-lab version, whether each run completed) and
@@ -62,7 +63,7 @@ from ..files import atomic_write, atomic_write_text
 from ..inputs import MAX_STEPS, NAME_LENGTH, SAFE_NAME, printable, read_json
 from .progress import StepBar
 
-__all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
+__all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene", "method_file", "method_label"]
 
 FORMAT = "tableau_lab/scene/1"
 PLOTS = ("invariants", "orbit", "parasitic", "state")
@@ -184,16 +185,43 @@ def scene_problem(prob, path):
     return problem
 
 
-def method_file(scene, name, where) -> Path:
-    """A method file named in a scene (relative to the scene file), resolved; SceneError naming
-    ``where`` when there is none."""
+def method_file(scene, name, where):
+    """The method a scene names: a file relative to the scene file (resolved, a Path); else a
+    shipped method by name ("gauss2": its library file, a Path); else a family with its size
+    ("gauss:3", "bdf:4": the name itself, a str, checked by building it).  SceneError naming
+    ``where`` when it is none of them.
+
+    >>> method_file("reports/scenes/x.json", "gauss2", "runs[1].method").name
+    'gauss2.json'
+    >>> method_file("reports/scenes/x.json", "bdf:4", "runs[1].method")
+    'bdf:4'
+    >>> method_file("reports/scenes/x.json", "gauss:9", "runs[1].method")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.experiments.scene.SceneError: reports/scenes/x.json: runs[1].method: gauss:9: the number of stages must be an integer 1 … 8, not 9
+    """
+    from ..exact.library import FamilyError, family, is_family, library_path
     try:
         found = (Path(scene).parent / name).resolve()
         if found.exists():
             return found
     except (OSError, RuntimeError, ValueError):
         pass
-    raise SceneError(f"{printable(scene)}: {where}: no file {printable(name)} (relative to the scene file)")
+    if library_path(name) is not None:
+        return library_path(name)
+    if is_family(name):
+        try:
+            family(name)
+        except FamilyError as exc:
+            raise SceneError(f"{printable(scene)}: {where}: {printable(exc)}") from None
+        return name
+    raise SceneError(f"{printable(scene)}: {where}: no file {printable(name)} (relative to the scene file), "
+                     "library method or family (tableau-lab list)")
+
+
+def method_label(method) -> str:
+    """The default label of a method :func:`method_file` gave: a file's stem, a family's name."""
+    return method.stem if isinstance(method, Path) else str(method)
 
 
 def scene_text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
@@ -334,7 +362,7 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
     for i, r in enumerate(runs):
         where = f"runs[{i + 1}]"
         mpath = method_file(path, r["method"], f"{where}.method")
-        if mpath not in read_methods:
+        if mpath not in read_methods and isinstance(mpath, Path):
             try:
                 read_methods[mpath] = read(mpath)          # a regular file of strict JSON, or refused now
             except TableauError as exc:
@@ -350,7 +378,7 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
             raise SceneError(f"{src}: {where}.project: {printable(exc)}") from None
         out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project),
                          "precision": r.get("precision", precision), "start": r.get("start", start),
-                         "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}"
+                         "label": r.get("label") or method_label(mpath) + (f" + projection onto {', '.join(project)}"
                                                                   if project else "")})
     return Scene(path, name, title, seed, problem, h, steps, tuple(out_runs), every, tuple(plots), data, monitor,
                  modified)
@@ -541,7 +569,7 @@ def guard_scene_outputs(sc: Scene, out) -> None:
     file."""
     from ..files import refuse_outputs
     out = Path(out)
-    inputs = [sc.path] + [r["method"] for r in sc.runs if isinstance(r.get("method"), (str, Path))]
+    inputs = [sc.path] + [r["method"] for r in sc.runs if isinstance(r.get("method"), Path)]   # a family has no file
     names = {"data.npz", "meta.json", "data.incomplete.npz", "meta.incomplete.json"} | set(_scene_files(out, sc.name))
     refuse_outputs([out / n for n in sorted(names)], inputs)
 
