@@ -207,3 +207,30 @@ def test_scene_methods_by_library_and_family_name(tmp_path, monkeypatch):
         load_scene(_scene(tmp_path, runs=[{"method": "gauss:9"}]))
     with pytest.raises(SceneError, match="no file gaus2 .*library method or family"):
         load_scene(_scene(tmp_path, runs=[{"method": "gaus2"}]))
+
+
+def test_scene_format_doc_is_generated_from_the_schema():
+    """docs/scenes.md's reference is benchmarks/scene_doc.py's text, made from the schema the
+    validator uses: every key it accepts is in the doc and the doc names no other; the example
+    scene of the page is a valid scene."""
+    import re
+    from conftest import benchmark_script
+    from tableau_lab.experiments import scene as S
+    from tableau_lab.numeric.problems import DEFINE_KEYS
+    root = Path(__file__).resolve().parents[1]
+    block = benchmark_script("doc_blocks").read_block(root / "docs" / "scenes.md", "scene-format")
+    assert block == benchmark_script("scene_doc").make()
+    documented = set(re.findall(r"^\| `([A-Za-z_0-9]+)` \|", block, re.M))
+    assert S.KEYS | S.RUN_KEYS | set(S.PLOTS) | set(DEFINE_KEYS) <= documented
+    page = (root / "docs" / "scenes.md").read_text()
+    example = json.loads(page.split("```json", 1)[1].split("```", 1)[0])
+    assert set(example) <= S.KEYS
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "example.json"
+        p.write_text(json.dumps(example))
+        sc = load_scene(p)
+    assert [r["label"] for r in sc.runs] == ["gauss2", "rk4", "Gauss 3"] and sc.steps == 2000
+    # a key outside the schema is refused, naming the allowed ones (the schema's)
+    with pytest.raises(SceneError, match="unknown keys"):
+        S.load_scene(_scene(Path(tempfile.mkdtemp()), colour="red"))

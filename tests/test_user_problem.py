@@ -182,3 +182,17 @@ def test_integrate_refuses_bad_input():
         integrate(load("rk4"), [sp.Symbol("a") * sp.Symbol("b")], [1], (0, 1), 0.1)
     with pytest.raises(InputError, match="f must be"):
         integrate(load("rk4"), 3, [1], (0, 1), 0.1)
+
+
+def test_float64_dd_and_mpmath_on_a_builtin_problem():
+    """The pendulum (a built-in problem by name) with Gauss 2, h = 1/100 to t = 10, in the three
+    precisions: double-double agrees with 32-digit mpmath to ~1e-30 (both far below the method
+    error), float64 to round-off (~1e-15).  The dd loop is the one tests/test_job.py compiles."""
+    runs = {p: integrate(load("gauss2"), "pendulum", None, (0, 10), "1/100", precision=p, notice=False)
+            for p in ("float64", "dd", "mp:32")}
+    assert runs["dd"].loop == "compiled with numba" and runs["mp:32"].loop == "Python"
+    with mpmath.workdps(40):
+        ref = runs["mp:32"].run.final
+        dd = max(abs(mpmath.mpf(a) - b) for a, b in zip(runs["dd"].run.final, ref))
+        f64 = max(abs(mpmath.mpf(float(a)) - b) for a, b in zip(runs["float64"].run.final, ref))
+    assert dd < 1e-27 and 1e-18 < f64 < 1e-12
