@@ -196,3 +196,14 @@ def test_float64_dd_and_mpmath_on_a_builtin_problem():
         dd = max(abs(mpmath.mpf(a) - b) for a, b in zip(runs["dd"].run.final, ref))
         f64 = max(abs(mpmath.mpf(float(a)) - b) for a, b in zip(runs["float64"].run.final, ref))
     assert dd < 1e-27 and 1e-18 < f64 < 1e-12
+
+
+def test_integrate_refuses_bad_run_options():
+    with pytest.raises(InputError, match="project: Q not among"):
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, project=["Q"], jit=False)
+    with pytest.raises(InputError, match="record_every"):
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, record_every=0, jit=False)
+    with pytest.raises(ProblemError, match="projection onto Q"):
+        integrate(load("rk4"), "harmonic", None, (0, 1), 0.1, project=["Q"])
+    with pytest.raises(InputError, match="precision"):
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, precision="quad")

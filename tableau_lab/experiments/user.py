@@ -464,7 +464,11 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     if start not in ("exact", "naive"):
         raise InputError(f"integrate: start must be 'exact' or 'naive', not {start!r}")
     nm = to_numeric(m, precision)
-    every = record_every or max(1, n // RECORDS)
+    if record_every is not None:
+        step_count(record_every, "integrate: record_every")
+    every = min(record_every or max(1, n // RECORDS), n)
+    if isinstance(project, str) or not all(isinstance(k, str) for k in project):
+        raise InputError(f"integrate: project must be a list of invariant names, not {str(project)[:40]!r}")
     f_calls = None
     if callable(f) and not isinstance(f, (sp.Basic, Problem)):
         if precision == "dd":
@@ -489,6 +493,10 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         elif a.dtype is not float:
             why = f"f runs as Python ({precision} numbers are Python objects)"
         cp = _Callable(fn, d, invariants, a)
+        unknown = [k for k in project if k not in cp.invariants]
+        if unknown:
+            raise InputError(f"integrate: project: {', '.join(unknown)} not among the invariants given "
+                             f"({', '.join(cp.invariants) or 'none'})")
         names, label = tuple(f"y{i + 1}" for i in range(d)) if d > 1 else ("y",), getattr(f, "__name__", "f")
         z0 = np.concatenate([y, np.array([tt], dtype=a.dtype)])
         run_start = "naive"
