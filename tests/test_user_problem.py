@@ -176,7 +176,9 @@ def test_integrate_refuses_bad_input():
         integrate(load("rk4"), oscillator, None, (0, 1), 0.1)
     with pytest.raises(InputError, match="dd"):
         integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, precision="dd")
-    with pytest.raises(InputError, match="returned 3 values"):
+    with pytest.raises(InputError, match=r"f\(t0, y0\) raised ZeroDivisionError"):
+        integrate(load("rk4"), lambda t, y: 1 / 0, [1, 0], (0, 1), 0.1, jit=False)
+    with pytest.raises(InputError, match=r"returned shape \(3,\)"):
         integrate(load("rk4"), lambda t, y: np.zeros(3), [1, 0], (0, 1), 0.1, jit=False)
     with pytest.raises(InputError, match="variables"):
         integrate(load("rk4"), [sp.Symbol("a") * sp.Symbol("b")], [1], (0, 1), 0.1)

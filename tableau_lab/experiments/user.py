@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import math
 import sys
-from time import perf_counter
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -87,6 +86,21 @@ def _names(value, key, default, label) -> tuple:
     return tuple(out)
 
 
+def _coordinates(H) -> tuple:
+    """The coordinate and momentum names H uses when none are given: q1, q2, … and p1, p2, …
+    (or q and p) in the order of their numbers; ("q",), ("p",) when it uses none.
+
+    >>> _coordinates("(p1^2 + p2^2)/2 - 1/sqrt(q1^2 + q2^2)")
+    (('q1', 'q2'), ('p1', 'p2'))
+    """
+    import re
+    text = H if isinstance(H, str) else " ".join(str(s) for s in getattr(H, "free_symbols", ()))
+    found = set(re.findall(r"(?<![A-Za-z0-9_])([qp][0-9]*)(?![A-Za-z0-9_])", text))
+    qs = sorted((n for n in found if n[0] == "q"), key=lambda n: (len(n), n))
+    ps = sorted((n for n in found if n[0] == "p"), key=lambda n: (len(n), n))
+    return (tuple(qs) or ("q",)), (tuple(ps) or ("p",))
+
+
 def _reader(label, names: dict):
     """The reader of one entry: text through the safe grammar (never eval), a sympy expression
     with its free symbols matched to ``names`` by name, or a number (read exactly)."""
@@ -115,8 +129,8 @@ def _values(v, key, n, read, label):
 
 def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None, invariants=None,
             parameters=None, angles=(), name: str = "user") -> Problem:
-    """A problem of the user's: a Hamiltonian ``H`` in coordinates ``q`` and momenta ``p`` (default
-    "q" and "p"; f = (∂H/∂p, −∂H/∂q)), or a right-hand side ``f`` (a list) in the variables ``y``.
+    """A problem of the user's: a Hamiltonian ``H`` in coordinates ``q`` and momenta ``p`` (by
+    default the names q1, q2, … and p1, p2, … that H uses, or q and p; f = (∂H/∂p, −∂H/∂q)), or a right-hand side ``f`` (a list) in the variables ``y``.
     Expressions are text read by the project's safe grammar (:mod:`~tableau_lab.numeric.expressions`:
     numbers, declared names, + − * / ^ and sqrt, exp, log, sin, cos, …; never eval) or sympy
     expressions (their symbols matched to the declared names by name).  ``invariants`` and
@@ -132,6 +146,8 @@ def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None
     (v, -v/10 - x)
     >>> problem(H="p^2/2 + k*q^2/2", parameters={"k": 4}).parameters
     {'k': 4}
+    >>> problem(H="(p1^2 + p2^2)/2 - 1/sqrt(q1^2 + q2^2)", q0=[1, 0], p0=[0, 1]).state
+    (q1, q2, p1, p2)
     >>> problem(H="p^2/2 - cos(r)")
     Traceback (most recent call last):
     ...
@@ -155,7 +171,8 @@ def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None
     if H is not None:
         if f is not None or y is not None or y0 is not None:
             raise ProblemError(f"problem {label!r}: a Hamiltonian problem takes q, p, q0, p0, not y, f, y0")
-        qn, pn = _names(q, "q", "q", label), _names(p, "p", "p", label)
+        guess_q, guess_p = _coordinates(H)
+        qn, pn = _names(q, "q", guess_q, label), _names(p, "p", guess_p, label)
         state = qn + pn
     else:
         if q is not None or p is not None or q0 is not None or p0 is not None:
@@ -251,7 +268,7 @@ class _Callable:
 
     def _step(self, x):
         """The central difference's step: eps^(1/3) relative ([HNW93] II.4's choice for f′)."""
-        return self.a.eps ** (1 / 3) * max(1, abs(x))
+        return self.a.loop_tolerances()[0] ** (1 / 3) * max(1, abs(x))     # an mpf at mp:DIGITS (no underflow)
 
     def jac(self, z):
         n = len(z)
@@ -354,8 +371,9 @@ class Solution:
     (name → array of I(y) and I(y) − I(y₀) at the records), ``nfev`` (evaluations of f by the
     steps; a callable's calls in all, finite differences included, in ``f_calls``), ``steps``,
     ``h`` (the step used: module docstring), ``loop`` ("compiled with numba" or "Python") and
-    ``why``, ``start`` (a GLM's starting values: "exact" or "naive"), ``run`` (the integrator's
-    :class:`~tableau_lab.numeric.integrate.Run`)."""
+    ``why``, ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
+    loop: a compile, or a load from its disk cache), ``start`` (a GLM's starting values: "exact"
+    or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`)."""
     method: str
     problem: str
     precision: str
@@ -371,6 +389,7 @@ class Solution:
     why: str
     start: str
     seconds: float
+    compile_seconds: float = 0.0
     f_calls: int | None = None
     run: object = field(default=None, repr=False)
 
@@ -481,6 +500,12 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
                          dtype=a.dtype)
             tt = a.number(t0)
         d = len(y)
+        try:
+            first = f(tt, y.copy())
+        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
+            raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}: {str(exc)[:200]}") from exc
+        if np.shape(first) not in ((d,), (d, 1), (1, d)):
+            raise InputError(f"integrate: f(t0, y0) returned shape {np.shape(first)} for a state of dimension {d}")
         fn, why = f, "f runs as Python"
         if jit is not False and a.dtype is float:
             fast, reason = _jit(f, float(tt), y.copy())
@@ -529,10 +554,10 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         generate(cp, nm, tuple(P.invariants), tuple(project))
         z0, names, label, run_start = cp.y0, tuple(str(s) for s in P.state[:keep]), P.name, start
         loop_why = ""
-    t_begin = perf_counter()
     with a.context():
         hnum = a.number(hx)
-    run = run_steps(nm, cp, z0, hnum, n, start=run_start, project=tuple(project), invariants=tuple(cp.problem.invariants),
+    run = run_steps(nm, cp, z0, hnum, n, start=run_start, project=tuple(project),
+                    invariants=tuple(cp.problem.invariants),
                     record_every=every, record_states=True, problem_name=label, kernel=kernel)
     if isinstance(cp, _Callable):
         f_calls = cp.calls
@@ -555,7 +580,7 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     errors = {k: np.array([float(x) for x in v]) for k, v in run.invariant_errors.items()}
     values = {k: float(I0[k]) + errors[k] for k in errors}
     sol = Solution(m.name, label, precision, names, np.array(run.times) + float(t0), states, values, errors,
-                   run.nfev, n, float(hnum), loop, why, run.start, perf_counter() - t_begin, f_calls, run)
+                   run.nfev, n, float(hnum), loop, why, run.start, run.seconds, run.compile_seconds, f_calls, run)
     if notice:
         print(f"tableau-lab: {m.name}, {n} steps: {loop} ({why})", file=sys.stderr)
     return sol

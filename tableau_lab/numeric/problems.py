@@ -381,7 +381,8 @@ DEFINE_KEYS = {
     "source": (_H + _G, False, "a string", "where the problem comes from"),
     "notes": (_H + _G, False, "a string", "free text"),
 }
-_KEYS = {kind: tuple(k for k, (kinds, required, *_) in DEFINE_KEYS.items() if required and kind in kinds and k != "name")
+_KEYS = {kind: tuple(k for k, (kinds, required, *_) in DEFINE_KEYS.items()
+                     if required and kind in kinds and k != "name")
          for kind in ("hamiltonian", "general")}
 # names a user problem cannot declare (any case): they read as numbers or constants
 NOT_NAMES = NUMBER_NAMES | {"pi"}
