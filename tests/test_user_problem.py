@@ -209,3 +209,11 @@ def test_integrate_refuses_bad_run_options():
         integrate(load("rk4"), "harmonic", None, (0, 1), 0.1, project=["Q"])
     with pytest.raises(InputError, match="precision"):
         integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, precision="quad")
+
+
+def test_time_starts_at_t0():
+    """y' = cos t from t0 = 1: y(t) = y0 + sin t - sin 1; the callable sees the true t (the time
+    carried as a state component from t0), and the records are at t0 + k h."""
+    sol = integrate(load("rk4"), lambda t, y: np.array([np.cos(t)]), [2], (1, 3), "1/50", jit=False, notice=False)
+    assert sol.times[0] == 1 and sol.times[-1] == pytest.approx(3, rel=1e-15) and sol.steps == 100
+    assert np.max(np.abs(sol.states[:, 0] - (2 + np.sin(sol.times) - np.sin(1)))) < 1e-9

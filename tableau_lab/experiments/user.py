@@ -14,14 +14,15 @@ r"""The user's own problem from Python: ``integrate(method, f, y0, t_span, h)`` 
   consistent method), so f may depend on t;
 * a sympy expression, list or Matrix in the state symbols ``variables`` (and optionally the time
   symbol ``time``, or a free symbol named ``t``), or
-* a :class:`~tableau_lab.numeric.problems.Problem` — :func:`problem`'s result or a built-in's
-  (:func:`~tableau_lab.numeric.problems.get_problem`).
+* a :class:`~tableau_lab.numeric.problems.Problem` — :func:`problem`'s result or a built-in
+  problem (its name, ``"pendulum"``, or :func:`~tableau_lab.numeric.problems.get_problem`'s
+  result).
 
 The last two are problems with symbols: f′, the invariants, the GLM starting values and the
 compiled step loop (numba, float64 and double-double) are generated from them exactly as for
 the command line's runs (:mod:`~tableau_lab.experiments.runs`).
 
-*The time grid.*  ``h`` is the largest step: the run takes n = ⌈(t₁ − t₀)/h⌉ equal steps of
+*The time grid.*  Forward in time (t₁ > t₀).  ``h`` is the largest step: the run takes n = ⌈(t₁ − t₀)/h⌉ equal steps of
 (t₁ − t₀)/n (a ratio within 1e-9 of a whole number counts as that number), so it ends on t₁
 exactly, one step size throughout (a GLM's input vector is valid for one h only; the global
 error keeps its expansion in one h).  :attr:`Solution.h` is the step used.  ``t_span`` and ``h``
