@@ -217,3 +217,13 @@ def test_time_starts_at_t0():
     sol = integrate(load("rk4"), lambda t, y: np.array([np.cos(t)]), [2], (1, 3), "1/50", jit=False, notice=False)
     assert sol.times[0] == 1 and sol.times[-1] == pytest.approx(3, rel=1e-15) and sol.steps == 100
     assert np.max(np.abs(sol.states[:, 0] - (2 + np.sin(sol.times) - np.sin(1)))) < 1e-9
+
+
+def test_the_exact_stage_has_a_time_budget():
+    """A symbolic problem whose code takes long to generate stops at the budget with a
+    BudgetError naming the work and how to raise it (a Jacobian of a 60-term product)."""
+    from tableau_lab.budget import BudgetError
+    ys = sp.symbols("a0:60")
+    f = [sp.prod([sp.sin(y + k) for k, y in enumerate(ys)]) + ys[i] for i in range(60)]
+    with pytest.raises(BudgetError, match="timeout=SECONDS"):
+        integrate(load("gauss2"), f, [0] * 60, (0, 1), "1/10", variables=list(ys), timeout=0.5, notice=False)

@@ -57,6 +57,7 @@ from fractions import Fraction
 import numpy as np
 import sympy as sp
 
+from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
 from ..numeric.problems import Problem, ProblemError, exact_value, get_problem, valid_name
 
@@ -447,9 +448,38 @@ def _method(method):
     return m
 
 
+def _symbolic(f, y0, variables, time_symbol, invariants, t0) -> tuple:
+    """(the Problem integrate runs, the number of its state components shown) for f a Problem,
+    a built-in problem's name or a sympy right-hand side."""
+    if isinstance(f, Problem) or isinstance(f, str):
+        P = get_problem(f)
+        if y0 is not None:
+            vals = list(np.asarray(y0, dtype=object).reshape(-1))
+            if len(vals) != P.dimension:
+                raise InputError(f"integrate: y0 has {len(vals)} values for the {P.dimension} of {P.name}")
+            k = len(P.q)
+            P = P.with_values(q0=vals[:k], p0=vals[k:]) if P.kind == "hamiltonian" else P.with_values(y0=vals)
+        else:
+            P.check_initial_state()
+        if invariants:
+            raise InputError("integrate: a Problem brings its own invariants: declare them in problem(...)")
+        keep = P.dimension
+    elif isinstance(f, (sp.Basic, list, tuple, sp.MatrixBase)):
+        if y0 is None:
+            raise InputError("integrate: y0 is needed with a sympy f")
+        start = list(np.asarray(y0, dtype=object).reshape(-1))
+        P = _symbolic_problem(f, variables, time_symbol, start, invariants, t0)
+        keep = len(f) if isinstance(f, (list, tuple, sp.MatrixBase)) else 1
+    else:
+        raise InputError(f"integrate: f must be a callable f(t, y), a sympy expression or list, or a Problem, "
+                         f"not {type(f).__name__}")
+    return P, keep
+
+
 def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants=None, precision: str = "float64",
               project=(), start: str = "exact", kernel: str = "auto", jit: bool | None = None,
-              record_every: int | None = None, notice: bool = True) -> Solution:
+              record_every: int | None = None, notice: bool = True,
+              timeout: float | None = DEFAULT_SECONDS) -> Solution:
     """Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a
     method object, or a file, library or family name) and steps of at most ``h`` (module
     docstring: the grid, and what ``f`` may be).  ``y0`` may be None for a Problem (its own
@@ -458,7 +488,9 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     ``precision``: "float64", "dd" (problems with symbols) or "mp:DIGITS".  ``kernel``: "auto",
     "compiled" or "python" (problems with symbols: the step loop); ``jit``: False skips numba for
     a callable (True requires it).  ``notice``: print the one-line notice of which loop ran (and
-    why) to stderr.  Records every step (every ``record_every``-th; by default so that at most
+    why) to stderr.  ``timeout``: the budget in seconds (BudgetError; None for none) of the exact
+    stage — the method rounded, a symbolic problem's code generated — as the commands' exact work;
+    the steps are bounded by ``inputs.MAX_STEPS``.  Records every step (every ``record_every``-th; by default so that at most
     :data:`RECORDS` are kept).
 
     >>> from tableau_lab.exact.tableau_json import load
@@ -483,7 +515,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     step_count(n, "integrate: (t1 - t0)/h")
     if start not in ("exact", "naive"):
         raise InputError(f"integrate: start must be 'exact' or 'naive', not {start!r}")
-    nm = to_numeric(m, precision)
+    with time_limit(timeout, "timeout=SECONDS"), computing(f"{m.name} in {precision}"):
+        nm = to_numeric(m, precision)
     if record_every is not None:
         step_count(record_every, "integrate: record_every")
     every = min(record_every or max(1, n // RECORDS), n)
@@ -529,30 +562,11 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         loop_why = f"a Python callable runs in the Python step loop ({why})"
         keep = d
     else:
-        if isinstance(f, Problem) or isinstance(f, str):
-            P = get_problem(f)
-            if y0 is not None:
-                vals = list(np.asarray(y0, dtype=object).reshape(-1))
-                if len(vals) != P.dimension:
-                    raise InputError(f"integrate: y0 has {len(vals)} values for the {P.dimension} of {P.name}")
-                k = len(P.q)
-                P = P.with_values(q0=vals[:k], p0=vals[k:]) if P.kind == "hamiltonian" else P.with_values(y0=vals)
-            else:
-                P.check_initial_state()
-            if invariants:
-                raise InputError("integrate: a Problem brings its own invariants: declare them in problem(...)")
-            keep = P.dimension
-        elif isinstance(f, (sp.Basic, list, tuple, sp.MatrixBase)):
-            if y0 is None:
-                raise InputError("integrate: y0 is needed with a sympy f")
-            P = _symbolic_problem(f, variables, time, list(np.asarray(y0, dtype=object).reshape(-1)), invariants, t0)
-            keep = len(f) if isinstance(f, (list, tuple, sp.MatrixBase)) else 1
-        else:
-            raise InputError(f"integrate: f must be a callable f(t, y), a sympy expression or list, or a Problem, "
-                             f"not {type(f).__name__}")
-        P.check_projection(project)
-        cp = compiled(P, precision)
-        generate(cp, nm, tuple(P.invariants), tuple(project))
+        with time_limit(timeout, "timeout=SECONDS"), computing("the problem's code"):
+            P, keep = _symbolic(f, y0, variables, time, invariants, t0)
+            P.check_projection(project)
+            cp = compiled(P, precision)
+            generate(cp, nm, tuple(P.invariants), tuple(project))
         z0, names, label, run_start = cp.y0, tuple(str(s) for s in P.state[:keep]), P.name, start
         loop_why = ""
     with a.context():
