@@ -22,12 +22,12 @@ The last two are problems with symbols: f′, the invariants, the GLM starting v
 compiled step loop (numba, float64 and double-double) are generated from them exactly as for
 the command line's runs (:mod:`~tableau_lab.experiments.runs`).
 
-*The time grid.*  Forward in time (t₁ > t₀).  ``h`` is the largest step: the run takes n = ⌈(t₁ − t₀)/h⌉ equal steps of
-(t₁ − t₀)/n (a ratio within 1e-9 of a whole number counts as that number), so it ends on t₁
-exactly, one step size throughout (a GLM's input vector is valid for one h only; the global
-error keeps its expansion in one h).  :attr:`Solution.h` is the step used.  ``t_span`` and ``h``
-are read exactly where they are exact (``sympy.pi``, ``"1/100"``, integers; a float as the
-decimal it prints as), and the step is rounded once at the working precision.
+*The time grid.*  Forward in time (t₁ > t₀).  ``h`` is the largest step: the run takes
+n = ⌈(t₁ − t₀)/h⌉ equal steps of (t₁ − t₀)/n (a ratio within 1e-9 of a whole number counts as
+that number), so it ends on t₁ exactly, one step size throughout (a GLM's input vector is valid
+for one h only; the global error keeps its expansion in one h).  :attr:`Solution.h` is the step
+used.  ``t_span`` and ``h`` are read exactly where they are exact (``sympy.pi``, ``"1/100"``,
+integers; a float as the decimal it prints as), and the step is rounded once at the working precision.
 
 >>> import numpy as np
 >>> from tableau_lab.exact.tableau_json import load
@@ -480,18 +480,18 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
               project=(), start: str = "exact", kernel: str = "auto", jit: bool | None = None,
               record_every: int | None = None, notice: bool = True,
               timeout: float | None = DEFAULT_SECONDS) -> Solution:
-    """Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a
-    method object, or a file, library or family name) and steps of at most ``h`` (module
-    docstring: the grid, and what ``f`` may be).  ``y0`` may be None for a Problem (its own
-    initial values).  ``invariants``: name → I(y) (callables for a callable f; expressions for a
-    sympy f; a Problem brings its own) are recorded, and ``project`` (names) projects onto them.
-    ``precision``: "float64", "dd" (problems with symbols) or "mp:DIGITS".  ``kernel``: "auto",
-    "compiled" or "python" (problems with symbols: the step loop); ``jit``: False skips numba for
-    a callable (True requires it).  ``notice``: print the one-line notice of which loop ran (and
-    why) to stderr.  ``timeout``: the budget in seconds (BudgetError; None for none) of the exact
-    stage — the method rounded, a symbolic problem's code generated — as the commands' exact work;
-    the steps are bounded by ``inputs.MAX_STEPS``.  Records every step (every ``record_every``-th; by default so that at most
-    :data:`RECORDS` are kept).
+    """Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a method
+    object, or a file, library or family name) and steps of at most ``h`` (module docstring: the
+    grid, and what ``f`` may be). ``y0`` may be None for a Problem (its own initial values).
+    ``invariants``: name → I(y) (callables for a callable f; expressions for a sympy f; a Problem
+    brings its own) are recorded, and ``project`` (names) projects onto them. ``precision``:
+    "float64", "dd" (problems with symbols) or "mp:DIGITS". ``kernel``: "auto", "compiled" or
+    "python" (problems with symbols: the step loop); ``jit``: False skips numba for a callable
+    (True requires it). ``notice``: print the one-line notice of which loop ran (and why) to
+    stderr. ``timeout``: the budget in seconds (BudgetError; None for none) of the exact stage —
+    the method rounded, a symbolic problem's code generated — as the commands' exact work; the
+    steps are bounded by ``inputs.MAX_STEPS``. Records every step (every ``record_every``-th; by
+    default so that at most :data:`RECORDS` are kept).
 
     >>> from tableau_lab.exact.tableau_json import load
     >>> x, v = sp.symbols("x v")
