@@ -227,3 +227,12 @@ def test_the_exact_stage_has_a_time_budget():
     f = [sp.prod([sp.sin(y + k) for k, y in enumerate(ys)]) + ys[i] for i in range(60)]
     with pytest.raises(BudgetError, match="timeout=SECONDS"):
         integrate(load("gauss2"), f, [0] * 60, (0, 1), "1/10", variables=list(ys), timeout=0.5, notice=False)
+
+
+def test_sympy_entries_are_read_exactly():
+    """Floats inside a sympy expression are read as the decimals they print as (0.1 is 1/10, as
+    in text): no float enters the symbolic problem; numpy numbers are numbers."""
+    q, p = sp.symbols("q p")
+    P = problem(H=p**2 / 2 + 0.1 * q**2, q0=[np.float64(0.5)], p0=[0])
+    assert P.hamiltonian == P.p[0] ** 2 / 2 + sp.Rational(1, 10) * P.q[0] ** 2
+    assert not P.hamiltonian.atoms(sp.Float) and P.q0 == (sp.Rational(1, 2),)

@@ -105,7 +105,8 @@ def _coordinates(H) -> tuple:
 
 def _reader(label, names: dict):
     """The reader of one entry: text through the safe grammar (never eval), a sympy expression
-    with its free symbols matched to ``names`` by name, or a number (read exactly)."""
+    with its free symbols matched to ``names`` by name and its floats read as the decimals they
+    print as, or a number (read exactly)."""
     def read(key, v, allowed=names):
         where = f"problem {label!r}, entry {key!r}"
         if isinstance(v, sp.Basic) and not v.is_Number:
@@ -114,8 +115,9 @@ def _reader(label, names: dict):
             extra = sorted(str(s) for s in v.free_symbols if str(s) not in allowed)
             if extra:
                 raise ProblemError(f"{where}: uses undeclared names {extra} (declared: {', '.join(allowed) or 'none'})")
-            return v.xreplace({s: allowed[str(s)] for s in v.free_symbols})
-        return exact_value(v, where, allowed)
+            floats = {x: exact_value(float(x), where) for x in v.atoms(sp.Float)}     # 0.1 is 1/10, as in text
+            return v.xreplace({**{s: allowed[str(s)] for s in v.free_symbols}, **floats})
+        return exact_value(v.item() if isinstance(v, np.generic) else v, where, allowed)
     return read
 
 
