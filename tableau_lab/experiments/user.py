@@ -59,7 +59,8 @@ import sympy as sp
 
 from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
-from ..numeric.problems import Problem, ProblemError, exact_value, get_problem, valid_name
+from ..numeric.problems import (LABEL_LENGTH, MAX_ENTRIES, Problem, ProblemError, exact_value, get_problem,
+                                valid_name)
 
 __all__ = ["integrate", "problem", "Solution", "step_grid"]
 
@@ -76,8 +77,8 @@ def _names(value, key, default, label) -> tuple:
     if value is None:
         value = default
     items = [value] if isinstance(value, (str, sp.Symbol)) else value
-    if not isinstance(items, (list, tuple)) or not 0 < len(items) <= 200:
-        raise ProblemError(f"problem {label!r}, entry {key!r}: a name or a list of 1 to 200 names is needed")
+    if not isinstance(items, (list, tuple)) or not 0 < len(items) <= MAX_ENTRIES:
+        raise ProblemError(f"problem {label!r}, entry {key!r}: a name or a list of 1 to {MAX_ENTRIES} names is needed")
     out = []
     for i, n in enumerate(items):
         n = n.name if isinstance(n, sp.Symbol) else n
@@ -161,17 +162,19 @@ def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None
     ...
     tableau_lab.numeric.problem_functions.ProblemError: problem 'user', entry 'H': names must start with a letter, not '_' (at position 1 of "__import__('os').system('ls')")
     """
-    if not isinstance(name, str) or not 0 < len(name) <= 100:
-        raise ProblemError("problem(): name must be a string of 1 to 100 characters")
+    if not isinstance(name, str) or not 0 < len(name) <= LABEL_LENGTH:
+        raise ProblemError(f"problem(): name must be a string of 1 to {LABEL_LENGTH} characters")
     label = name
     if (H is None) == (f is None):
         raise ProblemError(f"problem {label!r}: give H (a Hamiltonian) or f (a right-hand side), one of them")
     params = parameters or {}
-    if not isinstance(params, dict) or not all(valid_name(k) for k in params):
-        raise ProblemError(f"problem {label!r}, entry 'parameters': a dict of valid names → values is needed")
+    if not isinstance(params, dict) or len(params) > MAX_ENTRIES or not all(valid_name(k) for k in params):
+        raise ProblemError(f"problem {label!r}, entry 'parameters': a dict of at most {MAX_ENTRIES} valid names "
+                           "→ values is needed")
     invs = invariants or {}
-    if not isinstance(invs, dict) or not all(valid_name(k) for k in invs):
-        raise ProblemError(f"problem {label!r}, entry 'invariants': a dict of valid names → expressions is needed")
+    if not isinstance(invs, dict) or len(invs) > MAX_ENTRIES or not all(valid_name(k) for k in invs):
+        raise ProblemError(f"problem {label!r}, entry 'invariants': a dict of at most {MAX_ENTRIES} valid names "
+                           "→ expressions is needed")
     if H is not None:
         if f is not None or y is not None or y0 is not None:
             raise ProblemError(f"problem {label!r}: a Hamiltonian problem takes q, p, q0, p0, not y, f, y0")

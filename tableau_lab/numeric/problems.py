@@ -35,7 +35,7 @@ from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
 __all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value", "valid_name",
-           "DEFINE_KEYS"]
+           "DEFINE_KEYS", "LABEL_LENGTH", "MAX_ENTRIES"]
 
 
 def _symbols(names: str) -> tuple:
@@ -360,12 +360,14 @@ def get_problem(name, **overrides) -> Problem:
     return problem.with_values(**overrides) if overrides else problem
 
 
+LABEL_LENGTH = 100          # characters of a user problem's name
+MAX_ENTRIES = 200           # variables, parameters, invariants, initial values of a user problem (each)
 _H, _G = ("hamiltonian",), ("general",)
 #: the keys of a user problem (a scene's ``"define"``): key -> (the kinds that take it, required,
 #: what it takes, what it is); problem_from_dict's allowed and required keys come from here, and
 #: docs/scenes.md's table is generated from it (experiments/scene.py, scene_doc)
 DEFINE_KEYS = {
-    "name": (_H + _G, True, "a string of 1 to 100 characters", "the problem's name"),
+    "name": (_H + _G, True, f"a string of 1 to {LABEL_LENGTH} characters", "the problem's name"),
     "q": (_H, True, "a list of names", "the coordinates"),
     "p": (_H, True, "a list of names, as many as q", "the momenta"),
     "H": (_H, True, "an expression in q, p and the parameters", "the Hamiltonian; f = (∂H/∂p, −∂H/∂q)"),
@@ -411,8 +413,8 @@ def problem_from_dict(d: dict) -> Problem:
     tableau_lab.numeric.problem_functions.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' (at position 2 of 'y.real')
     """
     label = d.get("name") if isinstance(d, dict) else None
-    if not isinstance(label, str) or not 0 < len(label) <= 100:
-        raise ProblemError("a problem is an object with a 'name' (a string of at most 100 characters)")
+    if not isinstance(label, str) or not 0 < len(label) <= LABEL_LENGTH:
+        raise ProblemError(f"a problem is an object with a 'name' (a string of at most {LABEL_LENGTH} characters)")
     kind = "hamiltonian" if "H" in d else "general"
     allowed = tuple(k for k, (kinds, *_) in DEFINE_KEYS.items() if kind in kinds)
     for key in [k for k in d if k not in allowed] + [k for k in _KEYS[kind] if k not in d]:
@@ -427,8 +429,9 @@ def problem_from_dict(d: dict) -> Problem:
 
     def items(key, mapping=False):
         v = d.get(key, {})
-        if not isinstance(v, dict if mapping else list) or len(v) > 200 or not (v or mapping):
-            raise fail(key, f"{'an object' if mapping else 'a non-empty list'} of at most 200 entries is needed")
+        if not isinstance(v, dict if mapping else list) or len(v) > MAX_ENTRIES or not (v or mapping):
+            raise fail(key, f"{'an object' if mapping else 'a non-empty list'} of at most {MAX_ENTRIES} entries "
+                            "is needed")
         return v
 
     def declare(key, names):
