@@ -187,3 +187,50 @@ def test_modified_energy_key_needs_a_hamiltonian_problem(tmp_path):
                runs=[{"method": str(METHODS / "gauss2.json")}], plots=["invariants"])
     with pytest.raises(SceneError, match="modified_energy: the problem decay is not Hamiltonian"):
         load_scene(p)
+
+
+def test_scene_methods_by_library_and_family_name(tmp_path, monkeypatch):
+    """Issue 30: a scene names methods as the README says it can — "gauss2" (a library name) and
+    "gauss:2" (a family) — beside files; both are the same method as methods/gauss2.json, so their
+    runs agree with the file's to the last bit (the old refusal "no file gauss2" is gone)."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "python")            # no cold compile: the Python loop
+    p = _scene(tmp_path, problem="harmonic", steps=50, record_every=10, plots=["invariants"],
+               runs=[{"method": str(METHODS / "gauss2.json")}, {"method": "gauss2"}, {"method": "gauss:2"}])
+    sc = load_scene(p)
+    assert [r["label"] for r in sc.runs] == ["gauss2", "gauss2", "gauss:2"]
+    meta = run_scene(p, out_root=tmp_path / "out", progress=False)
+    assert meta["complete"] and [r["file"] for r in meta["runs"]] == [str(METHODS / "gauss2.json"), "gauss2", "gauss:2"]
+    data = np.load(tmp_path / "out" / "t1" / "data.npz")
+    assert np.array_equal(data["run0_H"], data["run1_H"])
+    assert np.max(np.abs(data["run0_H"] - data["run2_H"])) < 1e-15   # the family's exact tableau, rounded alike
+    with pytest.raises(SceneError, match=r"runs\[1\].method: gauss:9: the number of stages"):
+        load_scene(_scene(tmp_path, runs=[{"method": "gauss:9"}]))
+    with pytest.raises(SceneError, match="no file gaus2 .*library method or family"):
+        load_scene(_scene(tmp_path, runs=[{"method": "gaus2"}]))
+
+
+def test_scene_format_doc_is_generated_from_the_schema():
+    """docs/scenes.md's reference is benchmarks/scene_doc.py's text, made from the schema the
+    validator uses: every key it accepts is in the doc and the doc names no other; the example
+    scene of the page is a valid scene."""
+    import re
+    from conftest import benchmark_script
+    from tableau_lab.experiments import scene as S
+    from tableau_lab.numeric.problems import DEFINE_KEYS
+    root = Path(__file__).resolve().parents[1]
+    block = benchmark_script("doc_blocks").read_block(root / "docs" / "scenes.md", "scene-format")
+    assert block == benchmark_script("scene_doc").make()
+    documented = set(re.findall(r"^\| `([A-Za-z_0-9]+)` \|", block, re.M))
+    assert S.KEYS | S.RUN_KEYS | set(S.PLOTS) | set(DEFINE_KEYS) <= documented
+    page = (root / "docs" / "scenes.md").read_text()
+    example = json.loads(page.split("```json", 1)[1].split("```", 1)[0])
+    assert set(example) <= S.KEYS
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "example.json"
+        p.write_text(json.dumps(example))
+        sc = load_scene(p)
+    assert [r["label"] for r in sc.runs] == ["gauss2", "rk4", "Gauss 3"] and sc.steps == 2000
+    # a key outside the schema is refused, naming the allowed ones (the schema's)
+    with pytest.raises(SceneError, match="unknown keys"):
+        S.load_scene(_scene(Path(tempfile.mkdtemp()), colour="red"))

@@ -11,7 +11,8 @@ size and the number of steps (or the final time), what to record and how often, 
               {"method": "../../methods/explicit_euler.json", "project": ["H"], "label": "with projection"}],
      "record_every": 10, "plots": ["invariants", "orbit"]}
 
-Paths are relative to the scene file.  Numbers are exact strings ("1/100", "0.03") or
+Paths are relative to the scene file; a method that is no file there is a library name
+(``"gauss2"``) or a family with its size (``"gauss:3"``, ``"bdf:4"``) (:func:`method_file`).  Numbers are exact strings ("1/100", "0.03") or
 integers.  ``tableau-lab run SCENE...`` writes ``reports/<name>/data.npz`` (times, invariant
 errors, states, the parasitic component of GLM inputs) with ``meta.json`` beside it (scene,
 method names, problem, h, precision, tableau-lab version, whether each run completed) and
@@ -62,15 +63,11 @@ from ..files import atomic_write, atomic_write_text
 from ..inputs import MAX_STEPS, NAME_LENGTH, SAFE_NAME, printable, read_json
 from .progress import StepBar
 
-__all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene"]
+__all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene", "method_file", "method_label",
+           "scene_doc", "SCHEMA", "RUN_SCHEMA", "PLOT_SCHEMA", "Key"]
 
 FORMAT = "tableau_lab/scene/1"
-PLOTS = ("invariants", "orbit", "parasitic", "state")
-KEYS = {"format", "name", "title", "seed", "notes", "problem", "h", "steps", "T", "runs", "record_every",
-        "plots", "precision", "start", "monitor", "modified_energy"}
-MODIFIED_ENERGY_KEYS = {"terms"}
 MAX_MODIFIED_TERMS = 3      # nonzero corrections of H̃ (each costs a tree order or two of exact algebra)
-RUN_KEYS = {"method", "project", "precision", "start", "label"}
 STARTS = ("exact", "naive")
 NAME = SAFE_NAME                     # the output folder's name (inputs.py)
 PRECISION = re.compile(r"float64|dd|mp:[0-9]{1,5}")
@@ -78,6 +75,122 @@ MAX_RUNS = 100              # runs of one scene
 MAX_LIST = 1000             # entries of problem.set and of one value there
 MAX_TEXT = 1000             # characters of a title, seed, label or method path
 MAX_NOTES = 20000           # characters of the notes
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of the scene format: its name, what it takes, its default ("required" when it has
+    none) and what it does.  The tables below are the one schema: the validator's sets of
+    allowed keys come from them, and docs/scenes.md's block is generated from them
+    (:func:`scene_doc`)."""
+    name: str
+    takes: str
+    default: str
+    what: str
+
+
+REQUIRED = "required"
+#: the keys of a scene file
+SCHEMA = (
+    Key("format", f'"{FORMAT}"', f'"{FORMAT}"', "the format tag"),
+    Key("name", f"1 to {NAME_LENGTH} ASCII letters, digits, `-`, `_`, `.`, starting with a letter or digit",
+        REQUIRED, "names the output folder `reports/<name>/` and the figures `<name>_<plot>.png`"),
+    Key("title", f"a string (at most {MAX_TEXT} characters)", "the name", "the figures' title"),
+    Key("seed", f"a string (at most {MAX_TEXT} characters)", '""', "where the experiment comes from "
+        '(e.g. "Figure 3.1"), kept in meta.json'),
+    Key("notes", f"a string or a list of strings (at most {MAX_NOTES} characters)", '""',
+        "free text for the reader; not used by the runs"),
+    Key("problem", 'a built-in problem\'s name, `{"name": ..., "set": {...}}` (parameters or initial values '
+        'replaced, exact numbers) or `{"define": {...}}` (a problem of your own, below)', REQUIRED,
+        "the problem every run integrates"),
+    Key("h", 'an exact positive number: an integer or a string such as "1/100" or "1e-3"', REQUIRED,
+        "the step size"),
+    Key("steps", f"an integer from 1 to {MAX_STEPS}", "give exactly one of steps and T", "the number of steps"),
+    Key("T", "an exact positive number with T/h a whole number", "give exactly one of steps and T",
+        "the final time"),
+    Key("runs", f"a list of 1 to {MAX_RUNS} run objects (below)", REQUIRED, "the runs, one method each"),
+    Key("record_every", "an integer from 1 to steps", "max(1, steps // 1000)",
+        "the records' stride (time, invariant errors, states, parasitic components)"),
+    Key("plots", "a list of distinct plot names (below)", '["invariants"] (["state"] for a problem without '
+        'invariants)', "the figures drawn"),
+    Key("precision", "float64, dd or mp:DIGITS (5 ≤ DIGITS ≤ 10000)", "float64",
+        "the runs' working precision (a run may set its own)"),
+    Key("start", ", ".join(STARTS), "exact", "GLM starting values: the starting method's series, or u·y0 "
+        "(a run may set its own)"),
+    Key("monitor", 'an exact positive number such as "1e-3"', "none (recorded, not bounded)",
+        "a bound on the parasitic components of GLM inputs: a run exceeding it stops, status \"stopped\""),
+    Key("modified_energy", f'`{{"terms": N}}`, N from 1 to {MAX_MODIFIED_TERMS} (default 2)',
+        "none", "adds `<name>_modified_energy.png`: |H − H₀| beside |H̃ − H̃₀| (Hamiltonian problems)"),
+)
+#: the keys of one entry of "runs"
+RUN_SCHEMA = (
+    Key("method", f"a tableau file (relative to the scene file), a library name such as \"gauss2\" or a "
+        f"family with its size such as \"gauss:3\" (at most {MAX_TEXT} characters)", REQUIRED, "the method"),
+    Key("project", "a list of distinct invariant names of the problem", "[]",
+        "projection onto these invariants after every step"),
+    Key("precision", "as the scene's", "the scene's", "this run's working precision"),
+    Key("start", "as the scene's", "the scene's", "this run's GLM starting values"),
+    Key("label", f"a string (at most {MAX_TEXT} characters)", "the method's file stem or name "
+        "(+ the projection)", "the run's name in the figures and meta.json"),
+)
+#: the keys of "modified_energy"
+MODIFIED_ENERGY_SCHEMA = (
+    Key("terms", f"an integer from 1 to {MAX_MODIFIED_TERMS}", "2", "the lowest nonzero corrections of H̃ kept"),
+)
+#: the plots a scene can ask for
+PLOT_SCHEMA = {
+    "invariants": "I(y_n) − I(y0) against t, one panel per invariant of the problem",
+    "orbit": "the orbit (q1, q2) of a Hamiltonian problem with two or more coordinates; otherwise as \"state\"",
+    "parasitic": "GLMs: the parasitic components of the input vector (and their predicted growth) against t",
+    "state": "the phase plot (first coordinate, its momentum), or the first two variables; one variable "
+             "against t",
+}
+PLOTS = tuple(PLOT_SCHEMA)
+KEYS = frozenset(k.name for k in SCHEMA)
+RUN_KEYS = frozenset(k.name for k in RUN_SCHEMA)
+MODIFIED_ENERGY_KEYS = frozenset(k.name for k in MODIFIED_ENERGY_SCHEMA)
+
+
+def scene_doc() -> str:
+    """The scene format as Markdown, generated from the schema (:data:`SCHEMA`, :data:`RUN_SCHEMA`,
+    :data:`MODIFIED_ENERGY_SCHEMA`, :data:`PLOT_SCHEMA` and the user-problem keys
+    :data:`~tableau_lab.numeric.problems.DEFINE_KEYS`): docs/scenes.md's block
+    (``python benchmarks/scene_doc.py --write docs/scenes.md``; a test checks it is current).
+
+    >>> print(scene_doc().splitlines()[2])
+    | key | takes | default | what it does |
+    """
+    from ..numeric.problems import DEFINE_KEYS
+    from ..numeric.expressions import FUNCTIONS
+
+    def cell(text):
+        return str(text).replace("|", "\\|")
+
+    def table(keys):
+        rows = ["| key | takes | default | what it does |", "| --- | --- | --- | --- |"]
+        rows += [f"| `{k.name}` | {cell(k.takes)} | {cell(k.default)} | {cell(k.what)} |" for k in keys]
+        return rows
+
+    out = ["### Keys of a scene file", ""] + table(SCHEMA)
+    out += ["", "### Keys of a run (an entry of `runs`)", ""] + table(RUN_SCHEMA)
+    out += ["", "### Keys of `modified_energy`", ""] + table(MODIFIED_ENERGY_SCHEMA)
+    out += ["", "### Plots (the names `plots` takes)", "", "| plot | what it draws |", "| --- | --- |"]
+    out += [f"| `{k}` | {cell(v)} |" for k, v in PLOT_SCHEMA.items()]
+    from ..numeric.problems import PROBLEMS
+    out += ["", '### Built-in problems (`"problem": NAME` or `{"name": NAME, "set": {...}}`)', "",
+            "| name | kind | what `set` may replace |", "| --- | --- | --- |"]
+    for name, P in PROBLEMS.items():
+        settable = [*P.parameters, *(("q0", "p0") if P.kind == "hamiltonian" else ("y0",))]
+        out.append(f"| `{name}` | {P.kind} | {', '.join(f'`{k}`' for k in settable)} |")
+    out += ["", '### A problem of your own: `"problem": {"define": {...}}`', "",
+            "A Hamiltonian problem has `H`; any other is given by `f`. Every expression and number is text read by "
+            "the safe grammar (never evaluated as code): exact decimals (`0.005` is 1/200), integers, + − * / ^ "
+            "(`-2^2` is −4), parentheses, the declared names and the functions "
+            + ", ".join(f"`{f}`" for f in FUNCTIONS) + ".", "",
+            "| key | kind | required | takes | what it is |", "| --- | --- | --- | --- | --- |"]
+    out += [f"| `{k}` | {' and '.join(kinds)} | {'yes' if required else 'no'} | {cell(takes)} | {cell(what)} |"
+            for k, (kinds, required, takes, what) in DEFINE_KEYS.items()]
+    return "\n".join(out)
 
 
 class SceneError(InputError):
@@ -184,16 +297,43 @@ def scene_problem(prob, path):
     return problem
 
 
-def method_file(scene, name, where) -> Path:
-    """A method file named in a scene (relative to the scene file), resolved; SceneError naming
-    ``where`` when there is none."""
+def method_file(scene, name, where):
+    """The method a scene names: a file relative to the scene file (resolved, a Path); else a
+    shipped method by name ("gauss2": its library file, a Path); else a family with its size
+    ("gauss:3", "bdf:4": the name itself, a str, checked by building it).  SceneError naming
+    ``where`` when it is none of them.
+
+    >>> method_file("reports/scenes/x.json", "gauss2", "runs[1].method").name
+    'gauss2.json'
+    >>> method_file("reports/scenes/x.json", "bdf:4", "runs[1].method")
+    'bdf:4'
+    >>> method_file("reports/scenes/x.json", "gauss:9", "runs[1].method")
+    Traceback (most recent call last):
+    ...
+    tableau_lab.experiments.scene.SceneError: reports/scenes/x.json: runs[1].method: gauss:9: the number of stages must be an integer 1 … 8, not 9
+    """
+    from ..exact.library import FamilyError, family, is_family, library_path
     try:
         found = (Path(scene).parent / name).resolve()
         if found.exists():
             return found
     except (OSError, RuntimeError, ValueError):
         pass
-    raise SceneError(f"{printable(scene)}: {where}: no file {printable(name)} (relative to the scene file)")
+    if library_path(name) is not None:
+        return library_path(name)
+    if is_family(name):
+        try:
+            family(name)
+        except FamilyError as exc:
+            raise SceneError(f"{printable(scene)}: {where}: {printable(exc)}") from None
+        return name
+    raise SceneError(f"{printable(scene)}: {where}: no file {printable(name)} (relative to the scene file), "
+                     "library method or family (tableau-lab list)")
+
+
+def method_label(method) -> str:
+    """The default label of a method :func:`method_file` gave: a file's stem, a family's name."""
+    return method.stem if isinstance(method, Path) else str(method)
 
 
 def scene_text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
@@ -334,7 +474,7 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
     for i, r in enumerate(runs):
         where = f"runs[{i + 1}]"
         mpath = method_file(path, r["method"], f"{where}.method")
-        if mpath not in read_methods:
+        if mpath not in read_methods and isinstance(mpath, Path):
             try:
                 read_methods[mpath] = read(mpath)          # a regular file of strict JSON, or refused now
             except TableauError as exc:
@@ -350,7 +490,7 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
             raise SceneError(f"{src}: {where}.project: {printable(exc)}") from None
         out_runs.append({"method": mpath, "as_written": r["method"], "project": tuple(project),
                          "precision": r.get("precision", precision), "start": r.get("start", start),
-                         "label": r.get("label") or mpath.stem + (f" + projection onto {', '.join(project)}"
+                         "label": r.get("label") or method_label(mpath) + (f" + projection onto {', '.join(project)}"
                                                                   if project else "")})
     return Scene(path, name, title, seed, problem, h, steps, tuple(out_runs), every, tuple(plots), data, monitor,
                  modified)
@@ -537,7 +677,7 @@ def guard_scene_outputs(sc: Scene, out) -> None:
     file."""
     from ..files import refuse_outputs
     out = Path(out)
-    inputs = [sc.path] + [r["method"] for r in sc.runs if isinstance(r.get("method"), (str, Path))]
+    inputs = [sc.path] + [r["method"] for r in sc.runs if isinstance(r.get("method"), Path)]   # a family has no file
     names = {"data.npz", "meta.json", "data.incomplete.npz", "meta.incomplete.json"} | set(_scene_files(out, sc.name))
     refuse_outputs([out / n for n in sorted(names)], inputs)
 

@@ -61,8 +61,8 @@ def load_wp_scene(path, timeout: float | None = DEFAULT_SECONDS) -> WPScene:
     :data:`PEERS`.  Messages name the file and the entry (one-based: ``methods[1].steps[2]``)."""
     from ..budget import computing, time_limit
     from ..inputs import MAX_STEPS, printable
-    from .scene import (MAX_RUNS, NAME, SceneError, float64_number, method_file, read_scene, scene_number, scene_problem,
-                        scene_text, shown)
+    from .scene import (MAX_RUNS, NAME, SceneError, float64_number, method_file, method_label, read_scene,
+                        scene_number, scene_problem, scene_text, shown)
     path = Path(path)
     src = printable(path)
     data = read_scene(path)
@@ -110,7 +110,8 @@ def load_wp_scene(path, timeout: float | None = DEFAULT_SECONDS) -> WPScene:
                 raise SceneError(f"{src}: {where}.steps[{j}] must be an integer between 1 and {MAX_STEPS} "
                                  f"(MAX_STEPS, the step budget of a run), not {shown(n)}")
             float64_number(T / n, f"{where}.steps[{j}]: the step size T/n", src)
-        out_methods.append((mp, tuple(steps), scene_text(m, "label", f"{where}.label", src, mp.stem) or mp.stem))
+        out_methods.append((mp, tuple(steps), scene_text(m, "label", f"{where}.label", src, method_label(mp))
+                            or method_label(mp)))
     out_peers = []
     for k, p in enumerate(peers, 1):
         where = f"peers[{k}]"
@@ -241,7 +242,7 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     from .figure_style import siblings
     paths = output_paths(Path(out_root) / scene.name, scene.name)     # before any run: no output over an input
     refuse_outputs([paths["data"], paths["summary"], *siblings(paths["figure"])],
-                   [scene.path] + [p for p, _, _ in scene.methods])
+                   [scene.path] + [p for p, _, _ in scene.methods if isinstance(p, Path)])
     ref, gap = reference_state(scene.problem, scene.T)
     tasks = [(method_point, (str(p), scene.problem, scene.T, n, scene.invariant), label)
              for p, steps, label in scene.methods for n in steps]

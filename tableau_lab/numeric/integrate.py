@@ -73,6 +73,7 @@ class Run:
     fallbacks: int = 0                                   # steps whose first stage iteration failed
     invariant_scales: dict = field(default_factory=dict)  # name -> |I(y0)| (1 where I(y0) = 0): "relative" below
     state_scale: float = 1.0                             # max |y0_i| (1 where y0 = 0): the parasitic components' scale
+    loop: str = ""                                       # the step loop that ran: "compiled" (numba) or "python"
 
     def max_invariant_error(self) -> dict:
         """Largest |I − I(y0)| at the records, and over every step where the compiled loop
@@ -323,7 +324,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, y0, h, masks), compensated=compensated,
                           predict=predict, project=tuple(project), track=names, targets=targets,
                           index=kernels.invariant_index(prob))
-        loop = _loop(kernel, nm, prob, pk)
+        compiled = _use_kernel(kernel, a, prob)
+        run.loop = "compiled" if compiled else "python"
+        loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
         every = record_every or max(1, steps // 1000)
@@ -403,9 +406,9 @@ def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
         return out.Y
 
 
-def _loop(kernel, nm, prob, pk):
+def _loop(compiled: bool, nm, prob, pk):
     """The compiled module (specialised to the run: :func:`kernels.run_shape`) or the pure loop."""
     a = nm.arith
-    if _use_kernel(kernel, a, prob):
+    if compiled:
         return kernels.compiled_loop(prob.problem, "dd" if a.name == "dd" else "f64", kernels.run_shape(pk))
     return kernels.pure_loop(prob, a.name)

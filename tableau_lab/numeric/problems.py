@@ -34,7 +34,8 @@ from ..exact.grammar import NUMBER_NAMES
 from .problem_functions import ProblemError
 from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
-__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value"]
+__all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value", "valid_name",
+           "DEFINE_KEYS", "LABEL_LENGTH", "MAX_ENTRIES"]
 
 
 def _symbols(names: str) -> tuple:
@@ -359,9 +360,44 @@ def get_problem(name, **overrides) -> Problem:
     return problem.with_values(**overrides) if overrides else problem
 
 
-_KEYS = {"hamiltonian": ("q", "p", "H", "q0", "p0"), "general": ("y", "f", "y0")}
+LABEL_LENGTH = 100          # characters of a user problem's name
+MAX_ENTRIES = 200           # variables, parameters, invariants, initial values of a user problem (each)
+_H, _G = ("hamiltonian",), ("general",)
+#: the keys of a user problem (a scene's ``"define"``): key -> (the kinds that take it, required,
+#: what it takes, what it is); problem_from_dict's allowed and required keys come from here, and
+#: docs/scenes.md's table is generated from it (experiments/scene.py, scene_doc)
+DEFINE_KEYS = {
+    "name": (_H + _G, True, f"a string of 1 to {LABEL_LENGTH} characters", "the problem's name"),
+    "q": (_H, True, "a list of names", "the coordinates"),
+    "p": (_H, True, "a list of names, as many as q", "the momenta"),
+    "H": (_H, True, "an expression in q, p and the parameters", "the Hamiltonian; f = (∂H/∂p, −∂H/∂q)"),
+    "q0": (_H, True, "a list of exact numbers (expressions in the parameters)", "the initial coordinates"),
+    "p0": (_H, True, "a list of exact numbers (expressions in the parameters)", "the initial momenta"),
+    "angles": (_H, False, "a list of names among q", "the coordinates that are angles (wrapped in phase plots)"),
+    "y": (_G, True, "a list of names", "the variables"),
+    "f": (_G, True, "a list of expressions in y and the parameters, one per variable", "the right-hand side"),
+    "y0": (_G, True, "a list of exact numbers (expressions in the parameters)", "the initial values"),
+    "invariants": (_H + _G, False, "an object name → expression", "quantities recorded (and projected on); H is "
+                   "one already"),
+    "parameters": (_H + _G, False, "an object name → exact number", "named constants of the expressions"),
+    "source": (_H + _G, False, "a string", "where the problem comes from"),
+    "notes": (_H + _G, False, "a string", "free text"),
+}
+_KEYS = {kind: tuple(k for k, (kinds, required, *_) in DEFINE_KEYS.items()
+                     if required and kind in kinds and k != "name")
+         for kind in ("hamiltonian", "general")}
 # names a user problem cannot declare (any case): they read as numbers or constants
 NOT_NAMES = NUMBER_NAMES | {"pi"}
+
+
+def valid_name(n) -> bool:
+    """A name a user problem can declare (a state variable, parameter or invariant): a letter,
+    then letters, digits, _; not a function of the grammar, nor a number or constant name.
+
+    >>> valid_name("q1"), valid_name("sin"), valid_name("Pi"), valid_name("_x")
+    (True, False, False, False)
+    """
+    return isinstance(n, str) and bool(NAME.match(n)) and n not in FUNCTIONS and n.lower() not in NOT_NAMES
 
 
 def problem_from_dict(d: dict) -> Problem:
@@ -377,10 +413,10 @@ def problem_from_dict(d: dict) -> Problem:
     tableau_lab.numeric.problem_functions.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' (at position 2 of 'y.real')
     """
     label = d.get("name") if isinstance(d, dict) else None
-    if not isinstance(label, str) or not 0 < len(label) <= 100:
-        raise ProblemError("a problem is an object with a 'name' (a string of at most 100 characters)")
+    if not isinstance(label, str) or not 0 < len(label) <= LABEL_LENGTH:
+        raise ProblemError(f"a problem is an object with a 'name' (a string of at most {LABEL_LENGTH} characters)")
     kind = "hamiltonian" if "H" in d else "general"
-    allowed = ("name", *_KEYS[kind], "invariants", "parameters", "source", "notes") + (("angles",) if kind == "hamiltonian" else ())
+    allowed = tuple(k for k, (kinds, *_) in DEFINE_KEYS.items() if kind in kinds)
     for key in [k for k in d if k not in allowed] + [k for k in _KEYS[kind] if k not in d]:
         raise ProblemError(f"problem {label!r}, entry {key!r}: {'missing' if key in allowed else 'unknown key'}; "
                            f"a {kind} problem has the keys {', '.join(allowed)}")
@@ -393,13 +429,14 @@ def problem_from_dict(d: dict) -> Problem:
 
     def items(key, mapping=False):
         v = d.get(key, {})
-        if not isinstance(v, dict if mapping else list) or len(v) > 200 or not (v or mapping):
-            raise fail(key, f"{'an object' if mapping else 'a non-empty list'} of at most 200 entries is needed")
+        if not isinstance(v, dict if mapping else list) or len(v) > MAX_ENTRIES or not (v or mapping):
+            raise fail(key, f"{'an object' if mapping else 'a non-empty list'} of at most {MAX_ENTRIES} entries "
+                            "is needed")
         return v
 
     def declare(key, names):
         for i, n in enumerate(names):
-            if not isinstance(n, str) or not NAME.match(n) or n in FUNCTIONS or n.lower() in NOT_NAMES:
+            if not valid_name(n):
                 raise fail(key if isinstance(names, dict) else f"{key}[{i + 1}]", f"{n!r} is not a valid name")
         return _symbols(" ".join(names))
 
