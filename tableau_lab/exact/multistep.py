@@ -22,6 +22,8 @@ Matrix([
 Matrix([[1, 3/2, -1/2]])
 >>> lmm_coefficients("adams_moulton", 2)
 ([0, -1, 1], [-1/12, 2/3, 5/12])
+>>> as_lmm(bdf(2))                  # and back: (α₀ … αₖ, β₀ … βₖ), αₖ = 1
+([1/3, -4/3, 1], [0, 0, 2/3])
 """
 from __future__ import annotations
 
@@ -29,8 +31,8 @@ import sympy as sp
 
 from .methods import GeneralLinearMethod, MethodError
 
-__all__ = ["lmm", "lmm_coefficients", "bdf", "adams_bashforth", "adams_moulton", "nystrom", "milne_simpson",
-           "FAMILIES"]
+__all__ = ["lmm", "lmm_coefficients", "as_lmm", "bdf", "adams_bashforth", "adams_moulton", "nystrom",
+           "milne_simpson", "FAMILIES"]
 
 _T = sp.Symbol("t")
 
@@ -111,6 +113,31 @@ def lmm(alpha, beta, *, name: str, source: str = "", **meta) -> GeneralLinearMet
         for i in range(1, m):
             V[ky + i, ky + i - 1] = 1         # derivatives shifted
     return GeneralLinearMethod(A=A, U=U, B=B, V=V, c=sp.Matrix([1]), name=name, source=source, **meta)
+
+
+def as_lmm(m) -> tuple[list, list] | None:
+    """(α₀ … αₖ, β₀ … βₖ), αₖ = 1, when the method ``m`` is the GLM that :func:`lmm` builds of
+    them (the families here, NodePy's multistep methods through :mod:`interop`, a tableau file
+    written from one), else None.  The split of U's row into past values and past derivatives
+    is the one whose rebuilt GLM equals ``m`` in every matrix."""
+    if getattr(m, "kind", None) != "glm" or m.s != 1:
+        return None
+    r, u = m.r, list(m.U.row(0))
+    for ky in range(1, r + 1):
+        k = max(ky, r - ky)
+        alpha, beta = [sp.Integer(0)] * (k + 1), [sp.Integer(0)] * (k + 1)
+        alpha[k], beta[k] = sp.Integer(1), m.A[0, 0]
+        for i in range(1, ky + 1):
+            alpha[k - i] = -u[i - 1]
+        for i in range(1, r - ky + 1):
+            beta[k - i] = u[ky + i - 1]
+        try:
+            g = lmm(alpha, beta, name=m.name)
+        except MethodError:
+            continue
+        if g.matrices() == m.matrices():
+            return alpha, beta
+    return None
 
 
 def _family(family: str, k: int) -> GeneralLinearMethod:
