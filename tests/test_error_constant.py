@@ -14,7 +14,7 @@ from printed import latex_to_grammar
 from tableau_lab.analysis.error_constant import error_constant, lmm_constants
 from tableau_lab.exact.grammar import parse_entry
 from tableau_lab.exact.library import family
-from tableau_lab.exact.methods import MethodError
+from tableau_lab.exact.methods import GeneralLinearMethod, MethodError
 from tableau_lab.exact.multistep import as_lmm, lmm, lmm_coefficients
 from tableau_lab.exact.tableau_json import load
 
@@ -79,6 +79,23 @@ def test_as_lmm_inverts_lmm():
         got = as_lmm(family(name, k=k))
         kk = len(got[0]) - 1                       # leading zero αⱼ, βⱼ are dropped from the GLM
         assert got == (alpha[len(alpha) - 1 - kk:], beta[len(beta) - 1 - kk:])
+
+
+def test_other_glm_forms_of_a_multistep_method():
+    """The shipped adams_bashforth2 and leapfrog files write AB2 and the explicit midpoint rule as
+    GLMs of another shape (the stage is the first input value): their constants are the published
+    5/12 and 1/3.  BDF3 with its input values reordered (a similarity T V T⁻¹ fixing the first) is
+    still BDF3; a one-stage Runge–Kutta method (implicit midpoint) is not a multistep method."""
+    assert (error_constant(load("adams_bashforth2")).C, error_constant(load("leapfrog")).C) == (R(5, 12), R(1, 3))
+    g = family("bdf:3")
+    T = sp.Matrix([[1, 0, 0], [0, 0, 1], [0, 1, 0]])
+    h = GeneralLinearMethod(A=g.A, U=g.U * T.inv(), B=T * g.B, V=T * g.V * T.inv(), c=g.c, name="BDF3 reordered")
+    assert h.matrices() != g.matrices() and as_lmm(h) == as_lmm(g) == tuple(lmm_coefficients("bdf", 3))
+    assert error_constant(h).C == R(-3, 22)
+    midpoint = load("implicit_midpoint").as_glm()
+    assert as_lmm(midpoint) is None
+    with pytest.raises(MethodError, match="linear multistep"):
+        error_constant(midpoint)
 
 
 def test_printed_value_reads_back():

@@ -16,9 +16,10 @@ vanishes to order p (C₀ = … = C_p = 0) and C_{p+1} ≠ 0 is the error consta
   constant, the one in the global error's leading term [HNW93] III.4; BDF k: −1/(k + 1)).
   For Adams methods σ(1) = 1 and the two agree.
 
-The method is a linear multistep method when it is the GLM of :func:`multistep.lmm`
-(:func:`multistep.as_lmm`): the families ``bdf:k``, ``adams_bashforth:k``, ``adams_moulton:k``,
-``nystrom:k``, ``milne_simpson:k``, NodePy's ``LinearMultistepMethod`` through ``load``.
+The method is a linear multistep method when :func:`multistep.as_lmm` finds its (α, β): the
+GLM of :func:`multistep.lmm` (the families ``bdf:k``, ``adams_bashforth:k``, ``adams_moulton:k``,
+``nystrom:k``, ``milne_simpson:k``; NodePy's ``LinearMultistepMethod`` through ``load``), or a
+one-stage GLM whose stage is the solution value (the shipped ``adams_bashforth2``, ``leapfrog``).
 
 >>> from tableau_lab.exact.library import family
 >>> e = error_constant(family("bdf:2"))
@@ -117,8 +118,8 @@ def error_constant(m: Method) -> ErrorConstantResult:
         kind = getattr(m, "kind", type(m).__name__)
         hint = ("for a Runge–Kutta method the principal error coefficients are order(m).error_coefficients"
                 if kind in ("rk", "prk") else
-                "a GLM counts as one when it is written as multistep.lmm(α, β) writes it (one stage at the new "
-                "point, inputs y_{n+k-1}, …, h f_{n+k-1}, …): build it with lmm(α, β) or a family")
+                "a GLM counts as one when it has one stage and that stage is the solution value (its first "
+                "output or first input, as multistep.lmm(α, β) writes it)")
         raise MethodError(f"{getattr(m, 'name', m)}: the error constant C_(p+1) is defined for linear multistep "
                           f"methods (bdf:k, adams_bashforth:k, adams_moulton:k, nystrom:k, milne_simpson:k, "
                           f"multistep.lmm(α, β)), not this {kind} method; {hint}")
