@@ -1,9 +1,9 @@
 """The explicit SSP families by name: each member's classical order pinned (every condition up to
 p holds, one of order p + 1 fails) and its SSP coefficient, computed by analysis.ssp, equal to the
 published value — SSPRK(s,2): s − 1 and SSPRK(n²,3): n² − n (Ketcheson, SIAM J. Sci. Comput. 30
-(2008) 2113, Thms 3.1–3.2 / §3; Gottlieb, Ketcheson & Shu, SSP Runge–Kutta and Multistep Time
-Discretizations (2011), §6.2), SSPRK(3,3) and SSPRK(2,2): 1 (Shu & Osher 1988; Gottlieb & Shu,
-Math. Comp. 67 (1998)), SSP(10,4): 6 (Ketcheson 2008 §4; NodePy's SSP104 gives 5.99999999995).
+(2008) 2113; Gottlieb, Ketcheson & Shu, SSP Runge–Kutta and Multistep Time Discretizations
+(2011), ch. 6), SSPRK(3,3) and SSPRK(2,2): 1 (Shu & Osher 1988; Gottlieb & Shu,
+Math. Comp. 67 (1998)), SSP(10,4): 6 (Ketcheson 2008; NodePy's SSP104 gives 5.99999999995).
 The Butcher tableaux are checked against the forms the papers print, written out here."""
 import pytest
 import sympy as sp
@@ -32,8 +32,8 @@ def test_order_pinned_and_published_ssp_coefficient(spec, p, C):
 
 
 def test_tableaux_as_published():
-    """SSPRK(3,3) (Shu & Osher 1988, in Butcher form [GKS11] §4.2), SSPRK(4,3) (Kraaijevanger
-    1991; [GKS11] eq. (6.9)), SSPRK(s,2): aᵢⱼ = 1/(s − 1), bⱼ = 1/s ([GKS11] §6.2.1)."""
+    """SSPRK(3,3) (Shu & Osher 1988, in Butcher form), SSPRK(4,3) (Kraaijevanger 1991; NodePy's
+    SSPRK3(4) prints it), SSPRK(s,2): aᵢⱼ = 1/(s − 1), bⱼ = 1/s (NodePy's SSPRK2(4) prints s = 4)."""
     m = family("ssprk:3")
     assert m.A.tolist() == [[0, 0, 0], [1, 0, 0], [R(1, 4), R(1, 4), 0]] and list(m.b) == [R(1, 6), R(1, 6), R(2, 3)]
     m = family("ssprk3:4")
@@ -43,7 +43,7 @@ def test_tableaux_as_published():
         m = family("ssprk2", s=s)
         assert all(m.A[i, j] == (R(1, s - 1) if j < i else 0) for i in range(s) for j in range(s))
         assert list(m.b) == [R(1, s)] * s
-    # SSP(10,4) from its low-storage form (Ketcheson 2008 §4): c and b
+    # SSP(10,4) from its low-storage form (Ketcheson 2008): c and b
     m = family("ssp104")
     assert list(m.b) == [R(1, 10)] * 10
     assert list(m.c) == [0, R(1, 6), R(1, 3), R(1, 2), R(2, 3), R(1, 3), R(1, 2), R(2, 3), R(5, 6), 1]

@@ -160,14 +160,14 @@ def sdirk_alexander(s: int) -> RungeKutta:
 
 def shu_osher(alpha, beta, **meta) -> RungeKutta:
     r"""The RK method of the Shu–Osher arrays α, β ((s+1)×s, exact; Shu & Osher, J. Comput. Phys.
-    77 (1988); [GKS11] §3.2): y⁽¹⁾ = uₙ and, for i = 2, …, s + 1,
+    77 (1988); [GKS11] ch. 3): y⁽¹⁾ = uₙ and, for i = 2, …, s + 1,
 
         y⁽ⁱ⁾ = vᵢ uₙ + Σⱼ αᵢⱼ y⁽ʲ⁾ + h Σⱼ βᵢⱼ F(y⁽ʲ⁾),      vᵢ = 1 − Σⱼ αᵢⱼ,
 
     with u_{n+1} = y⁽ˢ⁺¹⁾ (the weight of uₙ may be written as αᵢ₁ or left to vᵢ: y⁽¹⁾ = uₙ, so
     the method is the same).  Stage i uses only earlier stages (α strictly lower triangular, β
     lower triangular), so the Butcher rows follow by substitution in ℚ:
-    aᵢ = Σⱼ αᵢⱼ aⱼ + βᵢ, bᵀ the same for the last row ([GKS11] eq. (3.5)).
+    aᵢ = Σⱼ αᵢⱼ aⱼ + βᵢ, bᵀ the same for the last row.
 
     α and β are exact (ints, sympy numbers): these are the families' constructor, not a reader of
     text (a tableau file or ``RungeKutta.from_lists`` parses entries).
@@ -226,7 +226,7 @@ _NODEPY = "coefficients as in NodePy (ketcheson/nodepy, runge_kutta_method.py"
 @lru_cache(maxsize=None)
 def ssprk2(s: int) -> RungeKutta:
     r"""SSPRK(s,2), Ketcheson's optimal s-stage second-order SSP method (s ≥ 2; SSP coefficient
-    s − 1, effective s−1/s, Ketcheson 2008 §3; [GKS11] §6.2.1): s − 1 forward-Euler steps of
+    s − 1, effective (s − 1)/s; Ketcheson 2008; [GKS11] ch. 6): s − 1 forward-Euler steps of
     size h/(s − 1), then u_{n+1} = uₙ/s + (s − 1)/s · (y⁽ˢ⁾ + h/(s − 1) F(y⁽ˢ⁾)).  Butcher
     form: every aᵢⱼ (j < i) is 1/(s − 1), every bⱼ is 1/s.
 
@@ -253,14 +253,14 @@ def _shu_osher33() -> RungeKutta:
     alpha = [[0, 0, 0], [1, 0, 0], [R(3, 4), R(1, 4), 0], [R(1, 3), 0, R(2, 3)]]
     beta = [[0, 0, 0], [1, 0, 0], [0, R(1, 4), 0], [0, 0, R(2, 3)]]
     return shu_osher(alpha, beta, name="SSPRK(3,3), Shu–Osher, SSP coefficient 1",
-                     source="C.-W. Shu, S. Osher, J. Comput. Phys. 77 (1988) 439-471, eq. (2.18); [GKS11] §4.2 "
+                     source="C.-W. Shu, S. Osher, J. Comput. Phys. 77 (1988) 439-471; [GKS11] ch. 2 "
                             "(NodePy's loadRKM('SSP33'))")
 
 
 @lru_cache(maxsize=None)
 def ssprk3(s: int) -> RungeKutta:
     r"""SSPRK(s,3), an optimal explicit third-order SSP method, for s = 3 (Shu & Osher 1988: SSP
-    coefficient 1) and s = n², n ≥ 2 (Ketcheson 2008 §3.2; [GKS11] §6.2.2: SSP coefficient
+    coefficient 1) and s = n², n ≥ 2 (Ketcheson 2008; [GKS11] ch. 6: SSP coefficient
     n² − n; s = 4 is Kraaijevanger's SSPRK(4,3)).  Those are the stage numbers with exact
     rational optimal methods; for other s the optimal coefficients are numerical.
 
@@ -296,13 +296,13 @@ def ssprk3(s: int) -> RungeKutta:
     beta[k][k - 1] = alpha[k][k - 1] / r
     alpha[k][(n - 1) * (n - 2) // 2] = sp.Rational(n, 2 * n - 1)
     return shu_osher(alpha, beta, name=f"SSPRK({s},3), optimal explicit SSP, SSP coefficient {s - n}",
-                     source=f"{_KETCHESON08}, §3.2; {_NODEPY} SSPRK3)")
+                     source=f"{_KETCHESON08}; {_NODEPY} SSPRK3)")
 
 
 @lru_cache(maxsize=None)
 def ssprk4(s: int) -> RungeKutta:
     r"""SSPRK(10,4), Ketcheson's ten-stage fourth-order SSP method (SSP coefficient 6; Ketcheson
-    2008 §4; [GKS11] §6.2.3), the only s with exact rational coefficients: no explicit 4-stage
+    2008; [GKS11] ch. 6), the only s with exact rational coefficients: no explicit 4-stage
     fourth-order method is SSP (Kraaijevanger 1991; Ruuth & Spiteri 2002), and the optimal
     methods with s = 5 … 9 (Spiteri & Ruuth's SSP(5,4)…) have irrational numerical coefficients.
 
@@ -324,7 +324,7 @@ def ssprk4(s: int) -> RungeKutta:
     alpha[10][4] = sp.Rational(9, 25)
     beta = [[a / 6 for a in row] for row in alpha]
     return shu_osher(alpha, beta, name="SSPRK(10,4), Ketcheson, SSP coefficient 6",
-                     source=f"{_KETCHESON08}, §4; {_NODEPY} loadRKM('SSP104'))")
+                     source=f"{_KETCHESON08}; {_NODEPY} loadRKM('SSP104'))")
 
 
 @lru_cache(maxsize=None)
@@ -342,7 +342,7 @@ def ssprk(s: int) -> RungeKutta:
     """
     if s == 1:
         return shu_osher([[0], [1]], [[0], [1]], name="SSPRK(1,1), forward Euler, SSP coefficient 1",
-                         source="[GKS11] §2.1")
+                         source="[GKS11] ch. 2")
     if s == 2:
         return ssprk2(2)
     if s == 3:
