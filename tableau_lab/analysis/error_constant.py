@@ -1,7 +1,8 @@
 r"""The classical error constant of a linear multistep method, exactly.
 
 For Σⱼ₌₀ᵏ αⱼ y_{n+j} = h Σⱼ₌₀ᵏ βⱼ f_{n+j} the difference operator ([HNW93] Hairer, Nørsett &
-Wanner, *Solving ODEs I*, §III.2, eq. (2.3); Henrici 1962 §5.1; Lambert 1991 §3.5)
+Wanner, *Solving ODEs I*, §III.2, eq. (2.3); P. Henrici, *Discrete Variable Methods in ODEs*,
+1962; J. D. Lambert, *Numerical Methods for Ordinary Differential Systems*, 1991, §3.5)
 
     L(y, x, h) = Σⱼ αⱼ y(x + jh) − h Σⱼ βⱼ y′(x + jh) = Σ_q C_q h^q y^(q)(x),
 
@@ -13,7 +14,7 @@ vanishes to order p (C₀ = … = C_p = 0) and C_{p+1} ≠ 0 is the error consta
 * ``C`` = C_{p+1} with αₖ = 1 — the value Lambert's tables give (BDF2: −2/9, Adams–Bashforth 2:
   5/12);
 * ``normalised`` = C_{p+1}/σ(1), σ(1) = Σ βⱼ — invariant under scaling (Henrici's error
-  constant, the one in the global error's leading term [HNW93] III.4; BDF k: −1/(k + 1)).
+  constant; BDF k: −1/(k + 1)).
   For Adams methods σ(1) = 1 and the two agree.
 
 The method is a linear multistep method when :func:`multistep.as_lmm` finds its (α, β): the
