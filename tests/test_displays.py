@@ -138,7 +138,9 @@ def _results() -> list:
                         constraints=("order=2",), candidates=(), evaluations=0)]
     parametric = stability_report(loads('{"name": "sdirk_g", "kind": "rk", "A": [["g", 0], ["1 - 2*g", "g"]], '
                                         '"b": ["1/2", "1/2"]}'))
-    return out + [parametric, Combined((out[7], out[-10]), ("parasitism", "series")), Combined((out[0], out[7]))]
+    from tableau_lab.analysis.error_constant import error_constant
+    return out + [parametric, error_constant(family("bdf:3")), Combined((out[7], out[-10]), ("parasitism", "series")),
+                  Combined((out[0], out[7]))]
 
 
 @pytest.fixture(scope="module")

@@ -25,14 +25,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.polys.matrices import DomainMatrix
 
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from .results import Result
 
-__all__ = ["ssp_coefficient", "SSPResult", "SSP_MAX_STAGES"]
+__all__ = ["ssp_coefficient", "SSPResult", "SSP_MAX_STAGES", "SSP_MAX_EXPLICIT_STAGES"]
 
-SSP_MAX_STAGES = 12          # (s+1)×(s+1) inverse with a symbolic r: beyond this, not computed
+#: (s+1)×(s+1) adjugate with a symbolic r and the real roots of its entries: beyond this many
+#: stages, not computed (a dense 12-stage tableau with positive entries: about 11 s)
+SSP_MAX_STAGES = 12
+#: the same for explicit methods, whose entries are polynomials of degree < s (SSPRK(25,3): 2.5 s)
+SSP_MAX_EXPLICIT_STAGES = 25
 _R = sp.Symbol("r", nonnegative=True)
 
 
@@ -79,19 +84,27 @@ def ssp_coefficient(m: Method) -> SSPResult:
     for name, x in entries:
         if sign(K, element(K, x)) < 0:
             return SSPResult(m.name, sp.Integer(0), f"at r = 0: {name} < 0")
-    if s > SSP_MAX_STAGES:
-        return SSPResult(m.name, None, f"{s} stages exceed SSP_MAX_STAGES = {SSP_MAX_STAGES}")
+    limit, label = ((SSP_MAX_EXPLICIT_STAGES, "SSP_MAX_EXPLICIT_STAGES") if m.explicit
+                    else (SSP_MAX_STAGES, "SSP_MAX_STAGES"))
+    if s > limit:
+        return SSPResult(m.name, None, f"{s} stages exceed {label} = {limit}")
     Kmat = sp.zeros(s + 1, s + 1)
     Kmat[:s, :s] = m.A
     Kmat[s, :s] = m.b.T
-    e = sp.ones(s + 1, 1)
+    # det(I + rK) and K·adj(I + rK) in K[r] (division-free: sympy's DomainMatrix.adj_det)
+    ring = K[_R]
     I_rK = sp.eye(s + 1) + _R * Kmat
-    det = sp.Poly(sp.expand(I_rK.det()), _R, domain=K)
-    M = (Kmat * I_rK.adjugate()).applyfunc(sp.expand)
-    v = (det.as_expr() * e - _R * M * e).applyfunc(sp.expand)
-    named = [(f"K(I + rK)⁻¹ entry ({i + 1}, {j + 1})", M[i, j]) for i in range(s + 1) for j in range(s + 1)]
-    named += [(f"e − rK(I + rK)⁻¹e entry {i + 1}", v[i]) for i in range(s + 1)]
-    nums = [(name, sp.Poly(n, _R, domain=K)) for name, n in named if n != 0]
+    Kdm, Idm = (DomainMatrix([[ring.from_sympy(x) for x in M.row(i)] for i in range(s + 1)], (s + 1, s + 1), ring)
+                for M in (Kmat, I_rK))
+    adj, det_dm = Idm.adj_det()
+    Mdm = Kdm * adj
+    e = DomainMatrix([[ring.one] for _ in range(s + 1)], (s + 1, 1), ring)
+    vdm = e * det_dm - Mdm * e * ring.from_sympy(_R)
+    poly = lambda x: sp.Poly(ring.to_sympy(x), _R, domain=K)  # noqa: E731
+    det = poly(det_dm)
+    named = [(f"K(I + rK)⁻¹ entry ({i + 1}, {j + 1})", Mdm[i, j].element) for i in range(s + 1) for j in range(s + 1)]
+    named += [(f"e − rK(I + rK)⁻¹e entry {i + 1}", vdm[i, 0].element) for i in range(s + 1)]
+    nums = [(name, poly(n)) for name, n in named if n]
 
     def sgn(p, x):
         return sign_at(p, x, K)

@@ -14,7 +14,9 @@ import sympy as sp
 
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..exact.multistep import as_lmm
 from .results import Result
+from .error_constant import ErrorConstantResult, error_constant
 from .glm_order import GLMOrderResult
 from .order import order as order_of
 from .parasitism import ParasitismResult, growth_parameters
@@ -52,6 +54,7 @@ class VerifyResult(Result):
     failed: tuple
     parasitism: ParasitismResult | None = None
     unchecked: dict = field(default_factory=dict)   # claim -> why it cannot be checked (counted as failed)
+    lmm: ErrorConstantResult | None = None          # a linear multistep method: its order and error constant
 
     @property
     def ok(self) -> bool:
@@ -109,6 +112,8 @@ class VerifyResult(Result):
             else:
                 parts.append(f"order: {o.order} relative to its starting method ({o.order_identity_start} with θ ≡ 0), "
                              f"stage order {o.stage_order}")
+                if self.lmm is not None:
+                    parts.append(f"  as a linear multistep method: {self.lmm.line}")
             if self.parameters:
                 parts.append(self._parameter_order())
         elif "order" in self.unchecked:
@@ -135,6 +140,7 @@ class VerifyResult(Result):
             "rk_symplectic": None if self.rk_symplectic is None else self.rk_symplectic.to_json(),
             "order": None if self.order is None else self._order_json(),
             "parasitism": None if self.parasitism is None else self.parasitism.to_json(),
+            "lmm": None if self.lmm is None else self.lmm.to_json(),
             "claims": {"checked": list(self.claims), "failed": list(self.failed),
                        "claimed": dict(self.claims), "found": dict(self.found), "unchecked": dict(self.unchecked)},
         }
@@ -202,5 +208,11 @@ def verify(m: Method) -> VerifyResult:
     found = {k: CHECKS[k](partial) for k in claims if k not in unchecked}
     unchecked = {k: v for k, v in unchecked.items() if k in claims}
     failed = tuple(k for k in claims if k in unchecked or found[k] != claims[k])
+    lmm = None
+    if m.kind == "glm" and as_lmm(m) is not None:
+        try:
+            lmm = error_constant(m)
+        except ValueError:              # not consistent: the order analysis says so
+            lmm = None
     return VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, claims, found, failed,
-                        par, unchecked)
+                        par, unchecked, lmm)

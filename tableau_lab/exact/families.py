@@ -1,5 +1,7 @@
 """Runge–Kutta families generated exactly for any number of stages: the collocation methods
-Gauss–Legendre, Radau IIA and Lobatto IIIA ([HW96] §IV.5).
+Gauss–Legendre, Radau IIA and Lobatto IIIA ([HW96] §IV.5), their relatives, and the explicit
+strong-stability-preserving (SSP) methods in their Shu–Osher form ([GKS11] Gottlieb, Ketcheson &
+Shu, *Strong Stability Preserving Runge–Kutta and Multistep Time Discretizations*, 2011).
 
 Each is built in ℚ on the roots of its node polynomial (:mod:`conjugate`: Ã, b̃ from C(s) and
 B(s)); its tableau is written with the nodes as real radicals where they have them (Gauss
@@ -24,11 +26,15 @@ from .field import field_of, from_dm, to_dm
 from .methods import RungeKutta
 
 __all__ = ["gauss", "radau_ia", "radau_iia", "lobatto_iiia", "lobatto_iiib", "lobatto_iiic", "lobatto_iiic_star",
-           "sdirk_crouzeix", "sdirk_alexander", "MAX_STAGES"]
+           "sdirk_crouzeix", "sdirk_alexander", "MAX_STAGES", "shu_osher", "ssprk", "ssprk2", "ssprk3", "ssprk4",
+           "MAX_SSP_STAGES"]
 
 #: the largest s generated: the order analysis of 8-stage Gauss checks 376 465 trees (order ≤ 16
 #: and one of order 17) in about 14 s; each further stage multiplies that by about seven
 MAX_STAGES = 8
+#: the largest s of the explicit SSP families: an explicit method's order is pinned in well under
+#: a second at any such size, and SSPRK(25,3) is the fifth of Ketcheson's n² family
+MAX_SSP_STAGES = 25
 
 
 def _method(P, name: str, source: str, alg=None) -> RungeKutta:
@@ -148,3 +154,199 @@ def sdirk_alexander(s: int) -> RungeKutta:
         raise ValueError(f"Alexander's SDIRK methods are generated for s = 2, 3, not {s}")
     return RungeKutta.from_lists(A, b, name=f"SDIRK (Alexander), {s} stages, order {s}, L-stable",
                                  source="R. Alexander, SIAM J. Numer. Anal. 14 (1977) 1006-1021; [HW96] IV.6")
+
+
+# ------------------------------------------------------------------ explicit SSP Runge–Kutta methods
+
+def shu_osher(alpha, beta, **meta) -> RungeKutta:
+    r"""The RK method of the Shu–Osher arrays α, β ((s+1)×s, exact; Shu & Osher, J. Comput. Phys.
+    77 (1988); [GKS11] ch. 3): y⁽¹⁾ = uₙ and, for i = 2, …, s + 1,
+
+        y⁽ⁱ⁾ = vᵢ uₙ + Σⱼ αᵢⱼ y⁽ʲ⁾ + h Σⱼ βᵢⱼ F(y⁽ʲ⁾),      vᵢ = 1 − Σⱼ αᵢⱼ,
+
+    with u_{n+1} = y⁽ˢ⁺¹⁾ (the weight of uₙ may be written as αᵢ₁ or left to vᵢ: y⁽¹⁾ = uₙ, so
+    the method is the same).  Stage i uses only earlier stages (α strictly lower triangular, β
+    lower triangular), so the Butcher rows follow by substitution in ℚ:
+    aᵢ = Σⱼ αᵢⱼ aⱼ + βᵢ, bᵀ the same for the last row.
+
+    α and β are exact (ints, sympy numbers): these are the families' constructor, not a reader of
+    text (a tableau file or ``RungeKutta.from_lists`` parses entries).
+
+    >>> shu_osher([[0], [1]], [[0], [1]]).b.T          # forward Euler
+    Matrix([[1]])
+    >>> half = sp.Rational(1, 2)
+    >>> heun = shu_osher([[0, 0], [1, 0], [half, half]], [[0, 0], [1, 0], [0, half]])
+    >>> heun.A, heun.b.T
+    (Matrix([
+    [0, 0],
+    [1, 0]]), Matrix([[1/2, 1/2]]))
+    """
+    alpha, beta = _exact_matrix(alpha, "α"), _exact_matrix(beta, "β")
+    s = alpha.cols
+    if alpha.shape != (s + 1, s) or beta.shape != (s + 1, s) or s < 1:
+        raise ValueError(f"Shu–Osher arrays are (s+1)×s, the same shape: got α {alpha.shape[0]}×{alpha.shape[1]}, "
+                         f"β {beta.shape[0]}×{beta.shape[1]}")
+    for i in range(s):
+        for j in range(i, s):
+            if alpha[i, j] != 0 or (j > i and beta[i, j] != 0):
+                what = "α" if alpha[i, j] != 0 else "β"
+                raise ValueError(f"{what}[{i + 1},{j + 1}] ≠ 0: stage {i + 1} may use only earlier stages "
+                                 "(α strictly lower triangular, β lower triangular)")
+    rows = []
+    for i in range(s + 1):
+        rows.append([beta[i, j] + sum((alpha[i, l] * rows[l][j] for l in range(min(i, s))), sp.Integer(0))
+                     for j in range(s)])
+    return RungeKutta.from_lists(rows[:s], rows[s], **meta)
+
+
+def _exact_matrix(M, what: str) -> sp.Matrix:
+    rows = M.tolist() if isinstance(M, sp.MatrixBase) else [list(r) for r in M]
+    for i, row in enumerate(rows, 1):
+        for j, e in enumerate(row, 1):
+            if isinstance(e, bool) or not isinstance(e, (int, sp.Rational)):
+                raise ValueError(f"{what}[{i},{j}] = {e!r}: Shu–Osher entries here are exact rationals (int or "
+                                 "sympy Rational)")
+    return sp.Matrix(rows)
+
+
+def _ssp_size(s, what: str):
+    if not isinstance(s, int) or isinstance(s, bool) or not 1 <= s <= MAX_SSP_STAGES:
+        raise ValueError(f"{what}: the number of stages must be an integer 1 … {MAX_SSP_STAGES}, not {s!r}")
+
+
+def _zeros(s):
+    return [[sp.Integer(0)] * s for _ in range(s + 1)]
+
+
+_KETCHESON08 = ("D. I. Ketcheson, Highly efficient strong stability preserving Runge-Kutta methods with low-storage "
+                "implementations, SIAM J. Sci. Comput. 30 (2008) 2113-2136")
+_NODEPY = "coefficients as in NodePy (ketcheson/nodepy, runge_kutta_method.py"
+
+
+@lru_cache(maxsize=None)
+def ssprk2(s: int) -> RungeKutta:
+    r"""SSPRK(s,2), Ketcheson's optimal s-stage second-order SSP method (s ≥ 2; SSP coefficient
+    s − 1, effective (s − 1)/s; Ketcheson 2008; [GKS11] ch. 6): s − 1 forward-Euler steps of
+    size h/(s − 1), then u_{n+1} = uₙ/s + (s − 1)/s · (y⁽ˢ⁾ + h/(s − 1) F(y⁽ˢ⁾)).  Butcher
+    form: every aᵢⱼ (j < i) is 1/(s − 1), every bⱼ is 1/s.
+
+    >>> ssprk2(3).A, ssprk2(3).b.T
+    (Matrix([
+    [  0,   0, 0],
+    [1/2,   0, 0],
+    [1/2, 1/2, 0]]), Matrix([[1/3, 1/3, 1/3]]))
+    """
+    _ssp_size(s, "SSPRK(s,2)")
+    if s < 2:
+        raise ValueError(f"SSPRK(s,2) has at least 2 stages (one is forward Euler, order 1), not {s}")
+    alpha, beta = _zeros(s), _zeros(s)
+    r = sp.Integer(s - 1)
+    for i in range(1, s):
+        alpha[i][i - 1], beta[i][i - 1] = sp.Integer(1), 1 / r
+    alpha[s][0], alpha[s][s - 1], beta[s][s - 1] = sp.Rational(1, s), sp.Rational(s - 1, s), sp.Rational(1, s)
+    return shu_osher(alpha, beta, name=f"SSPRK({s},2), optimal explicit SSP, SSP coefficient {s - 1}",
+                     source=f"{_KETCHESON08}; {_NODEPY} SSPRK2)")
+
+
+def _shu_osher33() -> RungeKutta:
+    R = sp.Rational
+    alpha = [[0, 0, 0], [1, 0, 0], [R(3, 4), R(1, 4), 0], [R(1, 3), 0, R(2, 3)]]
+    beta = [[0, 0, 0], [1, 0, 0], [0, R(1, 4), 0], [0, 0, R(2, 3)]]
+    return shu_osher(alpha, beta, name="SSPRK(3,3), Shu–Osher, SSP coefficient 1",
+                     source="C.-W. Shu, S. Osher, J. Comput. Phys. 77 (1988) 439-471; [GKS11] ch. 2 "
+                            "(NodePy's loadRKM('SSP33'))")
+
+
+@lru_cache(maxsize=None)
+def ssprk3(s: int) -> RungeKutta:
+    r"""SSPRK(s,3), an optimal explicit third-order SSP method, for s = 3 (Shu & Osher 1988: SSP
+    coefficient 1) and s = n², n ≥ 2 (Ketcheson 2008; [GKS11] ch. 6: SSP coefficient
+    n² − n; s = 4 is Kraaijevanger's SSPRK(4,3)).  Those are the stage numbers with exact
+    rational optimal methods; for other s the optimal coefficients are numerical.
+
+    The n² family in Shu–Osher form: forward-Euler steps of size h/(n² − n) from stage to stage,
+    except at stage k = n(n + 1)/2 + 1, which is (n − 1)/(2n − 1) · (y⁽ᵏ⁻¹⁾ + h/(n² − n) F) plus
+    n/(2n − 1) · y⁽ᵐ⁾, m = (n − 1)(n − 2)/2 + 1.
+
+    >>> ssprk3(4).A, ssprk3(4).b.T
+    (Matrix([
+    [  0,   0,   0, 0],
+    [1/2,   0,   0, 0],
+    [1/2, 1/2,   0, 0],
+    [1/6, 1/6, 1/6, 0]]), Matrix([[1/6, 1/6, 1/6, 1/2]]))
+    >>> ssprk3(5)
+    Traceback (most recent call last):
+    ...
+    ValueError: SSPRK(s,3) is built exactly for s = 3 and s = n² (4, 9, 16, 25), not 5: the optimal methods for other s have numerical coefficients
+    """
+    _ssp_size(s, "SSPRK(s,3)")
+    if s == 3:
+        return _shu_osher33()
+    n = sp.integer_nthroot(s, 2)[0]
+    if n * n != s or n < 2:
+        squares = ", ".join(str(k * k) for k in range(2, MAX_SSP_STAGES + 1) if k * k <= MAX_SSP_STAGES)
+        raise ValueError(f"SSPRK(s,3) is built exactly for s = 3 and s = n² ({squares}), not {s}: the optimal "
+                         "methods for other s have numerical coefficients")
+    alpha, beta = _zeros(s), _zeros(s)
+    r = sp.Integer(s - n)
+    for i in range(1, s + 1):
+        alpha[i][i - 1], beta[i][i - 1] = sp.Integer(1), 1 / r
+    k = n * (n + 1) // 2                                  # 0-based row of the stage that mixes
+    alpha[k][k - 1] = sp.Rational(n - 1, 2 * n - 1)
+    beta[k][k - 1] = alpha[k][k - 1] / r
+    alpha[k][(n - 1) * (n - 2) // 2] = sp.Rational(n, 2 * n - 1)
+    return shu_osher(alpha, beta, name=f"SSPRK({s},3), optimal explicit SSP, SSP coefficient {s - n}",
+                     source=f"{_KETCHESON08}; {_NODEPY} SSPRK3)")
+
+
+@lru_cache(maxsize=None)
+def ssprk4(s: int) -> RungeKutta:
+    r"""SSPRK(10,4), Ketcheson's ten-stage fourth-order SSP method (SSP coefficient 6; Ketcheson
+    2008; [GKS11] ch. 6), the only s with exact rational coefficients: no explicit 4-stage
+    fourth-order method is SSP (Kraaijevanger 1991; Ruuth & Spiteri 2002), and the optimal
+    methods with s = 5 … 9 (Spiteri & Ruuth's SSP(5,4)…) have irrational numerical coefficients.
+
+    Shu–Osher form: forward-Euler steps of size h/6, except y⁽⁶⁾ = 3/5 uₙ + 2/5 (y⁽⁵⁾ + h/6 F(y⁽⁵⁾))
+    and u_{n+1} = 1/25 uₙ + 9/25 (y⁽⁵⁾ + h/6 F(y⁽⁵⁾)) + 3/5 (y⁽¹⁰⁾ + h/6 F(y⁽¹⁰⁾)).
+
+    >>> ssprk4(10).b.T
+    Matrix([[1/10, 1/10, 1/10, 1/10, 1/10, 1/10, 1/10, 1/10, 1/10, 1/10]])
+    """
+    _ssp_size(s, "SSPRK(s,4)")
+    if s != 10:
+        raise ValueError(f"SSPRK(s,4) is built exactly for s = 10 only (Ketcheson's SSP(10,4)), not {s}: no 4-stage "
+                         "fourth-order method is SSP, and the optimal ones with 5 … 9 stages have numerical coefficients")
+    alpha, beta = _zeros(10), _zeros(10)
+    for i in range(1, 11):
+        alpha[i][i - 1] = sp.Integer(1)
+    alpha[5][4] = sp.Rational(2, 5)
+    alpha[10][9] = sp.Rational(3, 5)
+    alpha[10][4] = sp.Rational(9, 25)
+    beta = [[a / 6 for a in row] for row in alpha]
+    return shu_osher(alpha, beta, name="SSPRK(10,4), Ketcheson, SSP coefficient 6",
+                     source=f"{_KETCHESON08}; {_NODEPY} loadRKM('SSP104'))")
+
+
+@lru_cache(maxsize=None)
+def ssprk(s: int) -> RungeKutta:
+    r"""SSPRK(s,s) for s = 1, 2, 3: the optimal s-stage explicit SSP methods of order s, SSP
+    coefficient 1 — forward Euler, Heun's SSPRK(2,2) and Shu & Osher's SSPRK(3,3) (J. Comput.
+    Phys. 77 (1988); Gottlieb & Shu, Math. Comp. 67 (1998)).  There is none for s = 4
+    (Kraaijevanger 1991): ``ssprk4(10)`` is the classical fourth-order SSP method.
+
+    >>> ssprk(3).A, ssprk(3).b.T
+    (Matrix([
+    [  0,   0, 0],
+    [  1,   0, 0],
+    [1/4, 1/4, 0]]), Matrix([[1/6, 1/6, 2/3]]))
+    """
+    if s == 1:
+        return shu_osher([[0], [1]], [[0], [1]], name="SSPRK(1,1), forward Euler, SSP coefficient 1",
+                         source="[GKS11] ch. 2")
+    if s == 2:
+        return ssprk2(2)
+    if s == 3:
+        return _shu_osher33()
+    _ssp_size(s, "SSPRK(s,s)")
+    raise ValueError(f"SSPRK(s,s) exists for s = 1, 2, 3, not {s}: no {s}-stage order-{s} explicit method is SSP "
+                     "(Kraaijevanger 1991); ssprk4:10 is SSP(10,4)")

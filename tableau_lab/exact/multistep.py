@@ -22,6 +22,8 @@ Matrix([
 Matrix([[1, 3/2, -1/2]])
 >>> lmm_coefficients("adams_moulton", 2)
 ([0, -1, 1], [-1/12, 2/3, 5/12])
+>>> as_lmm(bdf(2))                  # and back: (α₀ … αₖ, β₀ … βₖ), αₖ = 1
+([1/3, -4/3, 1], [0, 0, 2/3])
 """
 from __future__ import annotations
 
@@ -29,8 +31,8 @@ import sympy as sp
 
 from .methods import GeneralLinearMethod, MethodError
 
-__all__ = ["lmm", "lmm_coefficients", "bdf", "adams_bashforth", "adams_moulton", "nystrom", "milne_simpson",
-           "FAMILIES"]
+__all__ = ["lmm", "lmm_coefficients", "as_lmm", "bdf", "adams_bashforth", "adams_moulton", "nystrom",
+           "milne_simpson", "FAMILIES"]
 
 _T = sp.Symbol("t")
 
@@ -111,6 +113,78 @@ def lmm(alpha, beta, *, name: str, source: str = "", **meta) -> GeneralLinearMet
         for i in range(1, m):
             V[ky + i, ky + i - 1] = 1         # derivatives shifted
     return GeneralLinearMethod(A=A, U=U, B=B, V=V, c=sp.Matrix([1]), name=name, source=source, **meta)
+
+
+def as_lmm(m) -> tuple[list, list] | None:
+    """(α₀ … αₖ, β₀ … βₖ), αₖ = 1, when the method ``m`` is a linear multistep method written
+    as a GLM, else None.
+
+    * The GLM that :func:`lmm` builds (the families here, NodePy's multistep methods through
+      :mod:`interop`, a tableau file written from one): U's row split into past values and past
+      derivatives where B's column has its 1, the GLM rebuilt and compared in every matrix.
+    * Any other one-stage GLM whose stage is the solution value — the stage is the first output
+      (B₁₁ = A₁₁, V's first row = U) or the first input (A = 0, U = e₁ᵀ), as in the shipped
+      ``adams_bashforth2`` and ``leapfrog`` files: its stage values Yₙ satisfy the LMM
+      ρ(E)Yₙ = h σ(E)F(Yₙ) with ρ(w) = det(wI − V) and βⱼ = cⱼ A₁₁ + Σ_{i>j} cᵢ U V^{i−1−j} B
+      (cᵢ the coefficients of ρ; the past inputs drop out since ρ(V) = 0, Cayley–Hamilton), with
+      the common factor of ρ and σ removed; V without free parameters.  ([B16] §50 writes LMMs as
+      one-stage GLMs; this is the converse for the stage values.)
+
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> as_lmm(load("adams_bashforth2")), as_lmm(load("leapfrog"))
+    (([0, -1, 1], [-1/2, 3/2, 0]), ([-1, 0, 1], [0, 2, 0]))
+    """
+    if getattr(m, "kind", None) != "glm" or m.s != 1:
+        return None
+    return _as_built(m) or _stage_values(m)
+
+
+def _stage_values(m) -> tuple[list, list] | None:
+    """The LMM of the stage values of a one-stage GLM whose stage is the solution (:func:`as_lmm`)."""
+    a, U, B, V, r = m.A[0, 0], m.U, m.B, m.V, m.r
+    first_output = B[0, 0] == a and V.row(0) == U
+    first_input = a == 0 and list(U) == [1] + [0] * (r - 1)
+    if not (first_output or first_input) or V.free_symbols:      # det(wI − V) of a parametric V: not attempted
+        return None
+    w = sp.Dummy("w")
+    c = V.charpoly(w).all_coeffs()[::-1]                     # c[i]: the coefficient of wⁱ, c[r] = 1
+    P, powers = B, []                                        # U Vᵗ B, t = 0 … r − 1
+    for _ in range(r):
+        powers.append((U * P)[0, 0])
+        P = V * P
+    beta = [c[j] * a + sum((c[i] * powers[i - 1 - j] for i in range(j + 1, r + 1)), sp.Integer(0))
+            for j in range(r)] + [c[r] * a]
+    rho, sigma = sp.Poly(c[::-1], w), sp.Poly(beta[::-1], w)
+    g = sp.gcd(rho, sigma)
+    rho, sigma = sp.quo(rho, g), sp.quo(sigma, g)
+    k = rho.degree()
+    if k < 1:
+        return None
+    lead = rho.LC()
+    alpha = [sp.cancel(rho.coeff_monomial(w ** j) / lead) for j in range(k + 1)]
+    beta = [sp.cancel(sigma.coeff_monomial(w ** j) / lead) for j in range(k + 1)]
+    return alpha, beta
+
+
+def _as_built(m) -> tuple[list, list] | None:
+    """(α, β) when ``m`` is exactly the GLM :func:`lmm` builds of them (:func:`as_lmm`)."""
+    r, u = m.r, list(m.U.row(0))
+    ones = [i for i in range(1, r) if m.B[i, 0] != 0]        # B's column: h f(Y) enters after the ky y values
+    if len(ones) > 1:
+        return None
+    ky = ones[0] if ones else r
+    k = max(ky, r - ky)
+    alpha, beta = [sp.Integer(0)] * (k + 1), [sp.Integer(0)] * (k + 1)
+    alpha[k], beta[k] = sp.Integer(1), m.A[0, 0]
+    for i in range(1, ky + 1):
+        alpha[k - i] = -u[i - 1]
+    for i in range(1, r - ky + 1):
+        beta[k - i] = u[ky + i - 1]
+    try:
+        g = lmm(alpha, beta, name=m.name)
+    except MethodError:
+        return None
+    return (alpha, beta) if g.matrices() == m.matrices() else None
 
 
 def _family(family: str, k: int) -> GeneralLinearMethod:
