@@ -171,3 +171,16 @@ def test_module_imports_no_matplotlib():
             "print(sorted(m for m in ('matplotlib', 'scipy', 'numba', 'dask') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_exact_analysis_marks_bdf4_sector():
+    # BDF4 is A(α)-stable with α = 73.35° (HW II, Table V.2.3); the plot marks what it is given
+    from tableau_lab.analysis.stability import stability_report
+    report = stability_report(load("bdf:4"))
+    ax = ip.plot_stability_region("bdf:4", analysis=report)
+    (edge,) = [line for line in ax.lines if "sector" in str(line.get_label())]
+    x, y = edge.get_xdata()[1], edge.get_ydata()[1]
+    assert abs(np.degrees(np.arctan2(y, -x)) - 73.35) < 0.005
+    assert "73.35" in edge.get_label()
+    plain = ip.plot_stability_region("bdf:4")
+    assert plain.get_xlim() == ax.get_xlim() and plain.get_legend() is None    # nothing marked, same window

@@ -44,7 +44,8 @@ import sympy as sp
 
 from ..exact.methods import Method
 from . import figure_style as style
-from .stability_plots import coefficient_array, enclosing_window, locus_bounded, locus_points, root_moduli, shade_region
+from .stability_plots import (coefficient_array, draw_moduli, enclosing_window, finite_float, locus_points, mark_intervals, root_moduli,
+                              shade_region)
 
 __all__ = ["plot_stability_region", "plot_order_star", "plot_imaginary_axis", "stability_polynomial_array",
            "region_window", "order_star_modulus", "REGION_POINTS", "GLM_POINTS", "AXIS_POINTS", "CIRCLE_TOL", "STAR_HALF"]
@@ -193,15 +194,26 @@ def _box(window) -> tuple:
     return box
 
 
-def plot_stability_region(method, ax=None, window=None, n: int | None = None):
+def plot_stability_region(method, ax=None, window=None, n: int | None = None, analysis=None):
     """The stability region {z : every root w of P(w, z) has |w| ≤ 1} (for an RK method
     |R(z)| ≤ 1) shaded, its boundary drawn, in ``window`` (xmin, xmax, ymin, ymax) or the window of
-    :func:`region_window`, on an n × n grid (default REGION_POINTS, GLM_POINTS for r ≥ 2); returns the matplotlib Axes ([HW96] §IV.2; [B16] ch. 5).
+    :func:`region_window`, on an n × n grid (default REGION_POINTS, GLM_POINTS for r ≥ 2); returns
+    the matplotlib Axes ([HW96] §IV.2; [B16] ch. 5).  ``analysis``: the method's exact
+    ``stability(m)`` or ``stability_report(m)``, when computed, marks the imaginary interval ±iY*,
+    the real interval [−β, 0] and the A(α) sector (and the window encloses them): the plot itself
+    computes none of them.
 
     >>> import matplotlib.pyplot as plt
     >>> ax = plot_stability_region("bdf:4", window=(-5, 15, -10, 10))
     >>> [float(v) for v in ax.get_xlim()], "stability region" in ax.get_title()
     ([-5.0, 15.0], True)
+    >>> plt.close(ax.figure)
+    >>> from tableau_lab.analysis.stability import stability_report
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> ax = plot_stability_region("rk4", analysis=stability_report(load("rk4")))
+    >>> print(*[t.get_text() for t in ax.get_legend().get_texts()], sep="\\n")
+    $|y| < Y^* = 2.8284$ on the imaginary axis
+    $[-\\beta, 0]$, $\\beta = 2.7853$ on the real axis
     >>> plt.close(ax.figure)
     """
     m = _method(method)
@@ -209,7 +221,14 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None):
     if variable != "z":
         raise TypeError(f"{m.name}: a partitioned method has no region in the z-plane "
                         "(it is analysed on the harmonic oscillator: plot_imaginary_axis)")
-    box = _box(window) if window is not None else enclosing_window(locus_points(C, bounded))
+    linear = getattr(analysis, "linear", analysis)
+    Y = getattr(linear, "imaginary_interval", None)
+    beta = getattr(getattr(analysis, "real", None), "beta", None)
+    sector = getattr(analysis, "sector", None)
+    if window is not None:
+        box = _box(window)
+    else:
+        box = enclosing_window(locus_points(C, bounded), finite_float(beta), finite_float(Y))
     if n is None:
         n = REGION_POINTS if C.shape[0] == 2 else GLM_POINTS
     if C.shape[0] == 2:                    # r = 1: |R(z)| = |N(z)/D(z)|
@@ -223,6 +242,8 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None):
             return root_moduli(C, Z).max(axis=-1)
     ax = _axes(ax)
     shade_region(ax, rho, box, n)
+    if mark_intervals(ax, Y, beta, sector):
+        ax.legend(loc="upper left", fontsize=style.SMALL_FONT)     # in the axes: the figure may be the user's
     style.title(ax, f"{style.plain(m.name)}: stability region (shaded)")
     return ax
 
@@ -296,7 +317,6 @@ def plot_imaginary_axis(method, ax=None, top=None, exact: bool = True, n: int = 
     if top is None:
         top = 4.0 if Y is None or Y == 0 or Y == sp.oo else 1.6 * float(Y)
     ax = _axes(ax, (style.PRINT_WIDTH, 3.4))
-    from .stability_plots import draw_moduli
     draw_moduli(ax, C, variable, float(top), n, Y, kind)
     style.title(ax, f"{style.plain(m.name)}: root moduli on the {'imaginary axis' if variable == 'z' else 'axis'}")
     return ax

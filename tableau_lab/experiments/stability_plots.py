@@ -35,7 +35,7 @@ import sympy as sp
 from . import figure_style as style
 
 __all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_points", "locus_bounded", "window",
-           "enclosing_window", "parse_window", "shade_region", "draw_moduli",
+           "enclosing_window", "finite_float", "parse_window", "shade_region", "mark_intervals", "draw_moduli",
            "figure_stem", "figure_paths", "draw_region", "draw_axis_moduli", "draw_stability"]
 
 LOCUS_POINTS = 4096        # θ samples of the boundary locus
@@ -137,7 +137,8 @@ def locus_points(C: np.ndarray, bounded: bool, n: int = LOCUS_POINTS) -> np.ndar
     return pts
 
 
-def _finite(v) -> float | None:
+def finite_float(v) -> float | None:
+    """An exact value (sympy number, ∞ or None) as a float, None when it is None or not finite."""
     if v is None:
         return None
     v = sp.sympify(v)
@@ -149,7 +150,7 @@ def window(result, real=None, sector=None) -> tuple:
     :func:`enclosing_window` of the boundary locus, −β of the real interval (``real``: a
     ``RealIntervalResult``) and ±iY*."""
     return enclosing_window(boundary_locus(result.polynomial, result.variable),
-                            _finite(getattr(real, "beta", None)), _finite(result.imaginary_interval))
+                            finite_float(getattr(real, "beta", None)), finite_float(result.imaginary_interval))
 
 
 def enclosing_window(points, beta: float | None = None, Y: float | None = None) -> tuple:
@@ -238,13 +239,29 @@ def grid(box, n: int) -> tuple:
     return xs, ys, xs[None, :] + 1j * ys[:, None]
 
 
+def _mirrored(rho, Zg) -> np.ndarray:
+    """ρ on a grid symmetric about the real axis, evaluated on its upper half only: ρ(z̄) = ρ(z), as
+    the method's polynomials have real coefficients (half the eigenvalue problems of a GLM's grid).
+
+    >>> f = lambda Z: np.abs(Z - 0.3 - 0.7j) * np.abs(Z - 1j)          # not symmetric: the halves differ
+    >>> g = lambda Z: np.abs(Z ** 2 - 0.6 * Z + 0.58)                    # real coefficients
+    >>> Z = grid((-1, 2, -3, 3), 7)[2]
+    >>> bool(np.allclose(_mirrored(g, Z), g(Z))), bool(np.allclose(_mirrored(f, Z), f(Z)))
+    (True, False)
+    """
+    n = Zg.shape[0]
+    half = n // 2                                  # rows half … n − 1: Im z ≥ 0
+    top = np.asarray(rho(Zg[half:]), dtype=float)
+    return np.concatenate([top[n % 2:][::-1], top])          # row i of the lower half mirrors row n − 1 − i
+
+
 def shade_region(ax, rho, box, n: int, inside: str = "below"):
     """Shade where ``rho(Z)`` (a real function of a complex array: the largest root modulus, or
     |R(z)e^{−z}|) is ≤ 1 (``inside="below"``) or > 1 (``"above"``) on an n × n grid of the box, draw
     the level curve ρ = 1 (``ContourSet``s with gids ``"region"`` and ``"boundary"``), the axes and the box; returns
     the grid values ρ."""
     xs, ys, Zg = grid(box, n)
-    rho = np.asarray(rho(Zg), dtype=float)
+    rho = _mirrored(rho, Zg) if np.allclose(ys, -ys[::-1]) else np.asarray(rho(Zg), dtype=float)
     inside_mask = rho <= 1 + 1e-9 if inside == "below" else rho > 1 + 1e-9
     ax.contourf(xs, ys, inside_mask.astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5).set_gid("region")
     curve = ax.contour(xs, ys, np.minimum(np.nan_to_num(rho, nan=10.0, posinf=10.0), 10), levels=[1.0],
@@ -257,24 +274,21 @@ def shade_region(ax, rho, box, n: int, inside: str = "below"):
     return rho
 
 
-def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sector=None) -> Path:
-    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY*, the real interval and
-    the A(α) sector marked, in ``window_`` (default: :func:`window`)."""
-    plt = style.pyplot()
-    C = coefficient_array(result.polynomial, result.variable)
-    x0, x1, y0, y1 = window_ if window_ is not None else window(result, real, sector)
-    fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
-    shade_region(ax, lambda Zg: root_moduli(C, Zg).max(axis=-1), (x0, x1, y0, y1), n)
+def mark_intervals(ax, Y=None, beta=None, sector=None) -> bool:
+    """Mark on a region plot the exact imaginary interval |y| < Y (finite, non-zero), the real
+    interval [−β, 0] (finite, non-zero) and a computed A(α) sector (``sector``: an
+    ``AAlphaResult``), each labelled with its decimal, within the axes' limits (kept); whether
+    anything was marked."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     labelled = False
-    Y = result.imaginary_interval
-    if Y not in (0, sp.oo):
+    if Y is not None and Y not in (0, sp.oo):
         ax.plot([0, 0], [-float(Y), float(Y)], color=style.PALETTE[1], lw=2.5, marker="None", linestyle="-",
                 label=f"$|y| < Y^* = {style.decimal(Y)}$ on the imaginary axis")
         labelled = True
-    beta = _finite(getattr(real, "beta", None))
-    if beta:
-        ax.plot([-beta, 0], [0, 0], color=style.PALETTE[2], lw=2.5, marker="None", linestyle="-",
-                label=f"$[-\\beta, 0]$, $\\beta = {style.decimal(real.beta)}$ on the real axis")
+    b = finite_float(beta)
+    if b:
+        ax.plot([-b, 0], [0, 0], color=style.PALETTE[2], lw=2.5, marker="None", linestyle="-",
+                label=f"$[-\\beta, 0]$, $\\beta = {style.decimal(beta)}$ on the real axis")
         labelled = True
     alpha = _sector_degrees(sector)
     if alpha is not None:
@@ -288,6 +302,18 @@ def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sec
                     label=f"A($\\alpha$) sector, $\\alpha = {alpha:.2f}°$" if k == 0 else None)
         labelled = True
     ax.set_xlim(x0, x1), ax.set_ylim(y0, y1)
+    return labelled
+
+
+def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sector=None) -> Path:
+    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY*, the real interval and
+    the A(α) sector marked, in ``window_`` (default: :func:`window`)."""
+    plt = style.pyplot()
+    C = coefficient_array(result.polynomial, result.variable)
+    x0, x1, y0, y1 = window_ if window_ is not None else window(result, real, sector)
+    fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
+    shade_region(ax, lambda Zg: root_moduli(C, Zg).max(axis=-1), (x0, x1, y0, y1), n)
+    labelled = mark_intervals(ax, result.imaginary_interval, getattr(real, "beta", None), sector)
     if labelled:
         style.legend(ax, "below", ncols=1)
     style.title(ax, f"{style.plain(result.method)}: every root $|w| \\leq 1$ (shaded)")
@@ -351,7 +377,7 @@ def draw_stability(result, out: Path, stem: str, window_=None) -> list:
     if linear.variable != "z":
         return [draw_axis_moduli(linear, paths["axis"])]
     box = window_ if window_ is not None else window(linear, real, sector)
-    Y = _finite(linear.imaginary_interval)
+    Y = finite_float(linear.imaginary_interval)
     top = max(box[3], 1.25 * Y) if Y else box[3]
     return [draw_region(linear, paths["region"], window_=box, real=real, sector=sector),
             draw_axis_moduli(linear, paths["axis"], top=top)]
