@@ -86,6 +86,14 @@ def test_window_is_honoured_and_checked():
         ip.plot_stability_region("rk4", window=(2, -6, -1, 5))
     with pytest.raises(ValueError, match="window="):
         ip.plot_stability_region("rk4", window=(0, 1, 2))
+    with pytest.raises(ValueError, match="at most 1e"):
+        ip.plot_stability_region("rk4", window=(-1e300, 1, -1, 1))
+    with pytest.raises(ValueError, match="n=1000000: give an integer 2"):       # the grid is a budget
+        ip.plot_stability_region("rk4", n=10**6)
+    with pytest.raises(ValueError, match="top=-1"):
+        ip.plot_imaginary_axis("rk4", top=-1, exact=False)
+    with pytest.raises(TypeError, match="a method or its name"):
+        ip.plot_order_star(3)
     with pytest.raises(TypeError, match="harmonic oscillator"):
         ip.plot_stability_region("stormer_verlet")
     with pytest.raises(TypeError, match="RK methods"):

@@ -57,6 +57,8 @@ CIRCLE_TOL = 1e-7          # a float root of L(w) this close to |w| = 1 makes a 
 STAR_HALF = 3.0            # the order star's window: at least this half-size about 0 …
 STAR_SCALE = 1.3           # … and this times the largest |zero| or |pole| of R
 FIGURE_SIZE = (4.5, 4.0)   # inches: a plot made without an ``ax``
+MAX_POINTS = 2001          # the largest grid side (or axis points) a caller may ask for: 4·10⁶ root problems
+MAX_COORDINATE = 1e12      # the largest |coordinate| of a window (as ``--window``: stability_plots.parse_window)
 W = sp.Symbol("w")
 
 
@@ -179,19 +181,49 @@ def region_window(method) -> tuple:
 
 
 def _axes(ax, size=FIGURE_SIZE):
-    """``ax``, or the axes of a new pyplot figure (shown inline by a notebook)."""
+    """``ax``, or the axes of a new pyplot figure (shown inline by a notebook).  Call it inside
+    :func:`_styled`."""
     if ax is not None:
         return ax
     import matplotlib.pyplot as plt
-    with plt.rc_context(style.rc()):
-        return plt.subplots(figsize=size)[1]
+    return plt.subplots(figsize=size)[1]
+
+
+def _styled():
+    """The figures' matplotlib settings (:func:`~.figure_style.rc`) for the drawing only: the
+    user's own settings are left as they were."""
+    import matplotlib
+    return matplotlib.rc_context(style.rc())
 
 
 def _box(window) -> tuple:
-    box = tuple(float(v) for v in window)
-    if len(box) != 4 or not all(np.isfinite(box)) or not (box[0] < box[1] and box[2] < box[3]):
-        raise ValueError(f"window={window!r}: give (xmin, xmax, ymin, ymax), finite, xmin < xmax, ymin < ymax")
+    try:
+        box = tuple(float(v) for v in window)
+    except (TypeError, ValueError):
+        box = ()
+    if len(box) != 4 or not all(np.isfinite(box)) or max(map(abs, box)) > MAX_COORDINATE \
+            or not (box[0] < box[1] and box[2] < box[3]):
+        raise ValueError(f"window={window!r}: give four numbers (xmin, xmax, ymin, ymax), xmin < xmax, "
+                         f"ymin < ymax, each finite and at most {MAX_COORDINATE:g} in size")
     return box
+
+
+def _top(top) -> float:
+    """``top`` as a float 0 < top ≤ MAX_COORDINATE."""
+    try:
+        value = float(top)
+    except (TypeError, ValueError):
+        value = float("nan")
+    if not (np.isfinite(value) and 0 < value <= MAX_COORDINATE):
+        raise ValueError(f"top={top!r}: give a number 0 < top ≤ {MAX_COORDINATE:g}")
+    return value
+
+
+def _points(n, name: str = "n") -> int:
+    """The grid size ``n``, an integer 2 … MAX_POINTS (the plot's cost is n² root problems)."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 2 <= n <= MAX_POINTS:
+        raise ValueError(f"{name}={n!r}: give an integer 2 … {MAX_POINTS}")
+    return int(n)
 
 
 def plot_stability_region(method, ax=None, window=None, n: int | None = None, analysis=None):
@@ -229,8 +261,7 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None, an
         box = _box(window)
     else:
         box = enclosing_window(locus_points(C, bounded), finite_float(beta), finite_float(Y))
-    if n is None:
-        n = REGION_POINTS if C.shape[0] == 2 else GLM_POINTS
+    n = _points(n) if n is not None else REGION_POINTS if C.shape[0] == 2 else GLM_POINTS
     if C.shape[0] == 2:                    # r = 1: |R(z)| = |N(z)/D(z)|
         N, D = -C[0], C[1]
 
@@ -240,11 +271,12 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None, an
     else:
         def rho(Z):
             return root_moduli(C, Z).max(axis=-1)
-    ax = _axes(ax)
-    shade_region(ax, rho, box, n)
-    if mark_intervals(ax, Y, beta, sector):
-        ax.legend(loc="upper left", fontsize=style.SMALL_FONT)     # in the axes: the figure may be the user's
-    style.title(ax, f"{style.plain(m.name)}: stability region (shaded)")
+    with _styled():
+        ax = _axes(ax)
+        shade_region(ax, rho, box, n)
+        if mark_intervals(ax, Y, beta, sector):
+            ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14))    # under the axes: the figure may be the user's
+        style.title(ax, f"{style.plain(m.name)}: stability region (shaded)")
     return ax
 
 
@@ -252,9 +284,9 @@ def order_star_modulus(method):
     """z ↦ |R(z) e^{−z}| of an RK method (numpy, elementwise), the function whose level set 1
     bounds the order star.
 
-    >>> f = order_star_modulus("explicit_euler")
-    >>> round(float(f(np.array(-1.0))), 6) == round(float(np.e ** 1 * 0), 6)
-    True
+    >>> f = order_star_modulus("explicit_euler")           # |1 + z| e^{−Re z}
+    >>> [round(float(v), 12) for v in f(np.array([-1, 1j, 1]))]
+    [0.0, 1.414213562373, 0.735758882343]
     """
     m = _method(method)
     if m.kind != "rk":
@@ -288,9 +320,10 @@ def plot_order_star(method, ax=None, window=None, n: int = REGION_POINTS):
         size = np.abs(np.concatenate([f.zeros, f.poles]))
         half = float(np.ceil(max(STAR_HALF, STAR_SCALE * size.max() if size.size else 0)))
         box = (-half, half, -half, half)
-    ax = _axes(ax)
-    shade_region(ax, f, box, n, inside="above")
-    style.title(ax, f"{style.plain(m.name)}: order star $|R(z)e^{{-z}}| > 1$ (shaded)")
+    with _styled():
+        ax = _axes(ax)
+        shade_region(ax, f, box, _points(n), inside="above")
+        style.title(ax, f"{style.plain(m.name)}: order star $|R(z)e^{{-z}}| > 1$ (shaded)")
     return ax
 
 
@@ -316,7 +349,10 @@ def plot_imaginary_axis(method, ax=None, top=None, exact: bool = True, n: int = 
         Y, kind = result.imaginary_interval, result.interval_kind
     if top is None:
         top = 4.0 if Y is None or Y == 0 or Y == sp.oo else 1.6 * float(Y)
-    ax = _axes(ax, (style.PRINT_WIDTH, 3.4))
-    draw_moduli(ax, C, variable, float(top), n, Y, kind)
-    style.title(ax, f"{style.plain(m.name)}: root moduli on the {'imaginary axis' if variable == 'z' else 'axis'}")
+    else:
+        top = _top(top)
+    with _styled():
+        ax = _axes(ax, (style.PRINT_WIDTH, 3.4))
+        draw_moduli(ax, C, variable, top, _points(n), Y, kind)
+        style.title(ax, f"{style.plain(m.name)}: root moduli on the {'imaginary axis' if variable == 'z' else 'axis'}")
     return ax

@@ -341,8 +341,10 @@ def draw_moduli(ax, C: np.ndarray, variable: str, top: float, n: int, Y=None, ki
     ys = np.linspace(0, top, n)
     vals = 1j * ys if variable == "z" else ys.astype(complex)
     mods = np.sort(root_moduli(C, vals), axis=-1)
+    every = max(1, int(n * style.MARK_SPACING))        # evenly spaced markers, offset per line (style.thin_markers)
     for k in range(mods.shape[1]):
-        ax.plot(ys, mods[:, k], label=f"root {k + 1}" if mods.shape[1] > 1 else "$|w|$", **style.series_style(k))
+        ax.plot(ys, mods[:, k], label=f"root {k + 1}" if mods.shape[1] > 1 else "$|w|$",
+                markevery=(int(every * (k % len(style.PALETTE)) / len(style.PALETTE)), every), **style.series_style(k))
     ax.axhline(1, color="grey", lw=0.6, ls=":")
     if Y is not None and Y not in (0, sp.oo):
         ax.axvline(float(Y), color="0.3", lw=1.0, ls="--",
