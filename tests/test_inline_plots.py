@@ -14,12 +14,11 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import sympy as sp  # noqa: E402
 from matplotlib.axes import Axes  # noqa: E402
-from matplotlib.path import Path as MplPath  # noqa: E402
 
 from tableau_lab.analysis.stability import characteristic_polynomial  # noqa: E402
 from tableau_lab.exact.tableau_json import load  # noqa: E402
 from tableau_lab.experiments import inline_plots as ip  # noqa: E402
-from tableau_lab.experiments.stability_plots import coefficient_array, root_moduli  # noqa: E402
+from tableau_lab.experiments.stability_plots import coefficient_array, locus_bounded, root_moduli  # noqa: E402
 
 
 def _contour(ax, gid="boundary"):
@@ -116,12 +115,17 @@ def test_bdf2_region_boundary_is_its_boundary_locus():
     assert x1 > float(np.max(locus.real))                    # the unstable lobe in Re z > 0, whole (max Re z = 4)
 
 
-@pytest.mark.parametrize("name", ["glm43", "bdf:4", "adams_bashforth2", "leapfrog"])
+@pytest.mark.parametrize("name", ["glm43", "bdf:4", "adams_bashforth2", "leapfrog", "example4_glm", "adams_moulton:1",
+                                  "adams_moulton:2"])
 def test_glm_polynomial_interpolated_is_the_exact_one(name):
+    # and its boundary locus's boundedness, decided in floats, is the exact decision (a root of the
+    # leading coefficient on |w| = 1: GLM43, example 4 and the trapezoidal rule AM1 (its locus is the
+    # imaginary axis) unbounded; BDF4, AB2, AM2, the leapfrog bounded)
     C, variable, bounded = ip.stability_polynomial_array(name)
     P, _ = characteristic_polynomial(load(name))
     E = coefficient_array(P.as_expr())
     assert C.shape == E.shape and np.allclose(C, E, atol=1e-12 * np.abs(E).max())
+    assert bounded == locus_bounded(P.as_expr())
 
 
 @pytest.mark.parametrize("name", ["rk4", "radau_iia3"])
@@ -136,7 +140,8 @@ def test_rk_method_written_as_glm_has_the_same_region(name):
     rho = root_moduli(C_glm, Z).max(axis=-1)                      # every root of the GLM's P(·, z)
     clear = np.abs(R - 1) > 1e-6
     assert np.array_equal((R <= 1)[clear], (rho <= 1)[clear]) and clear.sum() > 6000
-    ra, rb = ip.plot_stability_region(m, window=(-4, 4, -4, 4)), ip.plot_stability_region(m.as_glm(), window=(-4, 4, -4, 4))
+    box = (-4, 4, -4, 4)
+    ra, rb = ip.plot_stability_region(m, window=box), ip.plot_stability_region(m.as_glm(), window=box)
     va, vb = _vertices(ra), _vertices(rb)
     assert max(np.min(np.abs(vb - z)) for z in va[::7]) < 1e-9
 

@@ -5,13 +5,13 @@ script without a display draws on Agg).
 
 *The numbers.*  An RK method's stability function R = N/D comes from its exact tableau
 (:func:`~tableau_lab.analysis.stability.stability_function`: N = det(I − zA + z𝟙bᵀ),
-D = det(I − zA)), converted once to floating-point coefficients; |R(z)| is then evaluated on the
+D = det(I − zA)), its coefficients rounded once to floats (``numeric.arith``); |R(z)| is then evaluated on the
 grid with numpy ([HW96] Hairer & Wanner, *Solving ODEs II*, §IV.2–3).  A GLM's stability
 polynomial P(w, z) = det[[I − zA, −U], [−zB, wI − V]] = det(I − zA)·det(wI − M(z))
 ([B16] Butcher 2016, ch. 5) is interpolated in floats from the matrices' entries: P has degree
 ≤ r in w and ≤ s in z (w stands only in the last r columns, z only in the first s), so its
 values at the (r + 1)-th and (s + 1)-th roots of unity give every coefficient by one 2-D FFT —
-no exact determinant over the method's number field (38 s for GLM6's); the region is where
+no exact determinant over the method's number field (slow for GLM6's); the region is where
 every root w of P(·, z), a companion-matrix eigenvalue batched over the grid, has |w| ≤ 1.
 A partitioned RK method's P(w, x) on the harmonic oscillator (x = hω real) is exact and cheap.
 
@@ -43,23 +43,26 @@ import numpy as np
 import sympy as sp
 
 from ..exact.methods import Method
+from ..numeric.arith import arith
 from . import figure_style as style
-from .stability_plots import (coefficient_array, draw_moduli, enclosing_window, finite_float, locus_points, mark_intervals, root_moduli,
-                              shade_region)
+from .stability_plots import (coefficient_array, draw_moduli, enclosing_window, finite_float, locus_points,
+                              mark_intervals, root_moduli, shade_region)
 
 __all__ = ["plot_stability_region", "plot_order_star", "plot_imaginary_axis", "stability_polynomial_array",
-           "region_window", "order_star_modulus", "REGION_POINTS", "GLM_POINTS", "AXIS_POINTS", "CIRCLE_TOL", "STAR_HALF"]
+           "region_window", "order_star_modulus", "REGION_POINTS", "GLM_POINTS", "AXIS_POINTS", "CIRCLE_TOL",
+           "STAR_HALF", "MAX_POINTS"]
 
 REGION_POINTS = 301        # grid points per side of a region or order-star plot
 GLM_POINTS = 201           # … of a GLM's region (r ≥ 2 roots per point: an eigenvalue problem each, 7 µs)
 AXIS_POINTS = 1000         # points along the imaginary axis
-CIRCLE_TOL = 1e-7          # a float root of L(w) this close to |w| = 1 makes a GLM's boundary locus unbounded
+CIRCLE_TOL = 1e-4          # a float root of L(w) this close to |w| = 1 makes a GLM's boundary locus unbounded
+                           # (it reaches |z| ~ 1/distance; a k-fold root on the circle is found within eps^(1/k))
+NEGLIGIBLE = 1e-13         # an interpolated coefficient below this times the largest is round-off: zero
 STAR_HALF = 3.0            # the order star's window: at least this half-size about 0 …
 STAR_SCALE = 1.3           # … and this times the largest |zero| or |pole| of R
 FIGURE_SIZE = (4.5, 4.0)   # inches: a plot made without an ``ax``
 MAX_POINTS = 2001          # the largest grid side (or axis points) a caller may ask for: 4·10⁶ root problems
 MAX_COORDINATE = 1e12      # the largest |coordinate| of a window (as ``--window``: stability_plots.parse_window)
-W = sp.Symbol("w")
 
 
 def _method(method) -> Method:
@@ -77,21 +80,17 @@ def _method(method) -> Method:
     return m
 
 
-def _floats(M) -> np.ndarray:
-    return np.array([[float(x) for x in row] for row in sp.Matrix(M).tolist()], dtype=float).reshape(sp.Matrix(M).shape)
-
-
 def _rk_parts(m: Method) -> tuple:
     """(N, D, bounded) of an RK method: N and D as float coefficient arrays (z^0 … z^s) from the
     exact N and D, and whether the boundary locus {z : R(z) = e^{iθ}} is bounded, decided exactly:
     the leading coefficient of w·D − N in z is L(w) = d·w − n (d, n the coefficients of z^m,
     m = max(deg N, deg D)), with a root on |w| = 1 exactly when n² = d² ≠ 0 (|R(∞)| = 1: Gauss),
     tested in the method's field (the general test, :func:`~.stability_plots.locus_bounded`, would
-    first find the coefficients' minimal polynomials: 2 s for SDIRK34)."""
+    first find the coefficients' minimal polynomials: seconds for SDIRK34)."""
     from ..analysis.stability import stability_function
     N, D, K = stability_function(m)
     Z = sp.Symbol("z")
-    N_, D_ = (np.array([float(c) for c in sp.Poly(p.as_expr(), Z).all_coeffs()[::-1]], dtype=float) for p in (N, D))
+    N_, D_ = (arith().array(sp.Poly(p.as_expr(), Z).all_coeffs()[::-1]) for p in (N, D))
     top = max(N.degree(), D.degree())
     n, d = N.coeff_wrt(0, top) if N.degree() == top else K.zero, D.coeff_wrt(0, top) if D.degree() == top else K.zero
     return N_, D_, not (d != K.zero and n * n == d * d)
@@ -101,7 +100,7 @@ def _glm_array(m: Method) -> np.ndarray:
     """C[k, l] = coefficient of w^k z^l of det[[I − zA, −U], [−zB, wI − V]], interpolated in floats
     at roots of unity (module docstring)."""
     g = m.as_glm()
-    A, U, B, V = (_floats(M) for M in (g.A, g.U, g.B, g.V))
+    A, U, B, V = (arith().matrix(M) for M in (g.A, g.U, g.B, g.V))
     s, r = A.shape[0], V.shape[0]
     ws = np.exp(2j * np.pi * np.arange(r + 1) / (r + 1))
     zs = np.exp(2j * np.pi * np.arange(s + 1) / (s + 1))
@@ -113,7 +112,7 @@ def _glm_array(m: Method) -> np.ndarray:
     M[:, :, s:, s:] = w * np.eye(r) - V
     values = np.linalg.det(M)                                          # (r + 1, s + 1)
     C = np.fft.fft2(values).real / values.size
-    C[np.abs(C) < 1e-13 * np.abs(C).max()] = 0.0
+    C[np.abs(C) < NEGLIGIBLE * np.abs(C).max()] = 0.0
     return C
 
 
@@ -297,7 +296,7 @@ def order_star_modulus(method):
         Z = np.asarray(Z, dtype=complex)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             return np.abs(_polyval(N, Z) / _polyval(D, Z)) * np.exp(-Z.real)
-    f.zeros, f.poles = np.roots(N[::-1]) if len(N) > 1 else np.zeros(0), np.roots(D[::-1]) if len(D) > 1 else np.zeros(0)
+    f.zeros, f.poles = (np.roots(c[::-1]) if len(c) > 1 else np.zeros(0) for c in (N, D))
     return f
 
 

@@ -32,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from ..numeric.arith import arith
 from . import figure_style as style
 
 __all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_points", "locus_bounded", "window",
@@ -52,7 +53,7 @@ def coefficient_array(polynomial, variable: str = "z") -> np.ndarray:
     r, d = P.degree(0), max(P.degree(1), 0)
     C = np.zeros((r + 1, d + 1))
     for (k, l), c in P.terms():
-        C[k, l] = float(c)
+        C[k, l] = arith().number(c)
     return C
 
 
@@ -263,7 +264,8 @@ def shade_region(ax, rho, box, n: int, inside: str = "below"):
     xs, ys, Zg = grid(box, n)
     rho = _mirrored(rho, Zg) if np.allclose(ys, -ys[::-1]) else np.asarray(rho(Zg), dtype=float)
     inside_mask = rho <= 1 + 1e-9 if inside == "below" else rho > 1 + 1e-9
-    ax.contourf(xs, ys, inside_mask.astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5).set_gid("region")
+    shaded = ax.contourf(xs, ys, inside_mask.astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5)
+    shaded.set_gid("region")
     curve = ax.contour(xs, ys, np.minimum(np.nan_to_num(rho, nan=10.0, posinf=10.0), 10), levels=[1.0],
                        colors="k", linewidths=0.8)
     curve.set_gid("boundary")
