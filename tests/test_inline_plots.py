@@ -5,6 +5,7 @@ star at the origin (HW II, §IV.4), rk4's imaginary interval 2√2 — and the G
 interpolated P(w, z)) against the RK route and the exact polynomial."""
 import subprocess
 import sys
+from pathlib import Path
 
 import matplotlib
 
@@ -80,7 +81,8 @@ def test_window_is_honoured_and_checked():
     ax = ip.plot_stability_region("rk4", window=(-6, 2, -1, 5))
     assert tuple(map(float, ax.get_xlim())) == (-6.0, 2.0) and tuple(map(float, ax.get_ylim())) == (-1.0, 5.0)
     fig, given = plt.subplots()
-    assert ip.plot_stability_region("rk4", ax=given) is given
+    rk4_file = Path(__file__).resolve().parents[1] / "methods" / "rk4.json"
+    assert ip.plot_stability_region(rk4_file, ax=given) is given                # a file, as a Path
     with pytest.raises(ValueError, match="xmin < xmax"):
         ip.plot_stability_region("rk4", window=(2, -6, -1, 5))
     with pytest.raises(ValueError, match="window="):

@@ -39,6 +39,8 @@ origin, where |R(z)e^{−z}| − 1 ≈ C z^{p+1}.
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import sympy as sp
 
@@ -70,7 +72,7 @@ def _method(method) -> Method:
     family name such as ``"gauss:3"``)."""
     if isinstance(method, Method):
         m = method
-    elif isinstance(method, str):
+    elif isinstance(method, (str, os.PathLike)):
         from ..exact.tableau_json import load
         m = load(method)
     else:
