@@ -32,9 +32,11 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from ..numeric.arith import arith
 from . import figure_style as style
 
-__all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_bounded", "window", "parse_window",
+__all__ = ["coefficient_array", "root_moduli", "boundary_locus", "locus_points", "locus_bounded", "window",
+           "enclosing_window", "finite_float", "parse_window", "shade_region", "mark_intervals", "draw_moduli",
            "figure_stem", "figure_paths", "draw_region", "draw_axis_moduli", "draw_stability"]
 
 LOCUS_POINTS = 4096        # θ samples of the boundary locus
@@ -51,7 +53,7 @@ def coefficient_array(polynomial, variable: str = "z") -> np.ndarray:
     r, d = P.degree(0), max(P.degree(1), 0)
     C = np.zeros((r + 1, d + 1))
     for (k, l), c in P.terms():
-        C[k, l] = float(c)
+        C[k, l] = arith().number(c)
     return C
 
 
@@ -107,11 +109,21 @@ def boundary_locus(polynomial, variable: str = "z", n: int = LOCUS_POINTS, bound
     """Points z of the boundary locus, P(e^{iθ}, z) = 0 on a grid of n angles θ (floats: what the
     figure draws); of an unbounded locus (``bounded`` False, decided by :func:`locus_bounded` when
     None) the part where |L(e^{iθ})| ≥ UNBOUNDED_CUT · max |L| and |z| ≤ UNBOUNDED_SCALE · median |z|."""
-    C = coefficient_array(polynomial, variable)            # C[k, l]: w^k z^l
-    if C.shape[1] < 2:
-        return np.zeros(0, dtype=complex)
     if bounded is None:
         bounded = locus_bounded(polynomial, variable)
+    return locus_points(coefficient_array(polynomial, variable), bounded, n)
+
+
+def locus_points(C: np.ndarray, bounded: bool, n: int = LOCUS_POINTS) -> np.ndarray:
+    """:func:`boundary_locus` of the polynomial Σ C[k, l] w^k z^l given by its coefficient array
+    (floats), its boundedness decided by the caller.
+
+    >>> pts = locus_points(np.array([[-1.0, -1.0], [1.0, 0.0]]), True, 8)     # w − (1 + z): Euler
+    >>> bool(np.allclose(np.abs(pts + 1), 1))
+    True
+    """
+    if C.shape[1] < 2:
+        return np.zeros(0, dtype=complex)
     w = np.exp(2j * np.pi * np.arange(n) / n)
     coeffs = (w[:, None] ** np.arange(C.shape[0])[None, :]) @ C.astype(complex)     # (n, d + 1): z^0 .. z^d
     roots, bad = _roots(coeffs)
@@ -126,7 +138,8 @@ def boundary_locus(polynomial, variable: str = "z", n: int = LOCUS_POINTS, bound
     return pts
 
 
-def _finite(v) -> float | None:
+def finite_float(v) -> float | None:
+    """An exact value (sympy number, ∞ or None) as a float, None when it is None or not finite."""
     if v is None:
         return None
     v = sp.sympify(v)
@@ -135,14 +148,24 @@ def _finite(v) -> float | None:
 
 def window(result, real=None, sector=None) -> tuple:
     """(xmin, xmax, ymin, ymax) of the region plot from the exact analysis (module docstring):
-    the box of the boundary locus, the origin, −β of the real interval (``real``: a
-    ``RealIntervalResult``) and ±iY*, with a margin PAD, symmetric about the real axis (P has
-    real coefficients), neither side shorter than MIN_ASPECT times the other."""
-    pts = list(boundary_locus(result.polynomial, result.variable)) + [0j]
-    beta = _finite(getattr(real, "beta", None))
+    :func:`enclosing_window` of the boundary locus, −β of the real interval (``real``: a
+    ``RealIntervalResult``) and ±iY*."""
+    return enclosing_window(boundary_locus(result.polynomial, result.variable),
+                            finite_float(getattr(real, "beta", None)), finite_float(result.imaginary_interval))
+
+
+def enclosing_window(points, beta: float | None = None, Y: float | None = None) -> tuple:
+    """(xmin, xmax, ymin, ymax) enclosing the points z (a boundary locus), the origin, −β and
+    ±iY (when given), with a margin PAD, symmetric about the real axis (P has real
+    coefficients), neither side shorter than MIN_ASPECT times the other; a box of half-size
+    DEFAULT_HALF when there is nothing bounded to enclose.
+
+    >>> [round(v, 2) for v in enclosing_window(np.array([-2.0, -1 + 1j, -1 - 1j, 0j]))]
+    [-2.24, 0.24, -1.24, 1.24]
+    """
+    pts = list(np.asarray(points, dtype=complex).ravel()) + [0j]
     if beta:
         pts.append(complex(-beta, 0))
-    Y = _finite(result.imaginary_interval)
     if Y:
         pts.append(complex(0, Y))
     pts = np.asarray(pts)
@@ -210,29 +233,64 @@ def _sector_degrees(sector) -> float | None:
     return float(np.degrees(a)) if a > 0 else None
 
 
-def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sector=None) -> Path:
-    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY*, the real interval and
-    the A(α) sector marked, in ``window_`` (default: :func:`window`)."""
-    plt = style.pyplot()
-    C = coefficient_array(result.polynomial, result.variable)
-    x0, x1, y0, y1 = window_ if window_ is not None else window(result, real, sector)
+def grid(box, n: int) -> tuple:
+    """(xs, ys, Z): n × n points z = x + iy of the box (xmin, xmax, ymin, ymax), Z[i, j] = xs[j] + i·ys[i]."""
+    x0, x1, y0, y1 = box
     xs, ys = np.linspace(x0, x1, n), np.linspace(y0, y1, n)
-    Zg = xs[None, :] + 1j * ys[:, None]
-    rho = root_moduli(C, Zg).max(axis=-1)
-    fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
-    ax.contourf(xs, ys, (rho <= 1 + 1e-9).astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5)
-    ax.contour(xs, ys, np.minimum(rho, 10), levels=[1.0], colors="k", linewidths=0.8)
+    return xs, ys, xs[None, :] + 1j * ys[:, None]
+
+
+def _mirrored(rho, Zg) -> np.ndarray:
+    """ρ on a grid symmetric about the real axis, evaluated on its upper half only: ρ(z̄) = ρ(z), as
+    the method's polynomials have real coefficients (half the eigenvalue problems of a GLM's grid).
+
+    >>> f = lambda Z: np.abs(Z - 0.3 - 0.7j) * np.abs(Z - 1j)          # not symmetric: the halves differ
+    >>> g = lambda Z: np.abs(Z ** 2 - 0.6 * Z + 0.58)                    # real coefficients
+    >>> Z = grid((-1, 2, -3, 3), 7)[2]
+    >>> bool(np.allclose(_mirrored(g, Z), g(Z))), bool(np.allclose(_mirrored(f, Z), f(Z)))
+    (True, False)
+    """
+    n = Zg.shape[0]
+    half = n // 2                                  # rows half … n − 1: Im z ≥ 0
+    top = np.asarray(rho(Zg[half:]), dtype=float)
+    return np.concatenate([top[n % 2:][::-1], top])          # row i of the lower half mirrors row n − 1 − i
+
+
+def shade_region(ax, rho, box, n: int, inside: str = "below"):
+    """Shade where ``rho(Z)`` (a real function of a complex array: the largest root modulus, or
+    |R(z)e^{−z}|) is ≤ 1 (``inside="below"``) or > 1 (``"above"``) on an n × n grid of the box, draw
+    the level curve ρ = 1 (``ContourSet``s with gids ``"region"`` and ``"boundary"``), the axes and the box; returns
+    the grid values ρ."""
+    xs, ys, Zg = grid(box, n)
+    rho = _mirrored(rho, Zg) if np.allclose(ys, -ys[::-1]) else np.asarray(rho(Zg), dtype=float)
+    inside_mask = rho <= 1 + 1e-9 if inside == "below" else rho > 1 + 1e-9
+    shaded = ax.contourf(xs, ys, inside_mask.astype(float), levels=[0.5, 1.5], colors=[style.PALETTE[5]], alpha=0.5)
+    shaded.set_gid("region")
+    curve = ax.contour(xs, ys, np.minimum(np.nan_to_num(rho, nan=10.0, posinf=10.0), 10), levels=[1.0],
+                       colors="k", linewidths=0.8)
+    curve.set_gid("boundary")
     ax.axhline(0, color="grey", lw=0.5), ax.axvline(0, color="grey", lw=0.5)
+    ax.set_xlim(box[0], box[1]), ax.set_ylim(box[2], box[3])
+    ax.set_xlabel(r"$\mathrm{Re}\,z$"), ax.set_ylabel(r"$\mathrm{Im}\,z$")
+    ax.set_aspect("equal")
+    return rho
+
+
+def mark_intervals(ax, Y=None, beta=None, sector=None) -> bool:
+    """Mark on a region plot the exact imaginary interval |y| < Y (finite, non-zero), the real
+    interval [−β, 0] (finite, non-zero) and a computed A(α) sector (``sector``: an
+    ``AAlphaResult``), each labelled with its decimal, within the axes' limits (kept); whether
+    anything was marked."""
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
     labelled = False
-    Y = result.imaginary_interval
-    if Y not in (0, sp.oo):
+    if Y is not None and Y not in (0, sp.oo):
         ax.plot([0, 0], [-float(Y), float(Y)], color=style.PALETTE[1], lw=2.5, marker="None", linestyle="-",
                 label=f"$|y| < Y^* = {style.decimal(Y)}$ on the imaginary axis")
         labelled = True
-    beta = _finite(getattr(real, "beta", None))
-    if beta:
-        ax.plot([-beta, 0], [0, 0], color=style.PALETTE[2], lw=2.5, marker="None", linestyle="-",
-                label=f"$[-\\beta, 0]$, $\\beta = {style.decimal(real.beta)}$ on the real axis")
+    b = finite_float(beta)
+    if b:
+        ax.plot([-b, 0], [0, 0], color=style.PALETTE[2], lw=2.5, marker="None", linestyle="-",
+                label=f"$[-\\beta, 0]$, $\\beta = {style.decimal(beta)}$ on the real axis")
         labelled = True
     alpha = _sector_degrees(sector)
     if alpha is not None:
@@ -246,10 +304,20 @@ def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sec
                     label=f"A($\\alpha$) sector, $\\alpha = {alpha:.2f}°$" if k == 0 else None)
         labelled = True
     ax.set_xlim(x0, x1), ax.set_ylim(y0, y1)
+    return labelled
+
+
+def draw_region(result, target: Path, n: int = 401, window_=None, real=None, sector=None) -> Path:
+    """The region {z : every root |w| ≤ 1} of an RK method or GLM, with ±iY*, the real interval and
+    the A(α) sector marked, in ``window_`` (default: :func:`window`)."""
+    plt = style.pyplot()
+    C = coefficient_array(result.polynomial, result.variable)
+    x0, x1, y0, y1 = window_ if window_ is not None else window(result, real, sector)
+    fig, ax = plt.subplots(figsize=style.SQUARE_SIZE)
+    shade_region(ax, lambda Zg: root_moduli(C, Zg).max(axis=-1), (x0, x1, y0, y1), n)
+    labelled = mark_intervals(ax, result.imaginary_interval, getattr(real, "beta", None), sector)
     if labelled:
         style.legend(ax, "below", ncols=1)
-    ax.set_xlabel(r"$\mathrm{Re}\,z$"), ax.set_ylabel(r"$\mathrm{Im}\,z$")
-    ax.set_aspect("equal")
     style.title(ax, f"{style.plain(result.method)}: every root $|w| \\leq 1$ (shaded)")
     style.save(fig, Path(target), caption=_caption(result))
     return Path(target)
@@ -260,25 +328,35 @@ def draw_axis_moduli(result, target: Path, n: int = 2000, top: float | None = No
     Y*), with Y* marked."""
     plt = style.pyplot()
     C = coefficient_array(result.polynomial, result.variable)
-    ys = np.linspace(0, top if top else _ymax(result), n)
-    vals = 1j * ys if result.variable == "z" else ys.astype(complex)
-    mods = np.sort(root_moduli(C, vals), axis=-1)
     fig, ax = plt.subplots(figsize=(style.PRINT_WIDTH, 3.4))
-    for k in range(mods.shape[1]):
-        ax.plot(ys, mods[:, k], label=f"root {k + 1}" if mods.shape[1] > 1 else "$|w|$", **style.series_style(k))
-    ax.axhline(1, color="grey", lw=0.6, ls=":")
-    Y = result.imaginary_interval
-    if Y not in (0, sp.oo):
-        ax.axvline(float(Y), color="0.3", lw=1.0, ls="--",
-                   label=f"$Y^* \\approx {style.decimal(Y)}$ ({style.plain(result.interval_kind)})")
-    a = "$y$ ($z = iy$)" if result.variable == "z" else r"$x = h\omega$"
-    ax.set_xlabel(a), ax.set_ylabel("$|w|$")
-    top = np.nanmax(np.where(np.isfinite(mods), mods, np.nan))
-    ax.set_ylim(0, min(max(1.5, 1.05 * top), 3))
-    style.legend(ax, "right")
+    draw_moduli(ax, C, result.variable, top if top else _ymax(result), n, result.imaginary_interval,
+                result.interval_kind)
     style.title(ax, f"{style.plain(result.method)}: root moduli on the axis")
     style.save(fig, Path(target), caption=_caption(result))
     return Path(target)
+
+
+def draw_moduli(ax, C: np.ndarray, variable: str, top: float, n: int, Y=None, kind: str = "") -> np.ndarray:
+    """|w| of every root of Σ C[k, l] w^k v^l along z = iy (``variable`` "z") or x = hω (``"x"``),
+    0 ≤ y ≤ ``top`` on n points, with the line |w| = 1 and the exact Y (when given, finite and
+    non-zero: ``kind`` names it) marked; returns the sorted moduli (n × r)."""
+    ys = np.linspace(0, top, n)
+    vals = 1j * ys if variable == "z" else ys.astype(complex)
+    mods = np.sort(root_moduli(C, vals), axis=-1)
+    every = max(1, int(n * style.MARK_SPACING))        # evenly spaced markers, offset per line (style.thin_markers)
+    for k in range(mods.shape[1]):
+        ax.plot(ys, mods[:, k], label=f"root {k + 1}" if mods.shape[1] > 1 else "$|w|$",
+                markevery=(int(every * (k % len(style.PALETTE)) / len(style.PALETTE)), every), **style.series_style(k))
+    ax.axhline(1, color="grey", lw=0.6, ls=":")
+    if Y is not None and Y not in (0, sp.oo):
+        ax.axvline(float(Y), color="0.3", lw=1.0, ls="--",
+                   label=f"$Y^* \\approx {style.decimal(Y)}$ ({style.plain(kind)})")
+    a = "$y$ ($z = iy$)" if variable == "z" else r"$x = h\omega$"
+    ax.set_xlabel(a), ax.set_ylabel("$|w|$")
+    finite = mods[np.isfinite(mods)]
+    ax.set_ylim(0, min(max(1.5, 1.05 * finite.max()) if finite.size else 1.5, 3))
+    style.legend(ax, "right")
+    return mods
 
 
 def figure_paths(out: Path, stem: str) -> dict:
@@ -303,7 +381,7 @@ def draw_stability(result, out: Path, stem: str, window_=None) -> list:
     if linear.variable != "z":
         return [draw_axis_moduli(linear, paths["axis"])]
     box = window_ if window_ is not None else window(linear, real, sector)
-    Y = _finite(linear.imaginary_interval)
+    Y = finite_float(linear.imaginary_interval)
     top = max(box[3], 1.25 * Y) if Y else box[3]
     return [draw_region(linear, paths["region"], window_=box, real=real, sector=sector),
             draw_axis_moduli(linear, paths["axis"], top=top)]
