@@ -40,7 +40,7 @@ from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
 from .bseries import flow_cuts, inverse_coefficients
-from .results import Result
+from .results import OrderValue, Result
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
 __all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
@@ -55,7 +55,7 @@ def theta_matrix(k: int) -> tuple:
 # ----------------------------------------------------------------- the solve
 
 @dataclass(frozen=True)
-class GLMOrderResult(Result):
+class GLMOrderResult(OrderValue, Result):
     """Order of a GLM (or an RK method as a GLM) with its starting and finishing methods."""
 
     method: str

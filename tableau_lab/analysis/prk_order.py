@@ -18,7 +18,7 @@ import sympy as sp
 from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
-from .results import Result
+from .results import OrderValue, Result
 from .tree_kinds import BICOLOURED, bicoloured_trees
 
 __all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
@@ -35,7 +35,7 @@ def _label(t) -> str:
 
 
 @dataclass(frozen=True)
-class PRKOrderResult(Result):
+class PRKOrderResult(OrderValue, Result):
     method: str
     order: int
     errors: dict          # label -> Φ(t) − 1/γ(t) at order p + 1 (nonzero ones)

@@ -34,7 +34,7 @@ import sympy as sp
 from ..exact.grammar import format_matrix
 from ..exact.render import markdown_literal
 
-__all__ = ["Result", "Combined", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
+__all__ = ["Result", "Combined", "OrderValue", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
 
 
 def matrix_text(M, indent: str = "    ") -> str:
@@ -213,6 +213,18 @@ class Result:
         head = str(self).split("\n", 1)[0].strip()
         body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
         return ((f"**{markdown_literal(head)}**\n\n" if head else "") + body).strip()
+
+
+class OrderValue:
+    """An order result converts to its order: ``int(tl.order(m))``, ``range(tl.order(m))``,
+    ``tl.order(m).__index__()`` (the field ``order`` of the result)."""
+
+    __slots__ = ()
+
+    def __int__(self) -> int:
+        return int(self.order)
+
+    __index__ = __int__
 
 
 def _gathered(bodies: list[str]) -> str:
