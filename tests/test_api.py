@@ -233,7 +233,7 @@ def test_cli_list_same_rows(capsys):
     assert json.loads(capsys.readouterr().out) == tl.list_methods().to_json()
     assert main(["list"]) == 0
     out = capsys.readouterr().out
-    assert out.splitlines()[0].split() == ["name", "kind", "size", "order", "source"] and "bdf:k" in out
+    assert out.splitlines()[2].split() == ["name", "kind", "size", "order", "source"] and "bdf:k" in out
 
 
 def test_float_and_int_conversions():

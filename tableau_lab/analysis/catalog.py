@@ -91,12 +91,17 @@ class MethodList(Result):
         return [(r.name, r.kind, r.size, r.order + ("*" if r.order_from == "computed" else ""),
                  r.source if len(r.source) <= SOURCE_SHOWN else r.source[:SOURCE_SHOWN - 1] + "…") for r in self.rows]
 
+    @property
+    def title(self) -> str:
+        files = sum(not r.family for r in self.rows)
+        return f"The method library: {files} shipped tableaux, {len(self.rows) - files} families"
+
     def __str__(self):
         head = ("name", "kind", "size", "order", "source")
         cells = self._cells()
         widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
         line = lambda row: "  ".join(x.ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
-        return "\n".join([line(head), line(["-" * w for w in widths])] + [line(c) for c in cells]
+        return "\n".join([self.title, "", line(head), line(["-" * w for w in widths])] + [line(c) for c in cells]
                          + ["(order: claimed by the file and checked by `tableau-lab verify`; * computed; "
                             "families: the published formula; load a family as name:N, e.g. gauss:3)"])
 
@@ -105,7 +110,7 @@ class MethodList(Result):
 
     def markdown(self) -> str:
         """The table in Markdown (``tableau-lab list --markdown``; a notebook shows it)."""
-        rows = ["| name | kind | size | order | source |", "|---|---|---|---|---|"]
+        rows = [f"**{markdown_literal(self.title)}**", "", "| name | kind | size | order | source |", "|---|---|---|---|---|"]
         rows += ["| " + " | ".join(markdown_literal(x) for x in c) + " |" for c in self._cells()]
         return "\n".join(rows)
 
@@ -164,7 +169,7 @@ def list_methods() -> MethodList:
     >>> methods = tl.list_methods()
     >>> "rk4" in methods.names and "bdf:k" in methods.names
     True
-    >>> str(methods).split()[:5]
+    >>> str(methods).splitlines()[2].split()
     ['name', 'kind', 'size', 'order', 'source']
     """
     rows = []

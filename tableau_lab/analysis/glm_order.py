@@ -40,7 +40,7 @@ from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
 from .bseries import flow_cuts, inverse_coefficients
-from .results import OrderValue, Result
+from .results import Result
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
 __all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
@@ -55,9 +55,10 @@ def theta_matrix(k: int) -> tuple:
 # ----------------------------------------------------------------- the solve
 
 @dataclass(frozen=True)
-class GLMOrderResult(OrderValue, Result):
+class GLMOrderResult(Result):
     """Order of a GLM (or an RK method as a GLM) with its starting and finishing methods."""
 
+    int_field = "order"          # int(result) is the order
     method: str
     order: int                   # highest achievable (θ free)
     order_identity_start: int    # θ ≡ 0

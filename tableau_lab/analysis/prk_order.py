@@ -18,7 +18,7 @@ import sympy as sp
 from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
-from .results import OrderValue, Result
+from .results import Result
 from .tree_kinds import BICOLOURED, bicoloured_trees
 
 __all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
@@ -35,7 +35,8 @@ def _label(t) -> str:
 
 
 @dataclass(frozen=True)
-class PRKOrderResult(OrderValue, Result):
+class PRKOrderResult(Result):
+    int_field = "order"          # int(result) is the order
     method: str
     order: int
     errors: dict          # label -> Φ(t) − 1/γ(t) at order p + 1 (nonzero ones)

@@ -34,7 +34,7 @@ import sympy as sp
 from ..exact.grammar import format_matrix
 from ..exact.render import markdown_literal
 
-__all__ = ["Result", "Combined", "OrderValue", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
+__all__ = ["Result", "Combined", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
 
 
 def matrix_text(M, indent: str = "    ") -> str:
@@ -175,6 +175,16 @@ class Result:
     get ``_repr_markdown_`` and, for results that are all math, ``_repr_latex_`` from these."""
 
     latex_math = False     # True: to_latex() is one formula (math mode, no delimiters), not text
+    int_field = None       # the field that int(result) gives ("order" for the order analyses), or None
+
+    def __int__(self) -> int:
+        """``int(tl.order(m))`` is the order: the field :attr:`int_field` of a result that has one."""
+        if self.int_field is None:
+            raise TypeError(f"a {type(self).__name__} has no integer value")
+        return int(getattr(self, self.int_field))
+
+    def __index__(self) -> int:
+        return self.__int__()
 
     def to_json(self) -> dict:  # pragma: no cover - overridden
         raise NotImplementedError
@@ -213,18 +223,6 @@ class Result:
         head = str(self).split("\n", 1)[0].strip()
         body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
         return ((f"**{markdown_literal(head)}**\n\n" if head else "") + body).strip()
-
-
-class OrderValue:
-    """An order result converts to its order: ``int(tl.order(m))``, ``range(tl.order(m))``,
-    ``tl.order(m).__index__()`` (the field ``order`` of the result)."""
-
-    __slots__ = ()
-
-    def __int__(self) -> int:
-        return int(self.order)
-
-    __index__ = __int__
 
 
 def _gathered(bodies: list[str]) -> str:

@@ -33,7 +33,7 @@ from ..exact.conjugate import ANY
 from ..exact.field import FastField, element, field_of, normal_form, power, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
-from .results import OrderValue, Result
+from .results import Result
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
 __all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights", "weight_function"]
@@ -46,10 +46,11 @@ ERROR_TREES_BUDGET = 50_000
 
 
 @dataclass(frozen=True)
-class RKOrderResult(OrderValue, Result):
+class RKOrderResult(Result):
     """Classical order with elementary weights, stage order, B/C/D and, when computed, the
     effective order (with the starting method's θ(t) when it exceeds the classical order)."""
 
+    int_field = "order"          # int(result) is the order
     method: str
     order: int
     B: int
