@@ -256,5 +256,12 @@ def test_readme_python_block_runs():
     env = {}
     exec("\n".join(ln for ln in lines if ln not in failing), env)          # noqa: S102 - our own README
     assert int(env["m"].order()) == 6 and env["d"].status == "solved"
+    # the values the block's comments quote
+    rk4 = env["rk4"]
+    assert rk4.imaginary_stability_interval() == 2 * sp.sqrt(2) and "2.8284271247461903" in block
+    assert rk4.principal_error_norm() == sp.sqrt(1745) / 2880 and "sqrt(1745)/2880" in block
+    assert f"# {rk4.stability_function()}" in block
+    assert [str(x.mu) for x in env["g"].parasitism().items] == ["1 + 2*sqrt(3)/3"] and "1 + 2*sqrt(3)/3" in block
+    assert env["g"].verify().failed == ()
     with pytest.raises(TableauError, match="did you mean rk4"):
         exec(failing[0].split("#")[0], env)                                # noqa: S102
