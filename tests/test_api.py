@@ -265,3 +265,10 @@ def test_readme_python_block_runs():
     assert env["g"].verify().failed == ()
     with pytest.raises(TableauError, match="did you mean rk4"):
         exec(failing[0].split("#")[0], env)                                # noqa: S102
+
+
+def test_load_nodepy_multistep():
+    lm = pytest.importorskip("nodepy.linear_multistep_method")
+    m = tl.load(lm.backward_difference_formula(3))
+    ours = tl.load("bdf:3")
+    assert (m.A, m.U, m.B, m.V) == (ours.A, ours.U, ours.B, ours.V) and int(m.order()) == 3
