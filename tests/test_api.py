@@ -272,3 +272,12 @@ def test_load_nodepy_multistep():
     m = tl.load(lm.backward_difference_formula(3))
     ours = tl.load("bdf:3")
     assert (m.A, m.U, m.B, m.V) == (ours.A, ours.U, ours.B, ours.V) and int(m.order()) == 3
+
+
+def test_printed_modified_hamiltonian_reads_back():
+    """A printed formula is a claim: H̃ as printed re-parses (the problem grammar) to the exact value."""
+    from tableau_lab.numeric.expressions import parse_expression
+    mh = tl.load("stormer_verlet").modified_hamiltonian(p ** 2 / 2 - sp.cos(q), 3)
+    text = str(mh).split("H̃ = ", 1)[1].rsplit(", free trees", 1)[0]
+    assert sp.expand(parse_expression(text, names={"h": h, "q": q, "p": p}) - mh.expression) == 0
+    assert mh.expression.coeff(h, 2) != 0 and mh.order == 3
