@@ -660,6 +660,14 @@ def _mark_paths(parser) -> None:
             action.complete = _DIRS
 
 
+def _list(args) -> int:
+    from .analysis.catalog import list_methods
+    rows = list_methods()
+    print(json.dumps(rows.to_json(), ensure_ascii=False) if args.json else
+          rows.markdown() if args.markdown else str(rows))
+    return EXIT_OK
+
+
 def _completion(args) -> int:
     import shtab
     print(shtab.complete(build_parser(), shell=args.shell))
@@ -917,6 +925,15 @@ def build_parser() -> argparse.ArgumentParser:
     rp.add_argument("--stability", action="store_true",
                     help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
     rp.set_defaults(run=_report)
+    ls = sub.add_parser("list", help="the method library: shipped tableaux and families, with kind, size, order, "
+                                     "source",
+                        description="Every method name the commands take besides a file: the shipped tableaux "
+                                    "(e.g. rk4, gauss2) and the generated families (gauss:3, bdf:4), with kind, "
+                                    "size, order and source (the same rows as tableau_lab.list_methods()).")
+    fmt = ls.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="one JSON object")
+    fmt.add_argument("--markdown", action="store_true", help="a Markdown table")
+    ls.set_defaults(run=_list)
     cm = sub.add_parser("completion", help="print a shell completion script (bash, zsh, tcsh)",
                         description="Print the completion script of tableau-lab for SHELL (made by shtab from "
                                     "this command line): commands, options, and file names where a file "

@@ -136,10 +136,15 @@ def _results() -> list:
            RepairResult(name="e_2", suspects=(), printed={}, design=None),
            SearchResult(family="rk_2<x>", free=(sp.Symbol("c2"),), objectives=("imaginary-interval",),
                         constraints=("order=2",), candidates=(), evaluations=0)]
+    from tableau_lab.analysis.catalog import list_methods
+    from tableau_lab.analysis.front import modified_hamiltonian as method_hamiltonian, stability_function
+    q, p = sp.symbols("q p")
+    out += [list_methods(), stability_function(m["gauss2"]), stability_function(m["rk4"]),
+            method_hamiltonian(m["implicit_midpoint"], p ** 2 / 2 - sp.cos(q), 3)]
     parametric = stability_report(loads('{"name": "sdirk_g", "kind": "rk", "A": [["g", 0], ["1 - 2*g", "g"]], '
                                         '"b": ["1/2", "1/2"]}'))
     from tableau_lab.analysis.error_constant import error_constant
-    return out + [parametric, error_constant(family("bdf:3")), Combined((out[7], out[-10]), ("parasitism", "series")),
+    return out + [parametric, error_constant(family("bdf:3")), Combined((out[7], out[-14]), ("parasitism", "series")),
                   Combined((out[0], out[7]))]
 
 
@@ -169,7 +174,8 @@ def test_latex_is_offered_exactly_for_the_results_that_are_all_math(results):
     for r in results:
         kinds.setdefault(type(r).__name__, set()).add(r._repr_latex_() is not None)
     assert {k for k, v in kinds.items() if v == {True}} == {"ParasitismResult", "MethodSeries", "ModifiedEquation",
-                                                            "ModifiedHamiltonian"}
+                                                            "ModifiedHamiltonian", "StabilityFunction",
+                                                            "MethodHamiltonian"}
     assert kinds["Combined"] == {True, False}            # all-math parts: gathered; a part with prose: None
     assert all(kinds[k] == {False} for k in ("RKOrderResult", "GSymplecticResult", "StabilityReport", "StabilityResult",
                                              "GLMOrderResult", "DesignResult", "SearchResult", "VerifyResult"))

@@ -168,7 +168,16 @@ class BSeries:
 
     ``series[t]`` takes a tree (a canonical tuple, or bracket text such as ``"[τ[τ]]"``) or
     ``None`` for the empty tree and returns an exact sympy number; ``series.items()`` lists
-    (tree, value) by order.  Two series are equal when they have the same order and values."""
+    (tree, value) by order.  Two series are equal when they have the same order and values.
+    ``tl.BSeries``; a method's own series is ``method_series(m, n).phi``
+    (:mod:`tableau_lab.analysis.method_series`).  Reference: [HLW06] Hairer, Lubich & Wanner,
+    *Geometric Numerical Integration*, §III.1; [B21] Butcher, *B-Series*, Springer 2021.
+
+    >>> import tableau_lab as tl
+    >>> euler = tl.BSeries.from_function(lambda t: 1 if t == () else 0, 3, label="explicit Euler")
+    >>> euler["τ"], euler["[τ]"], euler == tl.load("explicit_euler").modified_equation(3).field
+    (1, 0, False)
+    """
 
     field: FastField
     values: dict                 # tree or None -> element of ``field``

@@ -444,7 +444,26 @@ def _verify(meth: Method, reqs, values) -> dict:
 
 
 def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> DesignResult:
-    """All solution families of the requirements for the unknowns of ``m``, each re-verified."""
+    """All solution families of the requirements for the unknowns of ``m`` (names such as
+    ``a21``, ``b2`` in its entries), each re-verified by the analyses: ``tl.solve``, ``tableau-lab
+    solve``.  Requirements (docs/design.md): ``order=p``, ``symplectic``, ``g-symplectic``,
+    ``stage-order=q``, ``parasitism-free``, ``symmetric``, equations; the polynomial system is
+    solved exactly (Gröbner bases, :mod:`tableau_lab.exact.polysystem`).  Reference: the order
+    conditions of [B16] Butcher, *Numerical Methods for ODEs*, 3rd ed., ch. 3 (the family of
+    explicit 2-stage methods of order 2 below is [B16] Sec. 31's b₂a₂₁ = 1/2, b₁ + b₂ = 1).
+
+    ``m`` is a method or a design tableau file (whose unknown abscissae are dropped, as
+    ``tableau-lab solve`` reads it: :func:`solve_file`).
+
+    >>> import tableau_lab as tl
+    >>> r = tl.solve(tl.load("methods/design/erk2_general.json"), ["order=2"])
+    >>> r.status, {k: str(v) for k, v in r.solutions[0].parameters.items()}
+    ('solved', {'a21': '1/(2*b2)', 'b1': '1 - b2'})
+    """
+    if not isinstance(m, Method):
+        if extra_equations or extra_unknowns:
+            raise TypeError("solve(path, ...): extra equations go with a method object")
+        return solve_file(m, requirements)
     t0 = time.perf_counter()
     reqs = parse_requirements(requirements)
     prob = _Problem(m, reqs, extra_equations, extra_unknowns)

@@ -58,6 +58,7 @@ def theta_matrix(k: int) -> tuple:
 class GLMOrderResult(Result):
     """Order of a GLM (or an RK method as a GLM) with its starting and finishing methods."""
 
+    int_field = "order"          # int(result) is the order
     method: str
     order: int                   # highest achievable (θ free)
     order_identity_start: int    # θ ≡ 0

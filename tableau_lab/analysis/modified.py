@@ -54,6 +54,37 @@ class ModifiedEquation(Result):
         k = self.field.kind
         return tuple((k.order(t) - 1, k.bracket(t), v / k.symmetry(t)) for t, v in self.field.items() if v != 0)
 
+    def expression(self, f, y, h=None):
+        """The modified field f̃(y) = Σ_t h^{|t|−1} b(t)/σ(t) F(t)(y) for the field ``f``: sympy
+        expressions in the symbols ``y`` (a scalar f and y, or tuples), exact, up to the order of
+        the series; ``h`` a symbol (default ``h``).  Plain B-series only (an RK method or a GLM).
+
+        >>> import tableau_lab as tl, sympy as sp
+        >>> y = sp.Symbol("y")
+        >>> tl.modified_equation(tl.load("explicit_euler"), 4).expression(y**2, y)   # [HLW06] §IX.1: y′ = y²
+        -8*h**3*y**5/3 + 3*h**2*y**4/2 - h*y**3 + y**2
+        """
+        import sympy as sp
+
+        from .modified_hamiltonian import elementary_differential
+        k = self.field.kind
+        if k.coloured:
+            raise TypeError(f"{self.method}: the P-series of a partitioned method has two fields; "
+                            "expression() evaluates plain B-series")
+        scalar = not isinstance(y, (tuple, list))
+        ys, fs = ((y,), (f,)) if scalar else (tuple(y), tuple(f))
+        h = sp.Symbol("h") if h is None else h
+        total = [sp.Integer(0)] * len(ys)
+        cache: dict = {}
+        for t, v in self.field.items():
+            if t is None or v == 0:
+                continue
+            F = elementary_differential(t, ys, fs, cache)
+            c = v / k.symmetry(t) * h ** (k.order(t) - 1)
+            total = [a + c * b for a, b in zip(total, F)]
+        total = [sp.expand(x) for x in total]
+        return total[0] if scalar else tuple(total)
+
     def __str__(self):
         what = "modified equation" if self.kind == "modified" else "modifying integrator (the field to integrate)"
         lhs = "ỹ′ =" if self.kind == "modified" else "y′ ="
@@ -97,7 +128,20 @@ class ModifiedEquation(Result):
 
 def modified_equation(m: Method, max_order: int, kind: str = "modified") -> ModifiedEquation:
     """The modified equation (``kind="modified"``) or the modifying integrator (``"modifying"``)
-    of ``m`` with every tree of order ≤ ``max_order`` (terms up to h^(max_order − 1))."""
+    of ``m`` with every tree of order ≤ ``max_order`` (terms up to h^(max_order − 1)):
+    ``tl.modified_equation(m, n)``, ``m.modified_equation(n)``, ``tableau-lab modified``.  The
+    field is f̃ = Σ_t h^{|t|−1} b(t)/σ(t) F(t) with b ⋆ E = Φ ([HLW06] Hairer, Lubich & Wanner,
+    *Geometric Numerical Integration*, 2nd ed., §IX.1 and §IX.9, Thm 9.3; the modifying
+    integrator: Chartier, Hairer & Vilmart, Found. Comput. Math. 10 (2010)).  ``terms`` lists
+    (power of h, tree, coefficient); ``expression(f, y)`` evaluates the field for a given f.
+
+    >>> import tableau_lab as tl
+    >>> print(tl.modified_equation(tl.load("explicit_euler"), 3))     # [HLW06] IX.1, Example 1.1
+    explicit Euler: modified equation, trees to order 3
+      ỹ′ = f
+         + h   ( -1/2 f'f )
+         + h^2 ( 1/12 f''(f, f) + 1/3 f'f'f )
+    """
     if kind not in ("modified", "modifying"):
         raise ValueError(f"kind must be 'modified' or 'modifying', not {kind!r}")
     with computing(f"{kind} equation of {m.name} to order {max_order}"):

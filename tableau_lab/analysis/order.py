@@ -18,8 +18,26 @@ __all__ = ["order"]
 
 
 def order(m: Method, max_order: int | None = None):
-    """The order analysis of ``m``: a result object with ``order`` (classical for RK, highest
-    achievable for GLMs), ``stage_order`` where defined, and ``print``/``to_json``/``to_latex``."""
+    """The order analysis of ``m`` (``tl.order``, ``m.order()``, ``tableau-lab order``): a result
+    object with ``order`` (``int(result)``), ``stage_order`` where defined, the residuals of the
+    first failing conditions, and ``print``/``to_json``/``to_latex``.
+
+    * RK: the classical order by elementary weights Φ(t) = 1/γ(t) over rooted trees ([B16]
+      Butcher, *Numerical Methods for ODEs*, 3rd ed., ch. 3; [HNW93] §II.2), the simplifying
+      assumptions B, C, D, the principal error coefficients and the effective order;
+    * partitioned RK: bicoloured trees ([HLW06] §III.2);
+    * GLM: the highest order achievable with a starting method, the order with θ ≡ 0, the stage
+      order, starting and finishing methods ([B16] ch. 5; [BHHN14]).
+
+    ``max_order`` caps the trees checked (default: the bound 2s, or s when explicit, for RK).
+
+    >>> import tableau_lab as tl
+    >>> r = tl.order(tl.load("gauss:3"))
+    >>> int(r), r.stage_order                      # Gauss: order 2s, stage order s ([HW96] IV.5)
+    (6, 3)
+    >>> int(tl.order(tl.load("bdf:3"))), int(tl.order(tl.load("stormer_verlet")))
+    (3, 2)
+    """
     if m.kind == "rk":
         return rk_order(m, max_order)
     if m.kind == "prk":

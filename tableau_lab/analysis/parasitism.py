@@ -43,7 +43,7 @@ from .growth import NumericMode, growth_rate
 from .results import Result
 from .roots import unit_circle_eigenvalues as _unit_circle_eigenvalues
 
-__all__ = ["growth_parameters", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
+__all__ = ["growth_parameters", "parasitism", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
            "growth_rate", "predicted_growth"]
 
 
@@ -93,7 +93,18 @@ def _show(x):
 
 
 def growth_parameters(m: Method) -> ParasitismResult:
-    """The parasitic growth parameters μ of each eigenvalue ζ ≠ 1 of V with |ζ| = 1."""
+    """The parasitic growth parameters μ = ζ⁻¹ y B U x of each simple eigenvalue ζ ≠ 1 of V with
+    |ζ| = 1 (x, y its right and left eigenvectors, y x = 1), exact ([BHHN14] Butcher, Habib, Hill
+    & Norton, SIAM J. Numer. Anal. 52 (2014), Sec. 4; the module docstring).  ``tl.parasitism``;
+    ``.free`` is true when every μ = 0 (parasitism controlled to first order).
+
+    >>> import tableau_lab as tl
+    >>> r = tl.parasitism(tl.load("example4_glm"))
+    >>> [(str(p.zeta), str(p.mu)) for p in r.items], r.free     # by hand: the module docstring
+    ([('-1', '1 + 2*sqrt(3)/3')], False)
+    >>> tl.parasitism(tl.load("glm43")).free                      # the seed's GLM43 (§3.2.3): μ = 0
+    True
+    """
     g = m.as_glm()
     V, B, U = sp.Matrix(g.V), sp.Matrix(g.B), sp.Matrix(g.U)
     if V.free_symbols:
@@ -115,6 +126,10 @@ def growth_parameters(m: Method) -> ParasitismResult:
     items = tuple(Parasitic(zeta=normal_form(zeta, K), mu=_normal(mu, K), left=tuple(_normal(v, K) for v in y),
                             right=tuple(_normal(v, K) for v in x)) for zeta, mu, y, x in raw)
     return ParasitismResult(method=m.name, items=items)
+
+
+#: the public name (``tl.parasitism``, ``m.parasitism()``) of :func:`growth_parameters`
+parasitism = growth_parameters
 
 
 def numeric_modes(m: Method) -> tuple:

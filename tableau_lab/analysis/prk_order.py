@@ -36,6 +36,7 @@ def _label(t) -> str:
 
 @dataclass(frozen=True)
 class PRKOrderResult(Result):
+    int_field = "order"          # int(result) is the order
     method: str
     order: int
     errors: dict          # label -> Φ(t) − 1/γ(t) at order p + 1 (nonzero ones)

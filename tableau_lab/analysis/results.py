@@ -175,6 +175,16 @@ class Result:
     get ``_repr_markdown_`` and, for results that are all math, ``_repr_latex_`` from these."""
 
     latex_math = False     # True: to_latex() is one formula (math mode, no delimiters), not text
+    int_field = None       # the field that int(result) gives ("order" for the order analyses), or None
+
+    def __int__(self) -> int:
+        """``int(tl.order(m))`` is the order: the field :attr:`int_field` of a result that has one."""
+        if self.int_field is None:
+            raise TypeError(f"a {type(self).__name__} has no integer value")
+        return int(getattr(self, self.int_field))
+
+    def __index__(self) -> int:
+        return self.__int__()
 
     def to_json(self) -> dict:  # pragma: no cover - overridden
         raise NotImplementedError

@@ -50,6 +50,7 @@ class RKOrderResult(Result):
     """Classical order with elementary weights, stage order, B/C/D and, when computed, the
     effective order (with the starting method's θ(t) when it exceeds the classical order)."""
 
+    int_field = "order"          # int(result) is the order
     method: str
     order: int
     B: int

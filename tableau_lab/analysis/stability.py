@@ -874,8 +874,20 @@ def _is_symplectic(m, gsym=None) -> bool:
 
 
 def stability(m: Method, gsym=None) -> StabilityResult:
-    """The exact linear-stability analysis of an RK, partitioned RK or GL method (``gsym``: the
-    method's ``g_symplectic`` result, when already computed)."""
+    """The exact linear-stability analysis of an RK, partitioned RK or GL method (``tl.stability``,
+    ``m.stability()``, ``tableau-lab stability``; ``gsym``: the method's ``g_symplectic`` result,
+    when already computed): the characteristic polynomial P(w, z), R(z) for RK, A-stability, and
+    the imaginary-axis radii Y₌ (every root |w| = 1) and Y≤ (every root |w| ≤ 1), exact
+    algebraic numbers, decided by the certified axis analysis of the module docstring ([HW96]
+    Hairer & Wanner, *Solving ODEs II*, §IV.3, §IV.12; [BHHN14] for G-symplectic GLMs).
+
+    >>> import tableau_lab as tl
+    >>> s = tl.stability(tl.load("rk4"))
+    >>> s.bounded_radius, s.a_stable            # |R(iy)| ≤ 1 for |y| ≤ 2√2 ([HW96] IV.2)
+    (2*sqrt(2), False)
+    >>> tl.stability(tl.load("radau_iia:2")).a_stable
+    True
+    """
     P, K = _over_coefficient_field(*characteristic_polynomial(m))
     imaginary = m.kind != "prk"
     Pp = _primitive(P)

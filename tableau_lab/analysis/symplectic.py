@@ -256,7 +256,14 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     r(r+1)/2 entries of G and the s diagonal entries of D; the solution space is the
     nullspace of the coefficient matrix of the three conditions, computed over the
     method's number field (or, with free parameters, its rational function field, in
-    which case the answer is the generic one).
+    which case the answer is the generic one).  ``tl.g_symplectic``, ``m.g_symplectic()``;
+    the conditions are those of [BHHN14] Butcher, Habib, Hill & Norton, SIAM J. Numer. Anal. 52
+    (2014), Def. 2.1 ([B16] Sec. 54).
+
+    >>> import tableau_lab as tl
+    >>> g = tl.g_symplectic(tl.load("example4_glm"))
+    >>> g.holds, list(g.G)
+    (True, [1, 0, 0, 1 + 2*sqrt(3)/3])
     """
     if getattr(m, "conjugate", None) is not None:
         return _g_symplectic_conjugate(m)

@@ -178,7 +178,15 @@ def _show(v):
 
 
 def verify(m: Method) -> VerifyResult:
-    """All applicable analyses of ``m`` and the verdict on each of its claims.
+    """All applicable analyses of ``m`` and the verdict on each of its claims (``tl.verify``,
+    ``m.verify()``, ``tableau-lab verify``): RK/PRK symplecticity (bᵢaᵢⱼ + bⱼaⱼᵢ = bᵢbⱼ, [HLW06]
+    Thm VI.4.3), G-symplecticity ([BHHN14]), the order and, for GLMs, the parasitic growth
+    parameters; ``failed`` lists the claims of the tableau that do not hold.
+
+    >>> import tableau_lab as tl
+    >>> v = tl.verify(tl.load("gauss2"))
+    >>> v.failed, v.found["symplectic"]
+    ((), True)
 
     With free parameters every analysis runs over the field of rational functions in them: a
     property holds when it holds identically (for all parameter values where the entries are

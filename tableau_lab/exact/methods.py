@@ -29,6 +29,7 @@ import sympy as sp
 from ..errors import InputError
 from .conjugate import detect
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
+from .queries import Queries
 from .render import markdown_literal
 
 __all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "GeneralLinearMethod", "preconsistency",
@@ -139,8 +140,9 @@ def _frozen_claims(claims) -> tuple:
 
 
 @dataclass(frozen=True)
-class Method:
-    """Fields shared by all kinds: name and provenance (not part of the mathematics)."""
+class Method(Queries):
+    """Fields shared by all kinds: name and provenance (not part of the mathematics); the
+    analyses as methods (``m.order()``, ``m.stability()``, …: :mod:`queries`)."""
 
     name: str = field(default="", kw_only=True)
     source: str = field(default="", kw_only=True)
@@ -245,7 +247,16 @@ def _tableau(A, b, c, hat=""):
 
 @dataclass(frozen=True)
 class RungeKutta(Method):
-    """An s-stage Runge-Kutta method (A, b, c) with c = A·1."""
+    """An s-stage Runge-Kutta method (A, b, c) with c = A·1 ([B16] Butcher, *Numerical Methods for
+    ODEs*, 3rd ed., ch. 3), exact: ``tl.RungeKutta``; ``from_lists`` takes ints, sympy numbers or
+    entries in the tableau grammar (floats are refused).  Its analyses are its methods
+    (``m.order()``, ``m.stability()``, …).
+
+    >>> import tableau_lab as tl
+    >>> heun = tl.RungeKutta.from_lists([[0, 0], [1, 0]], ["1/2", "1/2"], name="Heun")
+    >>> heun.c.T, int(heun.order())
+    (Matrix([[0, 1]]), 2)
+    """
 
     A: sp.ImmutableMatrix
     b: sp.ImmutableMatrix
@@ -337,7 +348,14 @@ class RungeKutta(Method):
 @dataclass(frozen=True)
 class PartitionedRungeKutta(Method):
     """A partitioned RK method: (A, b, c) for the first partition (q), (Ahat, bhat, chat)
-    for the second (p).  Both tableaux have the same number of stages."""
+    for the second (p).  Both tableaux have the same number of stages ([HLW06] Hairer, Lubich &
+    Wanner, *Geometric Numerical Integration*, §II.2, §III.2): ``tl.PartitionedRungeKutta``.
+
+    >>> import tableau_lab as tl
+    >>> euler = tl.PartitionedRungeKutta.from_lists([[1]], [1], [[0]], [1], name="symplectic Euler")
+    >>> int(euler.order()), euler.verify().rk_symplectic.holds_separable
+    (1, True)
+    """
 
     A: sp.ImmutableMatrix
     b: sp.ImmutableMatrix
@@ -395,7 +413,13 @@ def preconsistency(U, V) -> sp.ImmutableMatrix | None:
 
 @dataclass(frozen=True)
 class GeneralLinearMethod(Method):
-    """A GLM [A U; B V] with s stages and r values, and stage abscissae c.
+    """A GLM [A U; B V] with s stages and r values, and stage abscissae c ([B16] Butcher,
+    *Numerical Methods for ODEs*, 3rd ed., ch. 5): ``tl.GeneralLinearMethod``.
+
+    >>> import tableau_lab as tl
+    >>> leapfrog = tl.GeneralLinearMethod(A=[[0]], U=[[1, 0]], B=[[2], [0]], V=[[0, 1], [1, 0]], name="leapfrog")
+    >>> leapfrog.r, int(leapfrog.order())
+    (2, 2)
 
     ``c`` may be omitted: it is derived from the order-1 conditions as
     c = A·1 + U v, where (I − V) v = B·1 − u and v has no component along u

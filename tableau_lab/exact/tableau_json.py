@@ -26,6 +26,7 @@ from ..inputs import parse_json, printable, read_json
 from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .library import FamilyError, family, is_family, library_path
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
+from .names import did_you_mean
 
 __all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES"]
 
@@ -285,7 +286,8 @@ def read(path: str | os.PathLike) -> dict:
 def load(path: str | os.PathLike, **size) -> Method:
     """Read a tableau file; errors name the file and the entry.  A name that is not a file is
     a shipped method (``load("gauss2")``) or a generated family (``load("bdf:5")``,
-    ``load("gauss", s=3)``): :mod:`library`."""
+    ``load("gauss", s=3)``): :mod:`library`; a name close to one of those is answered with
+    "did you mean" (:mod:`names`)."""
     if size or (not path_exists(path) and is_family(path)):
         try:
             return family(str(path), **size)
@@ -293,6 +295,9 @@ def load(path: str | os.PathLike, **size) -> Method:
             raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
     if not path_exists(path) and library_path(path) is not None:
         return from_dict(read(library_path(path)), str(path))      # a shipped method by name
+    if not path_exists(path) and did_you_mean(path):
+        raise TableauError(str(path), "no such file, shipped method or family" + did_you_mean(path)
+                           + " (tableau-lab list shows them all)")
     return from_dict(read(path), str(path))
 
 

@@ -35,7 +35,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from ..analysis.family import Family, FamilyError
+from ..analysis.family import Family, FamilyError, families_of
 from ..analysis.results import Result
 from ..analysis.trees import trees_of_order
 from ..exact.grammar import format_entry
@@ -45,7 +45,7 @@ from ..files import atomic_write_text
 from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
                                   series_defects)
 
-__all__ = ["search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError",
+__all__ = ["design", "search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError",
            "check_constraints", "is_checkpoint"]
 
 PENALTY = 1e3            # weight of a constraint violation in the score
@@ -474,6 +474,27 @@ class _Checkpoint:
 def _tuples(v):
     """JSON lists back to the tuples the search uses."""
     return tuple(_tuples(x) for x in v) if isinstance(v, list) else v
+
+
+def design(tableau, require, maximize=None, minimize=None, constraints=(), box=(-2.0, 2.0), **options) -> list:
+    r"""The best certified members of the solution families of ``require`` for the unknowns of the
+    design tableau ``tableau`` (a file, docs/design.md): ``tl.design``, ``tableau-lab design``.
+    Each family with free parameters is searched (:func:`search`: a Sobol sample, Nelder–Mead,
+    then an exact certificate; ``options``: samples, starts, seed, workers, scheduler, checkpoint)
+    for ``maximize``/``minimize`` (:data:`OBJECTIVES`) under ``constraints``; returns one
+    :class:`SearchResult` per family.  Reference: [BHHN14] Butcher, Habib, Hill & Norton, SIAM J.
+    Numer. Anal. 52 (2014) for the P and N methods found below.
+
+    >>> import tableau_lab as tl
+    >>> [res] = tl.design("methods/design/pn_family.json", ["g-symplectic"], maximize="imaginary-interval",
+    ...                   constraints=("order=4",), box=(-3.0, 3.0), seed=1, samples=32, starts=2)
+    >>> sorted(c.certified.name.split(" at ")[1] for c in res.candidates if c.certified)    # P and N of [BHHN14]
+    ['u = 1 + 2*sqrt(3)/3', 'u = 1 - 2*sqrt(3)/3']
+    """
+    fams = [f for f in families_of(tableau, list(require)) if f.free]
+    if not fams:
+        raise FamilyError(f"{tableau}: no family with free parameters for {', '.join(map(str, require))}")
+    return [search(f, maximize=maximize, minimize=minimize, constraints=constraints, box=box, **options) for f in fams]
 
 
 def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2.0, 2.0), samples: int = 256,

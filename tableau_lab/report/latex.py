@@ -39,7 +39,7 @@ from ..exact.render import LATEX, latex_text, signed_term
 from ..exact.methods import Method
 
 __all__ = ["method_document", "library_document", "compile_pdf", "ReportError", "write_report", "report_paths",
-           "FACTS_SUFFIX"]
+           "FACTS_SUFFIX", "report"]
 
 PREAMBLE = r"""\documentclass[11pt]{article}
 \usepackage[a4paper,margin=2.2cm]{geometry}
@@ -366,6 +366,32 @@ def method_document(m: Method, figures=(), stability: bool = False) -> tuple[str
     """A standalone LaTeX document for one method, and the facts it states (exact, as strings);
     ``stability``: with the exact imaginary-axis interval (``analysis.stability``)."""
     return _document([m], figures, title=m.name, stability=stability)
+
+
+def report(method: Method, out=None, *, stability: bool = False, pdf: bool = False):
+    r"""The LaTeX proof report of ``method`` (``tl.report``; ``tableau-lab report``): with ``out``
+    None its LaTeX source as a string; with ``out`` (``FOLDER/NAME``) the files NAME.tex and
+    NAME.report.json written there (never over an input or a file of another kind:
+    :mod:`tableau_lab.files`) and, when ``pdf`` is true, compiled to NAME.pdf (pdflatex required);
+    returns the path of the .tex, or of the .pdf when one was made.  ``stability``: with the exact
+    imaginary-axis interval.  Each section states the analysis it reports and its reference
+    (G-symplecticity: [BHHN14] Butcher, Habib, Hill & Norton, SIAM J. Numer. Anal. 52 (2014);
+    order: [B16] Butcher, *Numerical Methods for ODEs*, 3rd ed., ch. 3 and 5).
+
+    >>> import tableau_lab as tl
+    >>> tex = tl.report(tl.load("implicit_midpoint"))
+    >>> tex.startswith(r"\documentclass"), "symplectic" in tex
+    (True, True)
+    """
+    tex, facts = method_document(method, stability=stability)
+    if out is None:
+        return tex
+    from ..files import refuse_outputs
+    paths = report_paths(out)
+    refuse_outputs(list(paths.values()), what="report")
+    tex_path = write_report(tex, facts, Path(out))
+    made = compile_pdf(tex_path, required=True) if pdf else None
+    return made or tex_path
 
 
 def library_document(methods) -> tuple[str, dict]:

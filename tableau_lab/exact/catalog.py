@@ -1,0 +1,85 @@
+r"""``tl.load`` and ``tl.save``: a method from whatever names it, and back to a tableau file.
+
+``load`` takes a method object (returned as it is), a NodePy method (:mod:`interop`), JSON text
+(a string starting with ``{``: :func:`tableau_json.loads`), or a name: a tableau file, a shipped
+method (``"gauss2"``, ``"rk4"``), a family with its size (``"gauss:3"``, ``"bdf:4"``), all read by
+:func:`tableau_json.load` (every error names the file and the one-based entry; a name that is
+none of these gets "did you mean …").
+
+>>> import tableau_lab as tl
+>>> tl.load("gauss:3").s, tl.load("rk4").name
+(3, 'classical Runge–Kutta (RK4)')
+>>> tl.load('{"name": "midpoint", "kind": "rk", "A": [["1/2"]], "b": [1]}').c.T
+Matrix([[1/2]])
+>>> tl.load("RK4")
+Traceback (most recent call last):
+...
+tableau_lab.exact.tableau_json.TableauError: RK4: no such file, shipped method or family; did you mean rk4? (tableau-lab list shows them all)
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from ..files import OutputRefused, guard_output, path_exists
+from . import tableau_json
+from .methods import Method
+
+__all__ = ["load", "save"]
+
+
+def load(source, **size) -> Method:
+    r"""The exact method that ``source`` names (module docstring): a path, a shipped name
+    (``tableau-lab list``, ``tl.list_methods()``), ``"family:N"`` or ``load("gauss", s=3)``, JSON
+    text, a NodePy ``RungeKuttaMethod``/``LinearMultistepMethod`` with exact coefficients, or a
+    method object.  The format is docs/tableau-format.md; the families are those of
+    [HW96] Hairer & Wanner, *Solving ODEs II*, Table IV.5.13 (Gauss, Radau, Lobatto) and [HNW93]
+    §III.1 (Adams, BDF).
+
+    >>> import tableau_lab as tl
+    >>> m = tl.load("bdf:4")
+    >>> m.kind, m.r, int(m.order())
+    ('glm', 4, 4)
+    >>> tl.load(m) is m
+    True
+    """
+    if isinstance(source, Method):
+        if size:
+            raise TypeError("load(method): a method object has its size already")
+        return source
+    if isinstance(source, str) and source.lstrip().startswith("{"):
+        return tableau_json.loads(source)
+    if not isinstance(source, (str, os.PathLike)) and (hasattr(source, "A") and hasattr(source, "b")
+                                                       or hasattr(source, "alpha") and hasattr(source, "beta")):
+        from .interop import from_nodepy
+        return from_nodepy(source)
+    if not isinstance(source, (str, os.PathLike)):
+        raise TypeError(f"load takes a path, a method name, JSON text, a NodePy method or a method, "
+                        f"not {type(source).__name__}")
+    return tableau_json.load(source, **size)
+
+
+def save(method: Method, path, *, overwrite: bool = False) -> Path:
+    """Write ``method`` as a JSON tableau file (docs/tableau-format.md) at ``path``, atomically
+    (all of it or nothing: :func:`tableau_lab.files.atomic_write_text`); an existing file is
+    replaced only with ``overwrite=True``, and never a folder, a device or a link (the guard of
+    every output, :func:`tableau_lab.files.guard_output`).  Returns the path.  What is written
+    reads back as the same method (``tl.load(path) == method``).
+
+    >>> import tableau_lab as tl, tempfile, os
+    >>> path = os.path.join(tempfile.mkdtemp(), "g2.json")
+    >>> tl.load(tl.save(tl.load("gauss:2"), path)) == tl.load("gauss:2")
+    True
+    >>> tl.save(tl.load("rk4"), path)
+    Traceback (most recent call last):
+    ...
+    tableau_lab.files.OutputRefused: ...g2.json: save: a file is there; not replaced (pass overwrite=True to replace it)
+    """
+    if not isinstance(method, Method):
+        raise TypeError(f"save(method, path): the first argument is a method, not {type(method).__name__}")
+    target = Path(path)
+    if path_exists(target) and target.is_file() and not target.is_symlink() and not overwrite:
+        raise OutputRefused(f"{target}: save: a file is there; not replaced (pass overwrite=True to replace it)")
+    guard_output(target, what="save")
+    tableau_json.save(method, target)
+    return target
