@@ -108,7 +108,8 @@ class ErrorConstantResult(Result):
 def error_constant(m: Method) -> ErrorConstantResult:
     """The order p and error constant C_{p+1} of the linear multistep method ``m`` (module
     docstring: C_{p+1} with αₖ = 1, and C_{p+1}/σ(1)); a method that is not an LMM, or not
-    consistent (C₀ or C₁ ≠ 0), is refused with the reason.
+    consistent (C₀ or C₁ ≠ 0), is refused with the reason.  [HNW93] III.2, eq. (2.3); Lambert
+    1991, §3.5 (the tables of C_{p+1} with αₖ = 1).
 
     >>> from tableau_lab.exact.library import family
     >>> [str(error_constant(family("adams_moulton", k=k)).C) for k in (1, 2, 3)]

@@ -142,6 +142,7 @@ def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None
     ``parameters`` are dicts name → expression / value; initial values (``q0``, ``p0``, ``y0``)
     default to 0 and are read exactly (0.1 is 1/10).  The result runs in :func:`integrate` and in
     the command line's machinery (it is a :class:`~tableau_lab.numeric.problems.Problem`).
+    A Hamiltonian's field is f = J⁻¹∇H ([HLW06] I.1, VI.2).
 
     >>> P = problem(H="p**2/2 - cos(q)")
     >>> P.f_expr, P.kind
@@ -380,7 +381,15 @@ class Solution:
     ``h`` (the step used: module docstring), ``loop`` ("compiled with numba" or "Python") and
     ``why``, ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
     loop: a compile, or a load from its disk cache), ``start`` (a GLM's starting values: "exact"
-    or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`)."""
+    or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`).
+    ``plot(ax=None, what="states" | "phase" | "invariants")`` draws it on matplotlib axes.
+
+    >>> from tableau_lab.exact.tableau_json import load
+    >>> sol = integrate(load("gauss2"), problem(H="p^2/2 + q^2/2", q0=[1]), None, (0, 1), "1/10",
+    ...                 kernel="python", notice=False)
+    >>> sol.steps, sol.loop, bool(abs(sol.invariant_errors["H"]).max() < 1e-14)   # [HLW06] IV.2: H is kept
+    (10, 'Python', True)
+    """
     method: str
     problem: str
     precision: str
@@ -485,7 +494,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
               project=(), start: str = "exact", kernel: str = "auto", jit: bool | None = None,
               record_every: int | None = None, notice: bool = True,
               timeout: float | None = DEFAULT_SECONDS) -> Solution:
-    """Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a method
+    """[HNW93] II (Runge–Kutta), [B16] ch. 5 (general linear methods, their starting methods).
+    Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a method
     object, or a file, library or family name) and steps of at most ``h`` (module docstring: the
     grid, and what ``f`` may be). ``y0`` may be None for a Problem (its own initial values).
     ``invariants``: name → I(y) (callables for a callable f; expressions for a sympy f; a Problem
