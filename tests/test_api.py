@@ -26,6 +26,9 @@ def test_gauss3_order_is_six():
     r = tl.load("gauss:3").order()
     assert int(r) == 6 and isinstance(int(r), int) and r.order == 6      # Gauss: order 2s ([HW96] IV.5)
     assert list(range(r)) == list(range(6))                                # __index__
+    assert r == 6 and 6 == r and r != 5 and r != 6.5 and r != True        # as NodePy's rk.order() == 6
+    assert r == tl.order(tl.load("gauss3")) and r != tl.order(tl.load("gauss2"))    # results: field by field
+    assert tl.order(tl.load("glm43")) == 4 and tl.order(tl.load("stormer_verlet")) == 2   # GLM, PRK results
 
 
 def test_rk4_imaginary_interval_is_two_root_two_exactly():

@@ -54,7 +54,7 @@ def theta_matrix(k: int) -> tuple:
 
 # ----------------------------------------------------------------- the solve
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
 class GLMOrderResult(Result):
     """Order of a GLM (or an RK method as a GLM) with its starting and finishing methods."""
 

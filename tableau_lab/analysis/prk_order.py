@@ -34,7 +34,7 @@ def _label(t) -> str:
     return mark if not t[1] else f"[{''.join(_label(c) for c in t[1])}]{mark}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
 class PRKOrderResult(Result):
     int_field = "order"          # int(result) is the order
     method: str

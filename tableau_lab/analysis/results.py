@@ -26,6 +26,7 @@ $$\Phi(t) \ne 1/\gamma(t)$$
 """
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 
@@ -170,6 +171,13 @@ def _display_blocks(tex: str) -> list[str] | None:
 
 # ------------------------------------------------------------------ the results
 
+def _compared(r) -> tuple:
+    """The fields a dataclass compares (not caches set on the instance), or its whole __dict__."""
+    if dataclasses.is_dataclass(r):
+        return tuple(getattr(r, f.name) for f in dataclasses.fields(r) if f.compare)
+    return tuple(sorted(vars(r).items()))
+
+
 class Result:
     """Base: subclasses implement ``to_json`` (a dict), ``__str__`` and ``to_latex``; notebooks
     get ``_repr_markdown_`` and, for results that are all math, ``_repr_latex_`` from these."""
@@ -185,6 +193,19 @@ class Result:
 
     def __index__(self) -> int:
         return self.__int__()
+
+    def __eq__(self, other):
+        """A result with an integer value equals that integer (``tl.order(m) == 6``, as NodePy's
+        ``rk.order()``); results of one class compare field by field.  The classes with an
+        :attr:`int_field` are dataclasses with ``eq=False``, so that this is their equality."""
+        if self.int_field is not None and isinstance(other, int) and not isinstance(other, bool):
+            return int(self) == other
+        if type(other) is not type(self):
+            return NotImplemented
+        return _compared(self) == _compared(other)
+
+    def __hash__(self):
+        return hash(int(self)) if self.int_field is not None else object.__hash__(self)
 
     def to_json(self) -> dict:  # pragma: no cover - overridden
         raise NotImplementedError

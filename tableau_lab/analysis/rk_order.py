@@ -45,7 +45,7 @@ LATEX_MAX_ORDER = 6
 ERROR_TREES_BUDGET = 50_000
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
 class RKOrderResult(Result):
     """Classical order with elementary weights, stage order, B/C/D and, when computed, the
     effective order (with the starting method's θ(t) when it exceeds the classical order)."""
