@@ -6,6 +6,7 @@ every formula without error (benchmarks/mathjax_check.py).
 
 ``python tests/test_notebook.py`` executes the notebook and stores it with its outputs, without
 timestamps or kernel versions (regenerate it after a change of the displays)."""
+import ast
 import copy
 import os
 import re
@@ -98,6 +99,39 @@ def test_proof_order_and_stability_are_shown(executed):
     assert "controlled to first order (all μ = 0)" in md and r"\xi_{3}(t)" in md
     assert re.search(r"R\(z\) = \\frac\{z\^\{2\} \+ 6 z \+ 12\}\{z\^\{2\} - 6 z \+ 12\}", md)
     assert "The method is A-stable." in md and r"\operatorname{CRootOf}" in md
+
+
+def tableau_lab_names(book) -> list[str]:
+    """The tableau_lab names the code cells of ``book`` use, as written (``tl.load``, ``import
+    tableau_lab as tl``, ``from tableau_lab.x import y``, …)."""
+    names = []
+    for cell in book.cells:
+        if cell.cell_type != "code":
+            continue
+        for node in ast.walk(ast.parse(cell.source)):
+            if isinstance(node, ast.Import):
+                names += [f"import {a.name} as {a.asname}" for a in node.names if a.name.startswith("tableau_lab")]
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("tableau_lab"):
+                names += [f"from {node.module} import {a.name}" for a in node.names]
+            elif isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "tl":
+                names.append(f"tl.{node.attr}")
+    return names
+
+
+def only_top_level(book) -> list[str]:
+    """The uses of tableau_lab in ``book`` that are not ``import tableau_lab as tl`` and a public
+    name at the package top (the must-show of issue 30)."""
+    import tableau_lab as tl
+    return [n for n in tableau_lab_names(book)
+            if n != "import tableau_lab as tl" and not (n.startswith("tl.") and n[3:] in tl.__all__)]
+
+
+def test_notebook_uses_only_top_level_names():
+    book = nbformat.read(NOTEBOOK, as_version=4)
+    assert "import tableau_lab as tl" in tableau_lab_names(book) and not only_top_level(book)
+    bad = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(
+        "import tableau_lab as tl\nfrom tableau_lab.analysis.order import order\ntl.exact.catalog")])
+    assert only_top_level(bad) == ["from tableau_lab.analysis.order import order", "tl.exact"]
 
 
 def test_stored_notebook_has_todays_outputs(executed):

@@ -952,10 +952,18 @@ class StabilityReport(Result):
 
 
 def stability_report(m: Method) -> StabilityReport:
-    """Linear stability, algebraic stability and, for RK methods, the real-axis interval and the SSP
-    coefficient; for GLMs zero-stability, the A(α) angle and the parasitic growth parameters.  A
-    method with free parameters gets what holds over their field
-    (:func:`~tableau_lab.analysis.parametric_stability.parametric_stability`)."""
+    """Everything ``tableau-lab stability`` prints (``tl.stability_report``): linear stability
+    (:func:`stability`), algebraic stability and, for RK methods, the real-axis interval, the SSP
+    coefficient and the internal stability functions; for GLMs zero-stability, the A(α) angle and
+    the parasitic growth parameters ([HW96] §IV.3, §IV.12; [BHHN14] Sec. 4).  A method with free
+    parameters gets what holds over their field
+    (:func:`~tableau_lab.analysis.parametric_stability.parametric_stability`).
+
+    >>> import tableau_lab as tl
+    >>> r = tl.stability_report(tl.load("ssprk:3"))
+    >>> r.linear.bounded_radius, r.ssp.R
+    (sqrt(3), 1)
+    """
     from .a_alpha import a_alpha
     from .algebraic_stability import algebraic_stability
     from .parasitism import growth_parameters
