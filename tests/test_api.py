@@ -188,8 +188,12 @@ def test_did_you_mean(typed, first):
 
 
 def test_did_you_mean_ssprk3_suggests_something():
-    with pytest.raises(TableauError, match="did you mean "):
-        tl.load("ssprk3")
+    with pytest.raises(TableauError, match=r"the number of stages is missing \(write ssprk3:N, N one of 3, 4, 9"):
+        tl.load("ssprk3")                                                   # a family: its sizes named
+    for typed, meant in (("SSPRK3", "ssprk:3"), ("ssprk33", "ssprk3:3"), ("SSP104", "ssp104"), ("RK44", "rk4")):
+        with pytest.raises(TableauError, match=f"did you mean {meant}\\?"):
+            tl.load(typed)
+        assert int(tl.load(meant).order()) in (3, 4)                        # and the suggestion loads
     with pytest.raises(TableauError, match="cannot read"):                 # far from every name: no guess
         tl.load("qqqqqq")
 

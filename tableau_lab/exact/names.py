@@ -2,13 +2,15 @@ r"""Names of methods for people: "did you mean …" for a name that is neither a
 method nor a family (``tl.load`` and every command that reads a tableau).
 
 A name is compared, case folded and with the separators ``-``, ``_``, ``:`` and spaces set aside,
-with every shipped name and every family written ``family:N`` (N its own number when the typed
-name ends in one, else the family's first size), by :func:`difflib.get_close_matches` (Ratcliff–
+with every shipped name, every alias and every family member written ``family:N`` (N a size
+the family is built for), by :func:`difflib.get_close_matches` (Ratcliff–
 Obershelp similarity, cut-off :data:`CUTOFF`), then the names that contain it; a name equal
 after folding is the one suggestion.
 
->>> suggestions("RK4"), suggestions("bdf4"), suggestions("gaus:3")[0]
-(['rk4'], ['bdf:4'], 'gauss:3')
+>>> suggestions("RK4"), suggestions("bdf4"), suggestions("gaus:3")[0], suggestions("SSP104")
+(['rk4'], ['bdf:4'], 'gauss:3', ['ssp104'])
+>>> suggestions("ssprk33"), suggestions("gaus:3")
+(['ssprk3:3'], ['gauss:3'])
 >>> did_you_mean("RK4")
 '; did you mean rk4?'
 >>> did_you_mean("zzzz")
@@ -19,7 +21,7 @@ from __future__ import annotations
 import difflib
 import re
 
-from .library import FAMILIES, library_names
+from .library import ALIASES, FAMILIES, family_sizes, library_names
 
 __all__ = ["suggestions", "did_you_mean", "CUTOFF", "MOST"]
 
@@ -36,13 +38,10 @@ def _fold(name: str) -> str:
 
 
 def _candidates(typed: str) -> list:
-    """Every shipped name and ``family:N`` (N typed, or the family's first size); the families
-    first when the typed name has a colon (``gaus:3`` → ``gauss:3`` rather than the file gauss3)."""
-    digits = re.search(r"(\d+)$", typed)
-    families = []
-    for name, (_, _, largest, _) in FAMILIES.items():
-        n = int(digits.group(1)) if digits and 1 <= int(digits.group(1)) <= largest else 1
-        families.append(f"{name}:{n}")
+    """Every shipped name, every alias and every ``family:N`` of a size the family is built for;
+    the families first when the typed name has a colon (``gaus:3`` → ``gauss:3`` rather than
+    the file gauss3)."""
+    families = [f"{name}:{n}" for name in FAMILIES for n in family_sizes(name)] + list(ALIASES)
     return families + library_names() if ":" in typed else library_names() + families
 
 
@@ -58,9 +57,12 @@ def suggestions(typed) -> list:
     key = _fold(typed)
     if key in by_fold:                       # the same name but for case and separators
         return [by_fold[key]]
-    close = [by_fold[k] for k in difflib.get_close_matches(key, list(by_fold), n=MOST, cutoff=CUTOFF)]
+    close = [by_fold[k] for k in difflib.get_close_matches(key, list(by_fold), n=5 * MOST, cutoff=CUTOFF)]
     inside = [n for k, n in by_fold.items() if len(key) >= 4 and key in k]    # "euler": explicit_euler, …
-    return list(dict.fromkeys(close + inside))[:MOST]
+    one = {}                                 # a family once: its closest member
+    for n in close + inside:
+        one.setdefault(n.split(":")[0], n)
+    return list(one.values())[:MOST]
 
 
 def did_you_mean(typed) -> str:
