@@ -19,8 +19,7 @@ function up here, by name, at call time (``exact/queries.py``).
 """
 __version__ = "0.1.0"
 
-#: public name -> the module that defines it (imported on first use; ``report`` is the callable
-#: subpackage ``tableau_lab.report`` itself)
+#: public name -> the module that defines it (imported on first use)
 _LAZY = {
     # methods: reading, writing, the library
     "load": "tableau_lab.exact.catalog",
@@ -55,7 +54,7 @@ _LAZY = {
     "plot_order_star": "tableau_lab.experiments.inline_plots",
     "plot_imaginary_axis": "tableau_lab.experiments.inline_plots",
     # faces
-    "report": "tableau_lab.report",
+    "report": "tableau_lab.proofs.latex",
 }
 
 __all__ = ["__version__", *_LAZY]
@@ -68,7 +67,7 @@ def __getattr__(name: str):
         raise AttributeError(f"module 'tableau_lab' has no attribute {name!r}")
     import importlib
     module = importlib.import_module(path)
-    value = module if module.__name__ == f"{__name__}.{name}" else getattr(module, name)
+    value = getattr(module, name)
     globals()[name] = value
     return value
 

@@ -562,7 +562,7 @@ def _replot(args) -> int:
 
 def _report(args) -> int:
     from .exact.tableau_json import TableauError, load
-    from .report.latex import ReportError, compile_pdf, library_document, method_document, write_report
+    from .proofs.latex import ReportError, compile_pdf, library_document, method_document, write_report
 
     methods, status = [], EXIT_OK
     for path in args.files:
@@ -579,7 +579,7 @@ def _report(args) -> int:
             raise InputError(f"{path}: the report would be named {Path(path).stem!r}, not a safe file name "
                              "(ASCII letters, digits, - _ . starting with a letter or digit): rename the file")
     from .files import refuse_outputs
-    from .report.latex import report_paths
+    from .proofs.latex import report_paths
     targets = [out / "library"] if args.library else [out / Path(p).stem for p, _ in methods]
     refuse_outputs([f for t in targets for f in report_paths(t).values()], [p for p, _ in methods])   # before work
     jobs = ([(out / "library", library_document([m for _, m in methods]))] if args.library else

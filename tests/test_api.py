@@ -64,7 +64,8 @@ def test_import_is_lazy_and_names_are_listed():
 
 
 def test_report_is_one_object_after_its_package_is_imported():
-    import tableau_lab.report.latex  # noqa: F401  (imports set tableau_lab.report to the subpackage)
+    import tableau_lab.proofs.latex  # noqa: F401  (a subpackage import sets an attribute of tableau_lab)
+    assert tl.report is tableau_lab.proofs.latex.report
     assert tl.report(tl.load("implicit_midpoint")).startswith("\\documentclass")
     assert tl.load("implicit_midpoint").report() == tl.report(tl.load("implicit_midpoint"))
 

@@ -247,7 +247,7 @@ def test_method_entries_are_exact_and_the_name_is_escaped():
 def test_the_report_typesets_the_same_tableau():
     """report/latex.py's tableau is ``Method.tableau_latex`` with its named constants: the text
     the PDF had before the function moved, byte for byte."""
-    from tableau_lab.report.latex import _Constants, _tableau
+    from tableau_lab.proofs.latex import _Constants, _tableau
     ex4 = _tableau(load(library_path("example4_glm")), _Constants())
     assert ex4 == (r"\[ \begin{bmatrix} A & U \\ B & V \end{bmatrix} = \left[\begin{array}{cc|cc} "
                    r"\frac{\sqrt{3}}{6} + \frac{1}{2} & 0 & 1 & - \frac{2 \sqrt{3}}{3} - 1 \\ - \frac{\sqrt{3}}{3} & "

@@ -377,7 +377,7 @@ def test_full_disk_from_the_command_line(compiled, tmp_path, monkeypatch, capsys
 def test_full_disk_while_the_pdf_is_copied(tmp_path, monkeypatch):
     """report --pdf on a full disk: the copy of the PDF fails cleanly (ReportError naming the
     file), the previous PDF is intact."""
-    from tableau_lab.report.latex import ReportError, compile_pdf
+    from tableau_lab.proofs.latex import ReportError, compile_pdf
     tex = tmp_path / "r.tex"
     tex.write_text("\\documentclass{article}\\begin{document}Hello\\end{document}\n")
     pdf = compile_pdf(tex, required=True)

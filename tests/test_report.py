@@ -15,7 +15,7 @@ from tableau_lab.cli import main
 from tableau_lab.exact.field import is_zero
 from tableau_lab.exact.grammar import parse_entry
 from tableau_lab.exact.tableau_json import load
-from tableau_lab.report.latex import method_document
+from tableau_lab.proofs.latex import method_document
 
 METHODS = Path(__file__).parent.parent / "methods"
 LIBRARY = sorted(METHODS.glob("*.json"))
@@ -136,7 +136,7 @@ def test_glm_order_conditions_vanish_up_to_4_and_not_at_5(name):
 
 
 def test_a_wrong_starting_method_shows_a_nonzero_residual(monkeypatch):
-    import tableau_lab.report.latex as latex
+    import tableau_lab.proofs.latex as latex
     from tableau_lab.analysis.glm_order import glm_order
     m = load(METHODS / "example4_glm.json")
     wrong = dict(glm_order(m).starting)
