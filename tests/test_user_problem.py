@@ -328,3 +328,18 @@ def test_the_loop_follows_the_predicted_cost(monkeypatch):
     assert long.steps == n and long.loop == "compiled with numba" and f"the compiled loop: {n} steps" in long.why
     with pytest.raises(ValueError, match="kernel must be"):
         integrate(load("gauss2"), "pendulum", None, (0, 1), "1/100", kernel="fast", notice=False)
+
+
+def test_callable_invariants_are_traced_with_f_or_the_whole_runs_as_python():
+    """An invariant I(y) traced with f is the problem's invariant (its exact gradient projects:
+    explicit Euler held on the circle to round-off); one that is not traceable (math.hypot)
+    sends f and it to the Python loop, saying which invariant."""
+    E = {"E": lambda y: y[0] ** 2 + y[1] ** 2}
+    sol = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=E, project=["E"],
+                    notice=False)
+    assert sol.why.startswith("f traced") and sol.f_calls is None
+    assert np.max(np.abs(sol.invariant_errors["E"])) < 1e-13
+    bad = {"E": lambda y: math.hypot(y[0], y[1]) ** 2}
+    sol = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=bad, notice=False)
+    assert sol.why.startswith("f not traceable (invariant E: I(y) needs a number") and sol.f_calls >= sol.nfev
+    assert sol.invariant_errors["E"][-1] == pytest.approx((1 + 1e-4) ** 100 - 1, rel=1e-9)

@@ -35,7 +35,9 @@ expressions instead of a tape.
 """
 from __future__ import annotations
 
+import math
 import operator
+import time
 from fractions import Fraction
 
 import numpy as np
@@ -43,11 +45,14 @@ import sympy as sp
 
 from ..numeric.expressions import FUNCTIONS, LIMITS
 
-__all__ = ["NotTraceable", "Traced", "trace_callable", "agrees", "TRACE_OPERATIONS", "AGREEMENT", "CHECK_POINTS",
+__all__ = ["NotTraceable", "Traced", "trace_callable", "agrees", "TRACE_OPERATIONS", "TRACE_SECONDS", "AGREEMENT", "CHECK_POINTS",
            "CHECK_SEED"]
 
-#: operations a trace may record before it is abandoned (a loop of the user's that builds a huge expression)
+#: operations a trace may record, and seconds it may take, before it is abandoned (a loop of the
+#: user's that builds a huge expression: a sum of 12 000 distinct sines took 128 s, sympy's sums
+#: being quadratic in their terms; a pendulum's trace takes about 1 ms)
 TRACE_OPERATIONS = 20_000
+TRACE_SECONDS = 2.0
 #: relative agreement of the traced expressions with the callable (max |difference| against max |value|)
 AGREEMENT = 1e-12
 #: perturbed points at which the trace is checked, besides (t₀, y₀); their seed
@@ -82,9 +87,10 @@ class Traced:
     """A value of a traced call: a sympy expression ``e``, with Python's arithmetic and numpy's
     grammar functions (as methods, which numpy's object arrays call, and through
     ``__array_ufunc__`` on a single value).  Anything that needs a number raises
-    :class:`NotTraceable`.  ``tape``: the shared count of operations (:data:`TRACE_OPERATIONS`).
+    :class:`NotTraceable`.  ``tape``: [the shared count of operations, the deadline on
+    ``time.perf_counter()``] (:data:`TRACE_OPERATIONS`, :data:`TRACE_SECONDS`).
 
-    >>> x = Traced(sp.Symbol("x"), [0])
+    >>> x = Traced(sp.Symbol("x"), [0, math.inf])
     >>> (2 * x ** 2 - np.cos(x) / 4).e
     2*x**2 - cos(x)/4
     """
@@ -98,6 +104,8 @@ class Traced:
         self.tape[0] += 1
         if self.tape[0] > TRACE_OPERATIONS:
             raise NotTraceable(f"the trace of f(t, y) took more than {TRACE_OPERATIONS} operations (TRACE_OPERATIONS)")
+        if time.perf_counter() > self.tape[1]:
+            raise NotTraceable(f"the trace of f(t, y) took more than {TRACE_SECONDS:g} s (TRACE_SECONDS)")
         return Traced(e, self.tape)
 
     def _operand(self, x):
@@ -203,19 +211,19 @@ def _checked(e, symbols, i):
     return e
 
 
-def trace_callable(fn, d: int, *, time: bool = True, names=None) -> tuple:
+def trace_callable(fn, d: int, *, timed: bool = True, names=None) -> tuple:
     """(the d expressions of ``fn(t, y)`` in the symbols y1 … yd (``names``) and t, "") or (None,
-    the reason it is not traceable).  ``time=False`` traces ``fn(y)`` (an invariant; the result
+    the reason it is not traceable).  ``timed=False`` traces ``fn(y)`` (an invariant; the result
     then has one component).  The symbols are those :func:`symbols` returns."""
     t, ys = symbols(d, names)
-    tape = [0]
+    tape = [0, time.perf_counter() + TRACE_SECONDS]
     y = np.empty(d, dtype=object)
     for i, s in enumerate(ys):
         y[i] = Traced(s, tape)
     try:
-        out = fn(Traced(t, tape), y) if time else fn(y)
+        out = fn(Traced(t, tape), y) if timed else fn(y)
         items = np.asarray(out, dtype=object).reshape(-1) if not isinstance(out, Traced) else [out]
-        if len(items) != (d if time else 1):
+        if len(items) != (d if timed else 1):
             return None, f"f(t, y) returned {len(items)} values for a state of dimension {d}"
         exprs = []
         for i, v in enumerate(items):

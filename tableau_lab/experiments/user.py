@@ -320,7 +320,7 @@ def _traced(fn, d: int, invariants, y0, t0) -> tuple:
     for k, I in (invariants or {}).items():
         if not callable(I):
             raise InputError(f"integrate: invariants[{k!r}]: with a callable f, an invariant is a callable I(y)")
-        e, why = trace_callable(I, d, time=False)
+        e, why = trace_callable(I, d, timed=False)
         if e is None:
             return None, f"invariant {k}: {why.replace('f(t, y)', 'I(y)')}"
         invs[k] = e[0]
