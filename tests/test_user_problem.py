@@ -131,7 +131,20 @@ def test_mp_precision_with_a_callable():
                         "1/1000", precision="mp:30", notice=False)
         final = sol.run.final
         err = max(abs(final[0] - mpmath.cos(1)), abs(final[1] + mpmath.sin(1)))
-    assert 1e-17 < err < 1e-13
+    assert 1e-17 < err < 1e-13 and sol.why.startswith("f traced to expressions")
+
+
+def test_mp_precision_with_a_traced_numpy_callable():
+    """np.sin of an mpf array raises TypeError (mpf has no .sin method), so this pendulum could not run at 30
+    digits as Python; traced, it is the sympy pendulum: the same 30-digit states."""
+    q, p = sp.symbols("q p")
+    with mpmath.workdps(30):
+        call = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", notice=False)
+        expr = integrate(load("rk4"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p],
+                         precision="mp:30", notice=False)
+        assert all(a == b for u, v in zip(call.run.values, expr.run.values) for a, b in zip(u, v))
+    with pytest.raises(InputError, match="raised TypeError in mp:30"):
+        integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", trace=False, notice=False)
 
 
 def test_plot_returns_axes():

@@ -307,6 +307,23 @@ class _Callable:
         return g
 
 
+def _first_call(f, a, y0, t0) -> tuple:
+    """(y₀, t₀) in the arithmetic ``a``, after f(t₀, y₀) ran there and returned one value per
+    component (else InputError)."""
+    with a.context():
+        y = np.array([a.number(v) for v in y0], dtype=a.dtype)
+        tt = a.number(t0)
+        try:
+            first = f(tt, y.copy())
+        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
+            raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}"
+                             f"{'' if a.dtype is float else ' in ' + a.name}: {str(exc)[:200]}") from exc
+    d = len(y)
+    if np.shape(first) not in ((d,), (d, 1), (1, d)):
+        raise InputError(f"integrate: f(t0, y0) returned shape {np.shape(first)} for a state of dimension {d}")
+    return y, tt
+
+
 def _traced(fn, d: int, invariants, y0, t0) -> tuple:
     """(the Problem a callable f traces to, "") or (None, why not): f and each invariant I(y)
     traced (:func:`~.tracing.trace_callable`), the problem built as for a sympy f, and its
@@ -399,9 +416,10 @@ class Solution:
     """A run of :func:`integrate`: ``times`` (n+1 records), ``states`` (records × dimension, float64;
     the working precision's values in ``run.values``), ``invariants`` and ``invariant_errors``
     (name → array of I(y) and I(y) − I(y₀) at the records), ``nfev`` (evaluations of f by the
-    steps; a callable's calls in all, finite differences included, in ``f_calls``), ``steps``,
-    ``h`` (the step used: module docstring), ``loop`` ("compiled with numba" or "Python") and
-    ``why``, ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
+    steps; an untraced callable's calls in all, finite differences included, in ``f_calls``,
+    None when f was traced), ``steps``, ``h`` (the step used: module docstring), ``loop``
+    ("compiled with numba" or "Python") and ``why`` (whether a callable was traced, and why
+    this loop: :func:`~tableau_lab.numeric.limits.choose_loop`), ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
     loop: a compile, or a load from its disk cache), ``start`` (a GLM's starting values: "exact"
     or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`)."""
     method: str
@@ -558,17 +576,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         if trace not in (None, True, False):
             raise InputError(f"integrate: trace must be None, True or False, not {trace!r}")
         exact0 = [_exact(v, f"y0[{i + 1}]") for i, v in enumerate(np.asarray(y0, dtype=object).reshape(-1))]
-        work = a if a.name != "dd" else arith("float64")          # the callable's own numbers
-        with work.context():
-            y = np.array([work.number(v) for v in exact0], dtype=work.dtype)
-            tt = work.number(t0)
+        y, tt = _first_call(f, arith("float64"), exact0, t0)      # the trace is checked in float64
         d = len(y)
-        try:
-            first = f(tt, y.copy())
-        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
-            raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}: {str(exc)[:200]}") from exc
-        if np.shape(first) not in ((d,), (d, 1), (1, d)):
-            raise InputError(f"integrate: f(t0, y0) returned shape {np.shape(first)} for a state of dimension {d}")
         label = getattr(f, "__name__", "f")
         with time_limit(timeout, "timeout=SECONDS"), computing("the trace of f"):
             P, why = (None, "trace=False") if trace is False else _traced(f, d, invariants, exact0, t0)
@@ -580,6 +589,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
             raise InputError(f"integrate: precision dd runs compiled loops generated from a problem's symbols; "
                              f"f is not traceable ({why}): a Python callable runs in float64 or mp:DIGITS")
         else:
+            if a.dtype is not float:
+                y, tt = _first_call(f, a, exact0, t0)           # the callable's own numbers: mpmath's
             cp = _Callable(f, d, invariants, a)
             unknown = [k for k in project if k not in cp.invariants]
             if unknown:
