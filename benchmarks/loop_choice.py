@@ -5,10 +5,10 @@ Python), measured: a script, not a test.
    explicit and implicit Runge–Kutta methods and a GLM on problems of dimension 2 and 4, beside
    ``limits.python_step_seconds``'s prediction (``PYTHON_STAGE_SECONDS``,
    ``PYTHON_COMPONENT_SECONDS``, ``PYTHON_IMPLICIT_FACTOR``).
-2. numba's first call of a compiled float64 loop (the pendulum, Gauss 2, its run shape) in a
-   fresh process: with an empty cache folder (a compile: ``COMPILE_COLD_SECONDS``), then again
+2. A pendulum callable (np.sin), traced, Gauss 2, 40 000 steps: the compiled loop in a fresh
+   process with an empty cache folder (its ``compile_seconds``: ``COMPILE_COLD_SECONDS``), again
    in another process with that folder (a load from numba's disk cache:
-   ``COMPILE_CACHED_SECONDS``), as ``compile_seconds`` of the run.
+   ``COMPILE_CACHED_SECONDS``), and the Python loop in this one; the final states compared.
 3. What ``numba.njit`` of an untraceable callable buys in the Python loop: the same callable run
    as Python with and without it (median of 5 interleaved runs of 2000 Gauss 2 and RK4 steps; trace=False).
 
@@ -32,15 +32,15 @@ from tableau_lab.numeric.integrate import integrate
 
 METHODS = ("explicit_euler", "rk4", "gauss2", "gauss3", "example4_glm")
 PROBLEMS = ("pendulum", "kepler")
-FIRST_CALL = """
-import sys, time
-from tableau_lab.numeric.codegen import compile_problem
-from tableau_lab.numeric.export import to_numeric
+STEPS = 40_000
+FIRST_CALL = f"""
+import numpy as np
 from tableau_lab.exact.tableau_json import load
-from tableau_lab.numeric.integrate import integrate
-cp = compile_problem("pendulum")
-r = integrate(to_numeric(load("gauss2")), cp, cp.y0, 0.01, 10, kernel="compiled")
-print(f"{r.compile_seconds:.2f}")
+from tableau_lab.experiments.user import integrate
+def pendulum(t, y):
+    return np.array([y[1], -np.sin(y[0])])
+r = integrate(load("gauss2"), pendulum, ["1/2", 0], (0, {STEPS} // 100), "1/100", kernel="compiled", notice=False)
+print(f"{{r.compile_seconds:.2f}} {{r.seconds:.2f}} {{r.final[0]!r}} {{r.final[1]!r}}")
 """
 
 
@@ -63,14 +63,24 @@ def python_steps():
 
 
 def first_calls():
-    print("2. numba's first call of the compiled loop (pendulum, Gauss 2), fresh processes")
+    print(f"2. a traced pendulum callable, Gauss 2, {STEPS} steps: the compiled loop in fresh processes, "
+          "then the Python loop")
     with tempfile.TemporaryDirectory() as folder:
-        env = dict(os.environ, TABLEAU_LAB_CACHE=folder, TABLEAU_LAB_KERNEL="auto")
+        env = dict(os.environ, TABLEAU_LAB_CACHE=folder)
         env.pop("TABLEAU_LAB_SPECIALISE", None)
+        finals = []
         for what in ("cold (empty cache)", "cached (numba's disk cache)"):
             out = subprocess.run([sys.executable, "-c", FIRST_CALL], env=env, capture_output=True, text=True,
-                                 check=True)
-            print(f"   {what:28} compile_seconds {out.stdout.strip()} s")
+                                 check=True).stdout.split()
+            finals.append(out[2:])
+            print(f"   compiled, {what:28} compile_seconds {out[0]} s, steps {out[1]} s")
+
+    def pendulum(t, y):
+        return np.array([y[1], -np.sin(y[0])])
+    r = user_integrate(load("gauss2"), pendulum, ["1/2", 0], (0, STEPS // 100), "1/100", kernel="python", notice=False)
+    same = all(f == [repr(r.final[0]), repr(r.final[1])] for f in finals)
+    print(f"   Python loop: steps {r.seconds:.2f} s ({r.seconds / STEPS * 1e6:.0f} µs/step, predicted "
+          f"{limits.python_step_seconds(2, 1, 2, False) * 1e6:.0f}); final states the same bit for bit: {same}")
     print(f"   limits: COMPILE_COLD_SECONDS = {limits.COMPILE_COLD_SECONDS}, "
           f"COMPILE_CACHED_SECONDS = {limits.COMPILE_CACHED_SECONDS}")
 

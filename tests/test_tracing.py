@@ -37,6 +37,7 @@ def test_traces_are_the_expressions_written_by_hand(f, want):
 @pytest.mark.parametrize("f, reason", [
     (lambda t, y: [math.sin(y[0])] * 4, "needs a number where it has a symbol"),
     (lambda t, y: [y[0] if y[1] >= 0 else -y[0]] * 4, "branches on a value (y2 >= 0"),
+    (lambda t, y: [y[0] / y[1] if y[1] != 0 else y[0]] * 4, "branches on a value (y2 != 0"),
     (lambda t, y: np.abs(y), "bad operand type for abs()"),
     (lambda t, y: np.floor(y[0]) * y, "numpy's floor, which is outside the problem grammar"),
     (lambda t, y: np.zeros(4) + np.array([y[0], 0, 0, 0], dtype=float), "needs a number"),

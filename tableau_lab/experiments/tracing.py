@@ -150,6 +150,8 @@ class Traced:
     def __le__(self, o): self._branch(o, "<=")
     def __gt__(self, o): self._branch(o, ">")
     def __ge__(self, o): self._branch(o, ">=")
+    def __eq__(self, o): self._branch(o, "==")
+    def __ne__(self, o): self._branch(o, "!=")
     def __bool__(self): self._branch(0, "!=")
     __hash__ = None
 
@@ -171,7 +173,7 @@ class Traced:
             if any(o is None for o in ops):
                 return NotImplemented
             return first._new(_ARITHMETIC[ufunc.__name__](*ops))
-        if len(inputs) == 1 and hasattr(self, ufunc.__name__):
+        if len(inputs) == 1 and ufunc.__name__ in NUMPY_NAMES.values():
             return getattr(self, ufunc.__name__)()
         raise NotTraceable(f"f(t, y) calls numpy's {ufunc.__name__}, which is outside the problem grammar "
                            f"({', '.join(NUMPY_NAMES.values())})")
@@ -272,12 +274,15 @@ def agrees(traced, fn, t0: float, y0, scale=None) -> str:
         try:
             with np.errstate(all="ignore"):
                 want = np.asarray(fn(t, y.copy()), dtype=float).reshape(-1)
-        except Exception:                   # noqa: BLE001 - f undefined there (a perturbed point): not a check
+        except Exception as exc:            # noqa: BLE001 - f undefined there (a perturbed point): not a check
             if k == 0:
-                raise
+                return f"f(t0, y0) raised {type(exc).__name__} when called again (f has hidden state?)"
             continue
-        with np.errstate(all="ignore"):
-            got = np.asarray(traced(t, y.copy()), dtype=float).reshape(-1)
+        try:
+            with np.errstate(all="ignore"):
+                got = np.asarray(traced(t, y.copy()), dtype=float).reshape(-1)
+        except (ArithmeticError, ValueError):       # math.sqrt(-1) in the generated code: not a number
+            got = np.full(want.shape, np.nan)
         fin = np.isfinite(want)
         size = max(float(np.max(np.abs(want[fin]), initial=0.0)), float(np.max(np.abs(got[fin]), initial=0.0)))
         if (got.shape != want.shape or not np.array_equal(fin, np.isfinite(got))

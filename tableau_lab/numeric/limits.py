@@ -70,7 +70,7 @@ PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 PYTHON_STAGE_SECONDS = 10e-6    # one stage of an explicit method in the pure float64 loop: this …
 PYTHON_COMPONENT_SECONDS = 5e-6     # … plus this per state component (RK4: 76-85 µs/step at d = 2, 121 at d = 4)
 PYTHON_IMPLICIT_FACTOR = 4.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
-COMPILE_COLD_SECONDS = 5.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
+COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
@@ -149,7 +149,7 @@ def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
     the answer matters (looking at the disk cache generates the loop's text).
 
     >>> choose_loop(629, 160e-6, "cold")
-    (False, 'the Python loop: 629 steps predicted at 0.1 s in Python, less than the compile (about 5 s)')
+    (False, 'the Python loop: 629 steps predicted at 0.1 s in Python, less than the compile (about 8 s)')
     >>> choose_loop(10**6, 160e-6, lambda: "cold")[0], choose_loop(629, 160e-6, "loaded")[0]
     (True, True)
     >>> choose_loop(100, 160e-6, lambda: 1 / 0)[1]       # not asked: less than even a load from the cache
