@@ -14,8 +14,9 @@ r"""The user's own problem from Python: ``integrate(method, f, y0, t_span, h)`` 
   iteration's rate depends on f′) and a GLM started naively (y^[0] = u y₀: no elementary
   differentials of a callable), which :attr:`Solution.start` says; the time is carried as one
   more state component (t′ = 1, integrated exactly by every consistent method), so f may
-  depend on t.  (numba's ``njit`` of such a callable was dropped: it cost a compile and bought
-  no time in the Python loop, ``benchmarks/loop_choice.py``.)  :attr:`Solution.loop`,
+  depend on t.  (numba's ``njit`` of such a callable was dropped: it cost a compile of 0.5–3.5 s
+  and bought nothing for RK4 and about 10 % of a Gauss 2 step in the Python loop,
+  ``benchmarks/loop_choice.py``, docs/speed.md.)  :attr:`Solution.loop`,
   :attr:`Solution.why` and a one-line notice say which, and why;
 * a sympy expression, list or Matrix in the state symbols ``variables`` (and optionally the time
   symbol ``time``, or a free symbol named ``t``), or
