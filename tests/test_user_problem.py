@@ -339,6 +339,26 @@ def test_the_loop_follows_the_predicted_cost(monkeypatch):
     n = math.ceil(1.01 * cold / step)                             # more than even a cold compile costs
     long = integrate(load("gauss2"), "pendulum", None, (0, n / 100), "1/100", record_every=n, notice=False)
     assert long.steps == n and long.loop == "compiled with numba" and f"the compiled loop: {n} steps" in long.why
+    again = integrate(load("gauss2"), "pendulum", None, (0, 1), "1/100", notice=False)     # its loop is loaded now
+    assert again.loop == "compiled with numba" and "already compiled in this process" in again.why
+
+
+def test_the_rule_looks_at_the_disk_cache_only_when_it_matters(monkeypatch, tmp_path):
+    """RK4, 7000 steps: 0.56 s predicted in Python, between a load from the cache and a compile,
+    so the rule looks at numba's cache — an empty folder here: a compile would not pay, the
+    Python loop runs, and looking wrote nothing.  100 steps need no look (less than any load)."""
+    from tableau_lab.numeric import kernels
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setenv("TABLEAU_LAB_CACHE", str(tmp_path))
+    looked = []
+    real = kernels.compile_state
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, **k: looked.append(k.get("disk", True)) or real(*a, **k))
+    sol = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 70), "1/100", notice=False)
+    assert sol.loop == "Python" and "7000 steps predicted at 0.56 s in Python, less than the compile" in sol.why
+    assert looked == [False, True] and not list(tmp_path.rglob("*.py"))
+    looked.clear()
+    sol = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/100", notice=False)
+    assert sol.loop == "Python" and "less than loading the cached compiled loop" in sol.why and looked == [False]
     with pytest.raises(ValueError, match="kernel must be"):
         integrate(load("gauss2"), "pendulum", None, (0, 1), "1/100", kernel="fast", notice=False)
 
