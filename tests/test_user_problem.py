@@ -376,3 +376,19 @@ def test_callable_invariants_are_traced_with_f_or_the_whole_runs_as_python():
     sol = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=bad, notice=False)
     assert sol.why.startswith("f not traceable (invariant E: I(y) needs a number") and sol.f_calls >= sol.nfev
     assert sol.invariant_errors["E"][-1] == pytest.approx((1 + 1e-4) ** 100 - 1, rel=1e-9)
+
+
+def test_a_numba_function_is_traced_through_its_python_source():
+    """numba's functions keep their Python source as ``py_func``; it is traced (a Dispatcher
+    itself cannot take symbols) and checked against the function as called.  A stand-in with
+    the same attribute, so that no numba compile is paid."""
+    class Dispatcher:
+        py_func = staticmethod(pendulum)
+
+        def __call__(self, t, y):
+            return pendulum(t, np.asarray(y, dtype=float))
+    q, p = sp.symbols("q p")
+    sol = integrate(load("gauss2"), Dispatcher(), ["1/2", 0], (0, 1), "1/20", kernel="python", notice=False)
+    ref = integrate(load("gauss2"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p], kernel="python",
+                    notice=False)
+    assert sol.why.startswith("f traced") and np.array_equal(sol.states, ref.states)

@@ -8,7 +8,8 @@ r"""The user's own problem from Python: ``integrate(method, f, y0, t_span, h)`` 
   …) the expressions it returns — checked against the callable at (t₀, y₀) and at seeded
   perturbations — become the problem, as a sympy f would (below): the compiled loop or the
   Python loop, chosen by predicted cost, the exact f′, a GLM's exact starting values.  Callable
-  invariants I(y) are traced with it.  A callable that is not traceable (``math.sin``, a branch
+  invariants I(y) are traced with it; a function already compiled by numba is traced through its
+  Python source (``py_func``).  A callable that is not traceable (``math.sin``, a branch
   on a value, hidden state) runs as Python in the Python step loop, with f′ by central
   differences (the stage equations are solved to the same tolerance; only the Newton
   iteration's rate depends on f′) and a GLM started naively (y^[0] = u y₀: no elementary
@@ -326,12 +327,13 @@ def _first_call(f, a, y0, t0) -> tuple:
 
 
 def _traced(fn, d: int, invariants, y0, t0) -> tuple:
-    """(the Problem a callable f traces to, "") or (None, why not): f and each invariant I(y)
-    traced (:func:`~.tracing.trace_callable`), the problem built as for a sympy f, and its
-    generated float64 code checked against the callables (:func:`~.tracing.agrees`)."""
+    """(the Problem a callable f traces to, "") or (None, why not): f (a numba function's
+    ``py_func``) and each invariant I(y) traced (:func:`~.tracing.trace_callable`), the problem
+    built as for a sympy f, and its generated float64 code checked against the callables
+    themselves (:func:`~.tracing.agrees`)."""
     from ..numeric.codegen import compile_problem
     from .tracing import agrees, symbols, trace_callable
-    exprs, why = trace_callable(fn, d)
+    exprs, why = trace_callable(getattr(fn, "py_func", fn), d)     # a numba function: its Python source
     if exprs is None:
         return None, why
     invs = {}
