@@ -4,6 +4,7 @@ with closed-form solutions, a measured convergence slope (least squares on log�
 round-off), float64 against mpmath at 30 digits (their difference is round-off alone), and bad
 input refused naming the entry.  One test pays numba's compile of a user callable (the
 must-show); the others run the Python loop."""
+import math
 from pathlib import Path
 
 import mpmath
@@ -37,7 +38,8 @@ def test_must_show_gauss2_returns_to_the_start_after_one_period():
     # every record on the exact solution (global error O(h^4): 1e-10 here)
     exact = np.column_stack([np.cos(sol.times), -np.sin(sol.times)])
     assert np.max(np.abs(sol.states - exact)) < 1e-8
-    assert sol.loop == "Python" and "numba" in sol.why
+    # traced to (y2, -y1), a 629-step run: the Python loop (a compile would not pay), said so
+    assert sol.loop == "Python" and sol.why.startswith("f traced to expressions") and sol.start == "identity"
 
 
 def test_non_hamiltonian_user_ode_converges_at_order_4():
@@ -50,7 +52,7 @@ def test_non_hamiltonian_user_ode_converges_at_order_4():
     exact = np.array([np.exp(np.sin(2.0)), 1 / 3])
     hs, errs = [], []
     for n in (8, 16, 32, 64):
-        sol = integrate(load("gauss2"), f, [1, 1], (0, 2), h=sp.Rational(2, n), jit=False, notice=False)
+        sol = integrate(load("gauss2"), f, [1, 1], (0, 2), h=sp.Rational(2, n), notice=False)
         assert sol.steps == n
         hs.append(sol.h)
         errs.append(float(np.max(np.abs(sol.final - exact))))
@@ -100,21 +102,23 @@ def test_glm_runs_with_its_starting_method_and_naively_with_a_callable():
     x, v = sp.symbols("x v")
     sym = integrate(load("example4_glm"), [v, -x], [1, 0], (0, 1), "1/50", variables=[x, v], kernel="python",
                     notice=False)
-    call = integrate(load("example4_glm"), oscillator, [1, 0], (0, 1), "1/50", jit=False, notice=False)
+    call = integrate(load("example4_glm"), oscillator, [1, 0], (0, 1), "1/50", trace=False, notice=False)
     assert sym.start == "exact" and call.start == "naive" and "naively" in call.why
     for sol in (sym, call):
         assert np.max(np.abs(sol.final - [np.cos(1), -np.sin(1)])) < 1e-5
 
 
-def test_callable_invariants_and_projection():
+@pytest.mark.parametrize("trace", [None, False])
+def test_callable_invariants_and_projection(trace):
     """An invariant given as a callable is recorded; projecting onto it holds it to round-off
-    (explicit Euler alone drifts: |y|^2 grows by (1 + h^2)^n)."""
+    (explicit Euler alone drifts: |y|^2 grows by (1 + h^2)^n) — traced with f, and as Python."""
     E = {"E": lambda y: y[0] ** 2 + y[1] ** 2}
-    free = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=E, jit=False,
+    free = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=E, trace=trace,
                      notice=False)
+    assert free.why.startswith("f traced" if trace is None else "f not traceable (trace=False)")
     assert free.invariant_errors["E"][-1] == pytest.approx((1 + 1e-4) ** 100 - 1, rel=1e-9)
     held = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=E, project=["E"],
-                     jit=False, notice=False)
+                     trace=trace, notice=False)
     assert np.max(np.abs(held.invariant_errors["E"])) < 1e-13
     assert held.invariants["E"][0] == 1.0
 
@@ -127,7 +131,20 @@ def test_mp_precision_with_a_callable():
                         "1/1000", precision="mp:30", notice=False)
         final = sol.run.final
         err = max(abs(final[0] - mpmath.cos(1)), abs(final[1] + mpmath.sin(1)))
-    assert 1e-17 < err < 1e-13
+    assert 1e-17 < err < 1e-13 and sol.why.startswith("f traced to expressions")
+
+
+def test_mp_precision_with_a_traced_numpy_callable():
+    """np.sin of an mpf array raises TypeError (mpf has no .sin method), so this pendulum could not run at 30
+    digits as Python; traced, it is the sympy pendulum: the same 30-digit states."""
+    q, p = sp.symbols("q p")
+    with mpmath.workdps(30):
+        call = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", notice=False)
+        expr = integrate(load("rk4"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p],
+                         precision="mp:30", notice=False)
+        assert all(a == b for u, v in zip(call.run.values, expr.run.values) for a, b in zip(u, v))
+    with pytest.raises(InputError, match="raised TypeError in mp:30"):
+        integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", trace=False, notice=False)
 
 
 def test_plot_returns_axes():
@@ -135,7 +152,7 @@ def test_plot_returns_axes():
     matplotlib.use("Agg")
     from matplotlib.axes import Axes
     sol = integrate(load("gauss2"), oscillator, [1, 0], (0, 1), "1/10", invariants={"E": lambda y: y @ y},
-                    jit=False, notice=False)
+                    notice=False)
     for what in ("states", "phase", "invariants"):
         assert isinstance(sol.plot(what=what), Axes)
     with pytest.raises(ValueError, match="states"):
@@ -174,12 +191,14 @@ def test_problem_refuses_bad_input_naming_the_entry(kwargs, entry):
 def test_integrate_refuses_bad_input():
     with pytest.raises(InputError, match="y0 is needed"):
         integrate(load("rk4"), oscillator, None, (0, 1), 0.1)
-    with pytest.raises(InputError, match="dd"):
-        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, precision="dd")
+    with pytest.raises(InputError, match=r"dd .* not traceable \(f\(t, y\) needs a number"):
+        integrate(load("rk4"), lambda t, y: [y[1], -math.sin(y[0])], [1, 0], (0, 1), 0.1, precision="dd")
+    with pytest.raises(InputError, match="trace=True, but f is not traceable"):
+        integrate(load("rk4"), lambda t, y: [y[1], -math.sin(y[0])], [1, 0], (0, 1), 0.1, trace=True)
     with pytest.raises(InputError, match=r"f\(t0, y0\) raised ZeroDivisionError"):
-        integrate(load("rk4"), lambda t, y: 1 / 0, [1, 0], (0, 1), 0.1, jit=False)
+        integrate(load("rk4"), lambda t, y: 1 / 0, [1, 0], (0, 1), 0.1)
     with pytest.raises(InputError, match=r"returned shape \(3,\)"):
-        integrate(load("rk4"), lambda t, y: np.zeros(3), [1, 0], (0, 1), 0.1, jit=False)
+        integrate(load("rk4"), lambda t, y: np.zeros(3), [1, 0], (0, 1), 0.1)
     with pytest.raises(InputError, match="variables"):
         integrate(load("rk4"), [sp.Symbol("a") * sp.Symbol("b")], [1], (0, 1), 0.1)
     with pytest.raises(InputError, match="f must be"):
@@ -202,9 +221,11 @@ def test_float64_dd_and_mpmath_on_a_builtin_problem():
 
 def test_integrate_refuses_bad_run_options():
     with pytest.raises(InputError, match="project: Q not among"):
-        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, project=["Q"], jit=False)
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, project=["Q"], trace=False)
+    with pytest.raises(InputError, match="projection onto Q: not invariants"):
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, project=["Q"])
     with pytest.raises(InputError, match="record_every"):
-        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, record_every=0, jit=False)
+        integrate(load("rk4"), oscillator, [1, 0], (0, 1), 0.1, record_every=0)
     with pytest.raises(ProblemError, match="projection onto Q"):
         integrate(load("rk4"), "harmonic", None, (0, 1), 0.1, project=["Q"])
     with pytest.raises(InputError, match="precision"):
@@ -214,7 +235,7 @@ def test_integrate_refuses_bad_run_options():
 def test_time_starts_at_t0():
     """y' = cos t from t0 = 1: y(t) = y0 + sin t - sin 1; the callable sees the true t (the time
     carried as a state component from t0), and the records are at t0 + k h."""
-    sol = integrate(load("rk4"), lambda t, y: np.array([np.cos(t)]), [2], (1, 3), "1/50", jit=False, notice=False)
+    sol = integrate(load("rk4"), lambda t, y: np.array([np.cos(t)]), [2], (1, 3), "1/50", notice=False)
     assert sol.times[0] == 1 and sol.times[-1] == pytest.approx(3, rel=1e-15) and sol.steps == 100
     assert np.max(np.abs(sol.states[:, 0] - (2 + np.sin(sol.times) - np.sin(1)))) < 1e-9
 
@@ -236,3 +257,138 @@ def test_sympy_entries_are_read_exactly():
     P = problem(H=p**2 / 2 + 0.1 * q**2, q0=[np.float64(0.5)], p0=[0])
     assert P.hamiltonian == P.p[0] ** 2 / 2 + sp.Rational(1, 10) * P.q[0] ** 2
     assert not P.hamiltonian.atoms(sp.Float) and P.q0 == (sp.Rational(1, 2),)
+
+
+# -- a callable traced to expressions (issue 30, item 2: "compiled when it can be, run in Python when
+#    it cannot, said which") -----------------------------------------------------------------------
+
+def pendulum(t, y):
+    return np.array([y[1], -np.sin(y[0])])
+
+
+def test_traced_callable_is_the_sympy_problem_bit_for_bit():
+    """The pendulum as a Python callable (np.sin) and as sympy expressions: the callable traces
+    to the same ODE, so Gauss 2 (implicit: the exact Jacobian) and the GLM of Example 4 (its
+    exact starting method, which a callable run as Python cannot have) give the same states on
+    the same loop, bit for bit; and the states follow an independent high-precision reference
+    of the pendulum to the methods' accuracy."""
+    from tableau_lab.numeric.codegen import reference
+    q, p = sp.symbols("q p")
+    for name in ("gauss2", "example4_glm"):
+        call = integrate(load(name), pendulum, ["1/2", 0], (0, 2), "1/50", kernel="python", notice=False)
+        expr = integrate(load(name), [p, -sp.sin(q)], ["1/2", 0], (0, 2), "1/50", variables=[q, p],
+                         kernel="python", notice=False)
+        assert call.why.startswith("f traced to expressions") and call.start == expr.start
+        assert np.array_equal(call.states, expr.states) and call.nfev == expr.nfev
+        assert call.f_calls is None                   # the callable is not called by the steps
+    ref = np.array([float(v) for v in reference(problem(H="p^2/2 - cos(q)", q0=["1/2"], p0=[0]), 2, 30)])
+    assert np.max(np.abs(call.final - ref)) < 1e-5 and expr.start == "exact"
+
+
+@pytest.mark.parametrize("f, reason", [
+    (lambda t, y: np.array([y[1], -math.sin(y[0])]), "needs a number where it has a symbol"),
+    (lambda t, y: np.array([y[1], -np.sin(y[0]) if y[0] > -3 else 0.0]), "branches on a value (y1 > -3"),
+    (lambda t, y: np.array([y[1], -np.sin(np.fmod(y[0], 2 * np.pi))]), "numpy's fmod, which is outside the problem grammar"),
+])
+def test_untraceable_callable_runs_in_python_and_says_why(f, reason, capsys):
+    """The pendulum written with math.sin of a symbol, a branch on a value, a function outside
+    the grammar: the callable runs as Python and the notice says why; the states agree with the
+    sympy pendulum's (the generated code, another code path) to round-off."""
+    q, p = sp.symbols("q p")
+    sol = integrate(load("rk4"), f, ["1/2", 0], (0, 1), "1/100")
+    assert sol.loop == "Python" and sol.why.startswith("f not traceable (") and reason in sol.why
+    assert sol.f_calls >= sol.nfev > 0 and sol.start == "identity"
+    assert reason in capsys.readouterr().err
+    ref = integrate(load("rk4"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/100", variables=[q, p], notice=False)
+    assert np.max(np.abs(sol.states - ref.states)) < 1e-14
+
+
+def test_a_trace_that_disagrees_with_the_callable_is_discarded():
+    """A callable with a hidden call counter (its trace records the constant of one call) and
+    one with randomness: their traces disagree with the callables at the check points and are
+    discarded; the callables run as Python."""
+    calls = [0]
+
+    def counted(t, y):
+        calls[0] += 1
+        return np.array([y[1], -y[0] * (1 + 1e-6 * calls[0])])
+
+    rng = np.random.default_rng(1)
+    noisy = lambda t, y: np.array([y[1], -y[0] + 1e-9 * rng.standard_normal()])       # noqa: E731
+    for f in (counted, noisy):
+        sol = integrate(load("rk4"), f, [1, 0], (0, "1/10"), "1/100", notice=False)
+        assert sol.loop == "Python" and "disagree" in sol.why and sol.f_calls >= sol.nfev
+    with pytest.raises(InputError, match="trace=True, but f is not traceable: the traced expressions disagree"):
+        integrate(load("rk4"), counted, [1, 0], (0, 1), "1/100", trace=True, notice=False)
+
+
+def test_the_loop_follows_the_predicted_cost(monkeypatch):
+    """kernel="auto": the Python loop when the predicted Python time (limits.python_step_seconds ×
+    steps) is less than what the compiled loop must pay first, the compiled loop when more
+    (limits.choose_loop) — no timings asserted: the rule's inputs and its choice.  The long run
+    uses the built-in pendulum, whose compiled loop the suite compiles anyway (test_kernels)."""
+    from tableau_lab.numeric import limits
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")             # the suite's default is the Python loop
+    step = limits.python_step_seconds(2, 1, 2, explicit=False)
+    cold = limits.COMPILE_COLD_SECONDS
+    assert not limits.choose_loop(100, step, "cold")[0] and not limits.choose_loop(100, step, "cached")[0]
+    assert limits.choose_loop(math.ceil(1.01 * cold / step), step, "cold")[0]
+    assert limits.choose_loop(1, step, "loaded")[0]
+    short = integrate(load("gauss2"), pendulum, [1, 0], (0, 1), "1/100", notice=False)
+    assert short.loop == "Python" and "the Python loop: 100 steps predicted" in short.why
+    n = math.ceil(1.01 * cold / step)                             # more than even a cold compile costs
+    long = integrate(load("gauss2"), "pendulum", None, (0, n / 100), "1/100", record_every=n, notice=False)
+    assert long.steps == n and long.loop == "compiled with numba" and f"the compiled loop: {n} steps" in long.why
+    again = integrate(load("gauss2"), "pendulum", None, (0, 1), "1/100", notice=False)     # its loop is loaded now
+    assert again.loop == "compiled with numba" and "already compiled in this process" in again.why
+
+
+def test_the_rule_looks_at_the_disk_cache_only_when_it_matters(monkeypatch, tmp_path):
+    """RK4, 7000 steps: 0.56 s predicted in Python, between a load from the cache and a compile,
+    so the rule looks at numba's cache — an empty folder here: a compile would not pay, the
+    Python loop runs, and looking wrote nothing.  100 steps need no look (less than any load)."""
+    from tableau_lab.numeric import kernels
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setenv("TABLEAU_LAB_CACHE", str(tmp_path))
+    looked = []
+    real = kernels.compile_state
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, **k: looked.append(k.get("disk", True)) or real(*a, **k))
+    sol = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 70), "1/100", notice=False)
+    assert sol.loop == "Python" and "7000 steps predicted at 0.56 s in Python, less than the compile" in sol.why
+    assert looked == [False, True] and not list(tmp_path.rglob("*.py"))
+    looked.clear()
+    sol = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/100", notice=False)
+    assert sol.loop == "Python" and "less than loading the cached compiled loop" in sol.why and looked == [False]
+    with pytest.raises(ValueError, match="kernel must be"):
+        integrate(load("gauss2"), "pendulum", None, (0, 1), "1/100", kernel="fast", notice=False)
+
+
+def test_callable_invariants_are_traced_with_f_or_the_whole_runs_as_python():
+    """An invariant I(y) traced with f is the problem's invariant (its exact gradient projects:
+    explicit Euler held on the circle to round-off); one that is not traceable (math.hypot)
+    sends f and it to the Python loop, saying which invariant."""
+    E = {"E": lambda y: y[0] ** 2 + y[1] ** 2}
+    sol = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=E, project=["E"],
+                    notice=False)
+    assert sol.why.startswith("f traced") and sol.f_calls is None
+    assert np.max(np.abs(sol.invariant_errors["E"])) < 1e-13
+    bad = {"E": lambda y: math.hypot(y[0], y[1]) ** 2}
+    sol = integrate(load("explicit_euler"), oscillator, [1, 0], (0, 1), "1/100", invariants=bad, notice=False)
+    assert sol.why.startswith("f not traceable (invariant E: I(y) needs a number") and sol.f_calls >= sol.nfev
+    assert sol.invariant_errors["E"][-1] == pytest.approx((1 + 1e-4) ** 100 - 1, rel=1e-9)
+
+
+def test_a_numba_function_is_traced_through_its_python_source():
+    """numba's functions keep their Python source as ``py_func``; it is traced (a Dispatcher
+    itself cannot take symbols) and checked against the function as called.  A stand-in with
+    the same attribute, so that no numba compile is paid."""
+    class Dispatcher:
+        py_func = staticmethod(pendulum)
+
+        def __call__(self, t, y):
+            return pendulum(t, np.asarray(y, dtype=float))
+    q, p = sp.symbols("q p")
+    sol = integrate(load("gauss2"), Dispatcher(), ["1/2", 0], (0, 1), "1/20", kernel="python", notice=False)
+    ref = integrate(load("gauss2"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p], kernel="python",
+                    notice=False)
+    assert sol.why.startswith("f traced") and np.array_equal(sol.states, ref.states)

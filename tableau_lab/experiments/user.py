@@ -2,16 +2,23 @@ r"""The user's own problem from Python: ``integrate(method, f, y0, t_span, h)`` 
 
 ``f`` is one of
 
-* a Python callable ``f(t, y) -> array`` (the convention of ``scipy.integrate.solve_ivp``);
-  numba compiles it when it can (``numba.njit``, checked against the plain call at the start),
-  else it runs as Python; :attr:`Solution.loop` and a one-line notice say which, and why.
-  The step loop around it is the project's one loop (:mod:`~tableau_lab.numeric.stepcore`) run
-  in Python: the compiled loops are generated from a problem's symbols, which a callable has
-  not.  Implicit methods and GLMs get f′ by central differences (the stage equations are
-  solved to the same tolerance; only the Newton iteration's rate depends on f′); a GLM starts
-  naively (y^[0] = u y₀: no elementary differentials of a callable), which :attr:`Solution.start`
-  says.  The time is carried as one more state component (t′ = 1, integrated exactly by every
-  consistent method), so f may depend on t;
+* a Python callable ``f(t, y) -> array`` (the convention of ``scipy.integrate.solve_ivp``).  It is
+  first *traced* (:mod:`~tableau_lab.experiments.tracing`): called once with symbols, and if it
+  is made of arithmetic and the problem grammar's functions (``np.sin``, ``np.exp``, ``np.sqrt``
+  …) the expressions it returns — checked against the callable at (t₀, y₀) and at seeded
+  perturbations — become the problem, as a sympy f would (below): the compiled loop or the
+  Python loop, chosen by predicted cost, the exact f′, a GLM's exact starting values.  Callable
+  invariants I(y) are traced with it; a function already compiled by numba is traced through its
+  Python source (``py_func``).  A callable that is not traceable (``math.sin``, a branch
+  on a value, hidden state) runs as Python in the Python step loop, with f′ by central
+  differences (the stage equations are solved to the same tolerance; only the Newton
+  iteration's rate depends on f′) and a GLM started naively (y^[0] = u y₀: no elementary
+  differentials of a callable), which :attr:`Solution.start` says; the time is carried as one
+  more state component (t′ = 1, integrated exactly by every consistent method), so f may
+  depend on t.  (numba's ``njit`` of such a callable was dropped: it cost a compile of 0.5–3.5 s
+  and bought nothing for RK4 and about 10 % of a Gauss 2 step in the Python loop,
+  ``benchmarks/loop_choice.py``, docs/speed.md.)  :attr:`Solution.loop`,
+  :attr:`Solution.why` and a one-line notice say which, and why;
 * a sympy expression, list or Matrix in the state symbols ``variables`` (and optionally the time
   symbol ``time``, or a free symbol named ``t``), or
 * a :class:`~tableau_lab.numeric.problems.Problem` — :func:`problem`'s result or a built-in
@@ -31,12 +38,14 @@ integers; a float as the decimal it prints as), and the step is rounded once at 
 
 >>> import numpy as np
 >>> from tableau_lab.exact.tableau_json import load
->>> sol = integrate(load("gauss2"), lambda t, y: np.array([y[1], -y[0]]), [1, 0], (0, 1), h=0.1,
-...                 jit=False, notice=False)
+>>> sol = integrate(load("gauss2"), lambda t, y: np.array([y[1], -y[0]]), [1, 0], (0, 1), h=0.1, notice=False)
 >>> sol.steps, float(sol.times[-1]), bool(abs(sol.final[0] - np.cos(1)) < 1e-6)
 (10, 1.0, True)
->>> sol.loop
-'Python'
+>>> sol.loop, sol.why.split(";")[0]
+('Python', 'f traced to expressions')
+>>> import math
+>>> integrate(load("gauss2"), lambda t, y: [y[1], -math.sin(y[0])], [1, 0], (0, 1), h=0.1, notice=False).why[:33]
+'f not traceable (f(t, y) needs a '
 >>> P = problem(H="p^2/2 - cos(q)", q0=["1/2"], p0=[0])
 >>> sol = integrate(load("gauss2"), P, None, (0, 10), h="1/10", kernel="python", notice=False)
 >>> bool(abs(sol.invariant_errors["H"]).max() < 1e-6), sol.names
@@ -301,23 +310,57 @@ class _Callable:
         return g
 
 
-def _jit(fn, t0, y0):
-    """(numba's compiled f, "") or (None, why not): compiled and checked against the plain call
-    at (t₀, y₀)."""
+def _first_call(f, a, y0, t0) -> tuple:
+    """(y₀, t₀) in the arithmetic ``a``, after f(t₀, y₀) ran there and returned one value per
+    component (else InputError)."""
+    with a.context():
+        y = np.array([a.number(v) for v in y0], dtype=a.dtype)
+        tt = a.number(t0)
+        try:
+            first = f(tt, y.copy())
+        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
+            raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}"
+                             f"{'' if a.dtype is float else ' in ' + a.name}: {str(exc)[:200]}") from exc
+    d = len(y)
+    if np.shape(first) not in ((d,), (d, 1), (1, d)):
+        raise InputError(f"integrate: f(t0, y0) returned shape {np.shape(first)} for a state of dimension {d}")
+    return y, tt
+
+
+def _traced(fn, d: int, invariants, y0, t0) -> tuple:
+    """(the Problem a callable f traces to, "") or (None, why not): f (a numba function's
+    ``py_func``) and each invariant I(y) traced (:func:`~.tracing.trace_callable`), the problem
+    built as for a sympy f, and its generated float64 code checked against the callables
+    themselves (:func:`~.tracing.agrees`)."""
+    from ..numeric.codegen import compile_problem
+    from .tracing import agrees, symbols, trace_callable
+    exprs, why = trace_callable(getattr(fn, "py_func", fn), d)     # a numba function: its Python source
+    if exprs is None:
+        return None, why
+    invs = {}
+    for k, I in (invariants or {}).items():
+        if not callable(I):
+            raise InputError(f"integrate: invariants[{k!r}]: with a callable f, an invariant is a callable I(y)")
+        e, why = trace_callable(I, d, timed=False)
+        if e is None:
+            return None, f"invariant {k}: {why.replace('f(t, y)', 'I(y)')}"
+        invs[k] = e[0]
+    t, ys = symbols(d)
     try:
-        import numba
-    except ImportError:
-        return None, "numba is not installed"
-    try:
-        fast = numba.njit(fn)
-        got = np.asarray(fast(t0, y0), dtype=float).reshape(-1)
-    except Exception as exc:                     # noqa: BLE001 - any failure to compile means: run it in Python
-        first = str(exc).strip().splitlines()
-        return None, f"numba could not compile it ({type(exc).__name__}: {first[0][:120] if first else ''})"
-    want = np.asarray(fn(t0, y0), dtype=float).reshape(-1)
-    if got.shape != want.shape or not np.allclose(got, want, rtol=1e-12, atol=1e-300, equal_nan=True):
-        return None, "numba's compiled f disagrees with the Python f at (t0, y0)"
-    return fast, ""
+        P = _symbolic_problem(list(exprs), list(ys), t, y0, invs, t0)
+    except InputError as exc:
+        return None, f"the traced problem is refused: {exc}"
+    cf = compile_problem(P, "numpy")
+    timed = P.dimension > d
+
+    def z(t, y):
+        return np.concatenate([y, [t]]) if timed else y
+    yf, tf = np.array([float(v) for v in y0]), float(t0)
+    why = agrees(lambda t, y: cf.f(z(t, y))[:d], fn, tf, yf)
+    for k, I in (invariants or {}).items():
+        bad = agrees(lambda t, y, k=k: [cf.invariant(k, z(t, y))], lambda t, y, I=I: [I(y)], tf, yf)
+        why = why or (bad and f"invariant {k}: {bad.replace(' with f ', ' with I ')}")
+    return (None, why) if why else (P, "")
 
 
 # -- the run -------------------------------------------------------------------------------------
@@ -377,9 +420,10 @@ class Solution:
     """A run of :func:`integrate`: ``times`` (n+1 records), ``states`` (records × dimension, float64;
     the working precision's values in ``run.values``), ``invariants`` and ``invariant_errors``
     (name → array of I(y) and I(y) − I(y₀) at the records), ``nfev`` (evaluations of f by the
-    steps; a callable's calls in all, finite differences included, in ``f_calls``), ``steps``,
-    ``h`` (the step used: module docstring), ``loop`` ("compiled with numba" or "Python") and
-    ``why``, ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
+    steps; an untraced callable's calls in all, finite differences included, in ``f_calls``,
+    None when f was traced), ``steps``, ``h`` (the step used: module docstring), ``loop``
+    ("compiled with numba" or "Python") and ``why`` (whether a callable was traced, and why
+    this loop: :func:`~tableau_lab.numeric.limits.choose_loop`), ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
     loop: a compile, or a load from its disk cache), ``start`` (a GLM's starting values: "exact"
     or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`).
     ``plot(ax=None, what="states" | "phase" | "invariants")`` draws it on matplotlib axes.
@@ -491,7 +535,7 @@ def _symbolic(f, y0, variables, time_symbol, invariants, t0) -> tuple:
 
 
 def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants=None, precision: str = "float64",
-              project=(), start: str = "exact", kernel: str = "auto", jit: bool | None = None,
+              project=(), start: str = "exact", kernel: str = "auto", trace: bool | None = None,
               record_every: int | None = None, notice: bool = True,
               timeout: float | None = DEFAULT_SECONDS) -> Solution:
     """[HNW93] II (Runge–Kutta), [B16] ch. 5 (general linear methods, their starting methods).
@@ -501,8 +545,9 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     ``invariants``: name → I(y) (callables for a callable f; expressions for a sympy f; a Problem
     brings its own) are recorded, and ``project`` (names) projects onto them. ``precision``:
     "float64", "dd" (problems with symbols) or "mp:DIGITS". ``kernel``: "auto", "compiled" or
-    "python" (problems with symbols: the step loop); ``jit``: False skips numba for a callable
-    (True requires it). ``notice``: print the one-line notice of which loop ran (and why) to
+    "python" (problems with symbols, and a traced callable: the step loop; "auto" the one predicted
+    to finish first, :func:`~tableau_lab.numeric.limits.choose_loop`); ``trace``: False runs a callable
+    as Python without tracing it, True requires the trace (InputError when it fails). ``notice``: print the one-line notice of which loop ran (and why) to
     stderr. ``timeout``: the budget in seconds (BudgetError; None for none) of the exact stage —
     the method rounded, a symbolic problem's code generated — as the commands' exact work; the
     steps are bounded by ``inputs.MAX_STEPS``. Records every step (every ``record_every``-th; by
@@ -537,71 +582,66 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     every = min(record_every or max(1, n // RECORDS), n)
     if isinstance(project, str) or not all(isinstance(k, str) for k in project):
         raise InputError(f"integrate: project must be a list of invariant names, not {str(project)[:40]!r}")
-    f_calls = None
+    f_calls, traced, label, cp = None, 0, None, None
     if callable(f) and not isinstance(f, (sp.Basic, Problem)):
-        if precision == "dd":
-            raise InputError("integrate: precision dd runs compiled loops generated from a problem's symbols; "
-                             "a Python callable runs in float64 or mp:DIGITS")
         if y0 is None:
             raise InputError("integrate: y0 is needed with a callable f")
-        with a.context():
-            y = np.array([a.number(_exact(v, f"y0[{i + 1}]")) for i, v in enumerate(np.asarray(y0).reshape(-1))],
-                         dtype=a.dtype)
-            tt = a.number(t0)
+        if trace not in (None, True, False):
+            raise InputError(f"integrate: trace must be None, True or False, not {trace!r}")
+        exact0 = [_exact(v, f"y0[{i + 1}]") for i, v in enumerate(np.asarray(y0, dtype=object).reshape(-1))]
+        y, tt = _first_call(f, arith("float64"), exact0, t0)      # the trace is checked in float64
         d = len(y)
-        try:
-            first = f(tt, y.copy())
-        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
-            raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}: {str(exc)[:200]}") from exc
-        if np.shape(first) not in ((d,), (d, 1), (1, d)):
-            raise InputError(f"integrate: f(t0, y0) returned shape {np.shape(first)} for a state of dimension {d}")
-        fn, why = f, "f runs as Python"
-        if jit is not False and a.dtype is float:
-            fast, reason = _jit(f, float(tt), y.copy())
-            if fast is not None:
-                fn, why = fast, "f compiled with numba"
-            elif jit:
-                raise InputError(f"integrate: jit=True, but {reason}")
-            else:
-                why = f"f runs as Python: {reason}"
-        elif a.dtype is not float:
-            why = f"f runs as Python ({precision} numbers are Python objects)"
-        cp = _Callable(fn, d, invariants, a)
-        unknown = [k for k in project if k not in cp.invariants]
-        if unknown:
-            raise InputError(f"integrate: project: {', '.join(unknown)} not among the invariants given "
-                             f"({', '.join(cp.invariants) or 'none'})")
-        names, label = tuple(f"y{i + 1}" for i in range(d)) if d > 1 else ("y",), getattr(f, "__name__", "f")
-        z0 = np.concatenate([y, np.array([tt], dtype=a.dtype)])
-        run_start = "naive"
-        loop_why = f"a Python callable runs in the Python step loop ({why})"
-        keep = d
-    else:
+        label = getattr(f, "__name__", "f")
+        with time_limit(timeout, "timeout=SECONDS"), computing("the trace of f"):
+            P, why = (None, "trace=False") if trace is False else _traced(f, d, invariants, exact0, t0)
+        if P is not None:
+            f, y0, variables, time, invariants, traced = P, None, None, None, None, d
+        elif trace:
+            raise InputError(f"integrate: trace=True, but f is not traceable: {why}")
+        elif precision == "dd":
+            raise InputError(f"integrate: precision dd runs compiled loops generated from a problem's symbols; "
+                             f"f is not traceable ({why}): a Python callable runs in float64 or mp:DIGITS")
+        else:
+            if a.dtype is not float:
+                y, tt = _first_call(f, a, exact0, t0)           # the callable's own numbers: mpmath's
+            cp = _Callable(f, d, invariants, a)
+            unknown = [k for k in project if k not in cp.invariants]
+            if unknown:
+                raise InputError(f"integrate: project: {', '.join(unknown)} not among the invariants given "
+                                 f"({', '.join(cp.invariants) or 'none'})")
+            names = tuple(f"y{i + 1}" for i in range(d)) if d > 1 else ("y",)
+            z0 = np.concatenate([y, np.array([tt], dtype=a.dtype)])
+            run_start, keep = "naive", d
+            loop_why = f"f not traceable ({why}): a Python callable runs in the Python step loop"
+    if cp is None:
         with time_limit(timeout, "timeout=SECONDS"), computing("the problem's code"):
             P, keep = _symbolic(f, y0, variables, time, invariants, t0)
+            keep = traced or keep
             P.check_projection(project)
             cp = compiled(P, precision)
             generate(cp, nm, tuple(P.invariants), tuple(project))
-        z0, names, label, run_start = cp.y0, tuple(str(s) for s in P.state[:keep]), P.name, start
-        loop_why = ""
+        z0, names, label, run_start = cp.y0, tuple(str(s) for s in P.state[:keep]), label or P.name, start
     with a.context():
         hnum = a.number(hx)
     run = run_steps(nm, cp, z0, hnum, n, start=run_start, project=tuple(project),
                     invariants=tuple(cp.problem.invariants),
-                    record_every=every, record_states=True, problem_name=label, kernel=kernel)
+                    record_every=every, record_states=True, problem_name=label,
+                    kernel="cost" if kernel == "auto" else kernel)
     if isinstance(cp, _Callable):
         f_calls = cp.calls
         loop, why = "Python", loop_why
-    elif run.loop == "compiled":
-        loop, why = "compiled with numba", f"the step loop generated from the problem's symbols ({precision})"
     else:
         import os
-        loop = "Python"
-        why = ("asked for: kernel='python'" if kernel == "python"
+        loop = "compiled with numba" if run.loop == "compiled" else "Python"
+        why = (run.loop_why if run.loop_why
+               else f"the step loop generated from the problem's symbols ({precision})" if run.loop == "compiled"
+               else "asked for: kernel='python'" if kernel == "python"
                else f"precision {precision} runs in the Python loop (mpmath)" if a.dtype is not float
                else "numba is not installed" if not available()
                else "asked for: TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
                else "the Python loop")
+        if traced:
+            why = f"f traced to expressions; {why}"
     if nm.r > 1 and run_start == "naive" and nm.starting and isinstance(cp, _Callable):
         why += "; a GLM with a callable f starts naively (y^[0] = u y0): its order may drop to the naive start's"
     states = np.array([a.to_float(v)[:keep] for v in run.values])

@@ -68,6 +68,7 @@ class Run:
     predicted_growth: dict = field(default_factory=dict)  # ζ -> ∫₀ᵗ max Re eig(μ f′(ŷ)) dt at the records (μ ≠ 0)
     growth_parameters: dict = field(default_factory=dict)  # ζ -> μ (complex float)
     compile_seconds: float = 0.0                         # compiled kernel: first call (compile or cache load)
+    loop_why: str = ""                                   # kernel="cost": the rule's reason (limits.choose_loop)
     tracked: dict = field(default_factory=dict)         # name -> max |I(y^[n]_1) − I(y0)| every track_every steps
     velocity_evaluations: int = 0                        # separable problems: q-rate evaluations (nfev: forces)
     fallbacks: int = 0                                   # steps whose first stage iteration failed
@@ -255,9 +256,9 @@ def _finite_start(nm, prob, y0, targets, precision) -> None:
 
 
 def _use_kernel(kernel, a, prob) -> bool:
-    if kernel not in ("auto", "compiled", "python"):
-        raise ValueError(f"kernel must be 'auto', 'compiled' or 'python', not {kernel!r}")
-    if kernel == "auto":                   # $TABLEAU_LAB_KERNEL=python: the pure loop unless asked
+    if kernel not in ("auto", "compiled", "python", "cost"):
+        raise ValueError(f"kernel must be 'auto', 'compiled', 'python' or 'cost', not {kernel!r}")
+    if kernel in ("auto", "cost"):         # $TABLEAU_LAB_KERNEL=python: the pure loop unless asked
         kernel = os.environ.get("TABLEAU_LAB_KERNEL", "auto")
     if a.name == "dd":                     # double-double exists only compiled
         if not hasattr(prob, "problem"):
@@ -290,7 +291,10 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     ``kernel``: "compiled" runs the step loop compiled (:mod:`kernels`), "python" the same
     loop in Python, "auto" the compiled one when the arithmetic is float64 and the problem is a
     generated one (results agree to round-off), unless the environment variable
-    TABLEAU_LAB_KERNEL is "python".  Precision dd always runs compiled.
+    TABLEAU_LAB_KERNEL is "python"; "cost" as "auto", then in float64 the loop predicted to finish
+    first (:func:`~.limits.choose_loop`: the Python loop's predicted time against the compile or
+    cache load, :func:`~.kernels.compile_state`; its reason in ``Run.loop_why``).  Precision dd
+    always runs compiled.
     ``monitor``: a bound on the parasitic components of a GLM's input vector, checked at the
     records; exceeding it raises :class:`ParasiticBoundExceeded` (module docstring).  The
     components and the predicted growth are recorded with or without a bound."""
@@ -325,6 +329,12 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                           predict=predict, project=tuple(project), track=names, targets=targets,
                           index=kernels.invariant_index(prob))
         compiled = _use_kernel(kernel, a, prob)
+        if compiled and kernel == "cost" and a.name == "float64":
+            shape = kernels.run_shape(pk)
+            compiled, run.loop_why = limits.choose_loop(
+                steps, limits.python_step_seconds(nm.s, nm.r, d, nm.explicit),
+                kernels.compile_state(prob.problem, "f64", shape, disk=False)
+                or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
         run.loop = "compiled" if compiled else "python"
         loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()

@@ -45,12 +45,13 @@ import numpy as np
 from ..files import atomic_write_text, path_exists
 from . import limits as L
 
-__all__ = ["available", "cache_dir", "Shape", "loop_shape", "dense_matrices", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
+__all__ = ["available", "cache_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape", "invariant_index", "write_problem_module", "compiled_loop", "pure_loop", "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
 _MODULES: dict = {}        # module file -> module (the cache folder may change: TABLEAU_LAB_CACHE)
 _BY_KEY: dict = {}         # (cache folder, problem.key, kind, shape) -> module: generated once per process
 _COMPILE: dict = {}        # module name -> seconds of the first (compiling or cache-loading) call
+_SOURCES: dict = {}        # (problem.key, kind) -> the problem module's text (compile_state, then compiled_loop)
 _PURE_CODE: dict = {}      # the compiled code object of stepcore.py's text
 
 
@@ -165,12 +166,16 @@ def problem_module_source(problem, kind: str) -> str:
     problem and arithmetic (the Jacobian of the outer solar system alone takes 15 s): the
     loops of every method shape import them."""
     from .problem_code import problem_source
+    if (problem.key, kind) in _SOURCES:
+        return _SOURCES[(problem.key, kind)]
     dd = kind == "dd"
     inline = not dd and problem.dimension <= L.INLINE_PROBLEM_DIMENSION
     text = _PROBLEM_HEADER.format(extra="from tableau_lab.numeric.ddmath import *" if dd else "",
                                   stamp=_stamp(["jit.py"] + (["ddmath.py"] if dd else [])),
                                   hot="helper" if inline else "cold")
-    return text + "\n\n" + problem_source(problem, tuple(problem.invariants), dd=dd, hot="@hot\n", cold="@cold\n")
+    text += "\n\n" + problem_source(problem, tuple(problem.invariants), dd=dd, hot="@hot\n", cold="@cold\n")
+    _SOURCES[(problem.key, kind)] = text
+    return text
 
 
 def module_source(kind: str, shape, problem_module: str, separable: bool) -> str:
@@ -193,8 +198,12 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     return text
 
 
+def _module_name(prefix: str, source: str) -> str:
+    return f"{prefix}_{hashlib.sha256(source.encode()).hexdigest()[:20]}"
+
+
 def _write(prefix: str, source: str) -> tuple:
-    name = f"{prefix}_{hashlib.sha256(source.encode()).hexdigest()[:20]}"
+    name = _module_name(prefix, source)
     path = cache_dir() / f"{name}.py"
     if not path.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -237,6 +246,26 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     mod.sibling = lambda mode: mod if shape is None else compiled_loop(problem, kind, shape._replace(mode=int(mode)))
     _BY_KEY[key] = mod
     return mod
+
+
+def compile_state(problem, kind: str = "f64", shape=None, disk: bool = True):
+    """What the first call of :func:`compiled_loop`'s loop will cost: "loaded" (compiled or
+    loaded in this process: nothing), "cached" (numba's machine code of its ``run`` is in the
+    disk cache beside the module: a load) or "cold" (a compile); None when not loaded and
+    ``disk`` is False.  Looking at the disk generates the module texts (as the loop itself
+    would, and kept for it: the outer solar system's take 5 s) but writes nothing."""
+    key = (str(cache_dir()), problem.key, kind, shape)
+    if key in _BY_KEY and (_BY_KEY[key].__name__, "run") in _COMPILE:
+        return "loaded"
+    if not disk:
+        return None
+    files = getattr(problem, "kernel_files", None) or {}
+    pname = files[kind][0] if kind in files else _module_name("tableau_lab_problem", problem_module_source(problem, kind))
+    name = _module_name("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable))
+    folder = cache_dir()
+    if not path_exists(folder / f"{name}.py"):
+        return "cold"
+    return "cached" if any((folder / "__pycache__").glob(f"{name}.run-*.nbi")) else "cold"
 
 
 class _Namespace:

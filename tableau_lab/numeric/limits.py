@@ -65,6 +65,14 @@ INLINE_PROBLEM_DIMENSION = 12   # d up to which f (and the q-, p-rates) are inli
 CHUNK = 1 << 16             # steps per call of a compiled loop (records, progress, Ctrl-C between)
 PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 
+# -- the loop chosen by predicted cost (kernel="cost": integrate() from Python; choose_loop) -------
+# measured by `python benchmarks/loop_choice.py` on this 2-core machine (docs/speed.md, "Which loop"):
+PYTHON_STAGE_SECONDS = 10e-6    # one stage of an explicit method in the pure float64 loop: this …
+PYTHON_COMPONENT_SECONDS = 5e-6     # … plus this per state component (RK4: 76-85 µs/step at d = 2, 121 at d = 4)
+PYTHON_IMPLICIT_FACTOR = 4.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
+COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
+COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
+
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
 F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT, F_LOWER = range(10)
 N_FLAGS = 10                # F_LOWER: A lower triangular (diagonally implicit): Newton's matrix block by block
@@ -72,7 +80,8 @@ S_NFEV, S_SWEEPS, S_PROJ, S_NREC, S_STEP, S_PROJ_RES, S_NVEL, S_LAST, S_FALLBACK
 N_STATS = 10                # S_STEP: the step under way; S_DONE: the last step finished (a Ctrl-C keeps up to it)
 MISFIT = 5                  # the loop's status when its arrays do not fit its shape (stepcore.fits)
 
-__all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs"]
+__all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs",
+                                                                   "python_step_seconds", "choose_loop"]
 
 
 def iteration_costs(contraction: float, *, separable: bool, s: int, d: int, f_ops: float,
@@ -117,3 +126,44 @@ def choose_iteration(solver: str, *, explicit: bool, separable: bool, contractio
         if not fixed <= newton:
             return NEWTON
     return SPLIT if separable else FIXED
+
+
+def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
+    """The predicted seconds of one step of the pure (Python) float64 loop: s·r stages (a GLM's r
+    input values multiply its work), each ``PYTHON_STAGE_SECONDS`` + d·``PYTHON_COMPONENT_SECONDS``,
+    ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method (measured: module constants).
+
+    >>> round(python_step_seconds(2, 1, 2, explicit=False) * 1e6)       # Gauss 2, d = 2: measured 200-260 µs
+    160
+    """
+    return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+
+
+def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
+    """(compiled?, why): the compiled loop when the predicted Python time, ``steps`` ×
+    ``python_step`` seconds, exceeds what the compiled loop must pay first — nothing when it is
+    "loaded" in this process, ``COMPILE_CACHED_SECONDS`` when numba's disk cache has it
+    ("cached"), ``COMPILE_COLD_SECONDS`` for a compile ("cold"); its steps, 100-1000× cheaper,
+    are neglected.  Else the Python loop, which starts at once.  ``compile_state`` is one of
+    those words (:func:`~.kernels.compile_state`), or a function returning it, asked only when
+    the answer matters (looking at the disk cache generates the loop's text).
+
+    >>> choose_loop(629, 160e-6, "cold")
+    (False, 'the Python loop: 629 steps predicted at 0.1 s in Python, less than the compile (about 8 s)')
+    >>> choose_loop(10**6, 160e-6, lambda: "cold")[0], choose_loop(629, 160e-6, "loaded")[0]
+    (True, True)
+    >>> choose_loop(100, 160e-6, lambda: 1 / 0)[1]       # not asked: less than even a load from the cache
+    'the Python loop: 100 steps predicted at 0.016 s in Python, less than loading the cached compiled loop (about 0.5 s)'
+    """
+    python = steps * python_step
+    if callable(compile_state):
+        compile_state = ("cached" if python <= COMPILE_CACHED_SECONDS else "cold" if python > COMPILE_COLD_SECONDS
+                         else compile_state())
+    cost = {"loaded": 0.0, "cached": COMPILE_CACHED_SECONDS, "cold": COMPILE_COLD_SECONDS}[compile_state]
+    what = {"loaded": "the loop already compiled in this process", "cached": "loading the cached compiled loop",
+            "cold": "the compile"}[compile_state]
+    if python > cost:
+        return True, (f"the compiled loop: {steps} steps predicted at {python:.2g} s in Python, more than "
+                      f"{what}" + (f" (about {cost:.2g} s)" if cost else ""))
+    return False, (f"the Python loop: {steps} steps predicted at {python:.2g} s in Python, less than {what} "
+                   f"(about {cost:.2g} s)")
