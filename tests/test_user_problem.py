@@ -285,6 +285,19 @@ def test_traced_callable_is_the_sympy_problem_bit_for_bit():
     assert np.max(np.abs(call.final - ref)) < 1e-5 and expr.start == "exact"
 
 
+def test_a_general_problem_compiles_in_the_loop_for_any_shape(monkeypatch):
+    """A problem that is not H = T(p) + V(q) (a damped oscillator) on the compiled loop for any
+    shape (TABLEAU_LAB_SPECIALISE=0, the suite's setting; the shape-generic loop of issue 32):
+    it failed to compile (numba: ``fq_`` not defined in the q-stage iteration it never runs);
+    now it runs and equals the Python loop, the same algorithm, to round-off."""
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "0")
+    x, v = sp.symbols("x v")
+    runs = [integrate(load("gauss2"), [v, -x - v / 10], [1, 0], (0, 1), "1/10", variables=[x, v], kernel=k,
+                      notice=False) for k in ("compiled", "python")]
+    assert runs[0].loop == "compiled with numba" and runs[1].loop == "Python"
+    assert np.max(np.abs(runs[0].states - runs[1].states)) < 1e-14
+
+
 @pytest.mark.parametrize("f, reason", [
     (lambda t, y: np.array([y[1], -math.sin(y[0])]), "needs a number where it has a symbol"),
     (lambda t, y: np.array([y[1], -np.sin(y[0]) if y[0] > -3 else 0.0]), "branches on a value (y1 > -3"),

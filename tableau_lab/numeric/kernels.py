@@ -191,6 +191,8 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     text += _part(ops, "# ---- operations ----") + "\n" + _part("stepcore.py", "# ---- core ----")
     names = ["f_", "jac_", "inv_", "grad_"] + (["fq_", "fp_"] if separable else [])
     text += f"\n\nfrom {problem_module} import {', '.join(names)}  # noqa: E402 (replace the placeholders)\n"
+    if not separable:       # the q-stage iteration is never run for such a problem, but a loop for any
+        text += "fq_ = fp_ = f_\n"     # shape (LOOP_MODE a value, not a constant) still compiles its calls
     if shape is not None:
         text += (f"\n\n@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n\n\n"
                  f"LOOP_MODE = {shape.mode}\nLOOP_PROJECTS = {shape.projects}\n")
