@@ -271,6 +271,10 @@ def test_readme_python_block_runs():
     assert f"# {rk4.stability_function()}" in block
     assert [str(x.mu) for x in env["g"].parasitism().items] == ["1 + 2*sqrt(3)/3"] and "1 + 2*sqrt(3)/3" in block
     assert env["g"].verify().failed == ()
+    assert env["m"].order() == 6 and type(env["ax"]).__name__ == "Axes"
+    assert max(abs(env["sol"].states[-1] - [1, 0])) < 1e-6 and "back at (1, 0)" in block
+    c = tl.load("bdf:4").error_constant()                 # BDF4: C₅ = -12/125 (tests/test_error_constant.py)
+    assert (str(c.C), str(c.normalised)) == ("-12/125", "-1/5") and "C₅ = -12/125" in block and "-1/5" in block
     with pytest.raises(TableauError, match="did you mean rk4"):
         exec(failing[0].split("#")[0], env)                                # noqa: S102
 

@@ -538,8 +538,7 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
               project=(), start: str = "exact", kernel: str = "auto", trace: bool | None = None,
               record_every: int | None = None, notice: bool = True,
               timeout: float | None = DEFAULT_SECONDS) -> Solution:
-    """[HNW93] II (Runge–Kutta), [B16] ch. 5 (general linear methods, their starting methods).
-    Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a method
+    """Integrate y′ = f(t, y), y(t₀) = y0 over ``t_span`` = (t₀, t₁) with the method ``method`` (a method
     object, or a file, library or family name) and steps of at most ``h`` (module docstring: the
     grid, and what ``f`` may be). ``y0`` may be None for a Problem (its own initial values).
     ``invariants``: name → I(y) (callables for a callable f; expressions for a sympy f; a Problem
@@ -547,11 +546,12 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     "float64", "dd" (problems with symbols) or "mp:DIGITS". ``kernel``: "auto", "compiled" or
     "python" (problems with symbols, and a traced callable: the step loop; "auto" the one predicted
     to finish first, :func:`~tableau_lab.numeric.limits.choose_loop`); ``trace``: False runs a callable
-    as Python without tracing it, True requires the trace (InputError when it fails). ``notice``: print the one-line notice of which loop ran (and why) to
-    stderr. ``timeout``: the budget in seconds (BudgetError; None for none) of the exact stage —
+    as Python without tracing it, True requires the trace (InputError when it fails).
+    ``notice``: print the one-line notice of which loop ran (and why) to stderr. ``timeout``: the budget in seconds (BudgetError; None for none) of the exact stage —
     the method rounded, a symbolic problem's code generated — as the commands' exact work; the
     steps are bounded by ``inputs.MAX_STEPS``. Records every step (every ``record_every``-th; by
-    default so that at most :data:`RECORDS` are kept).
+    default so that at most :data:`RECORDS` are kept).  The methods: [HNW93] II (Runge–Kutta),
+    [B16] ch. 5 (general linear methods and their starting methods).
 
     >>> from tableau_lab.exact.tableau_json import load
     >>> x, v = sp.symbols("x v")
