@@ -45,6 +45,8 @@ _LAZY = {
     "solve": "tableau_lab.analysis.design",
     "design": "tableau_lab.experiments.design_search",
     "error_constant": "tableau_lab.analysis.error_constant",
+    "ssp_coefficient": "tableau_lab.analysis.ssp",
+    "trees_of_order": "tableau_lab.analysis.trees",
     # running: the user's own problem, built-in problems by name
     "integrate": "tableau_lab.experiments.user",
     "problem": "tableau_lab.experiments.user",

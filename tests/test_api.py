@@ -17,7 +17,8 @@ from tableau_lab.files import OutputRefused
 z, h, y, q, p = sp.symbols("z h y q p")
 DELEGATING = ("order", "stability", "imaginary_stability_interval", "principal_error_norm", "stability_function",
               "modified_equation", "modified_hamiltonian", "verify", "report", "g_symplectic", "parasitism",
-              "integrate", "plot_stability_region", "plot_order_star", "plot_imaginary_axis", "error_constant")
+              "integrate", "plot_stability_region", "plot_order_star", "plot_imaginary_axis", "error_constant",
+              "ssp_coefficient")
 
 
 # ------------------------------------------------------------------ the must-show lines
@@ -147,7 +148,7 @@ def test_every_public_name_has_an_example_and_a_reference():
     for name in tl._LAZY:
         doc = inspect.getdoc(getattr(tl, name)) or ""
         assert ">>>" in doc, name
-        assert any(ref in doc for ref in ("[HW96]", "[HLW06]", "[B16]", "[BHHN14]", "[HNW93]", "[B21]",
+        assert any(ref in doc for ref in ("[HW96]", "[HLW06]", "[B16]", "[BHHN14]", "[HNW93]", "[B21]", "[GKS11]",
                                           "docs/")), name
     import pydoc
     assert len(pydoc.render_doc(tl.order).splitlines()) > 10                 # help(tl.order) was two lines

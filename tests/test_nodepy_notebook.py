@@ -21,9 +21,6 @@ import nodepy  # noqa: F401,E402  (in the test extra: a missing NodePy fails her
 
 NOTEBOOK = Path(__file__).resolve().parents[1] / "docs" / "nodepy_tutorial.ipynb"
 TEXT = ("text/plain", "text/markdown", "text/latex")
-#: the tableau_lab names the notebook may use below the package top (none is public there)
-BELOW_TOP = ["from tableau_lab.analysis.ssp import ssp_coefficient",
-             "from tableau_lab.analysis.trees import trees_of_order"]
 
 
 def cell_seconds(cell) -> float:
@@ -79,9 +76,9 @@ def test_exact_values_are_shown(executed):
     assert "5.99999" in shown and "2.8284271247" in shown                       # NodePy's floats beside them
 
 
-def test_only_top_level_names_but_two(executed):
+def test_only_top_level_names(executed):
     nb, _ = executed
-    assert only_top_level(nb) == BELOW_TOP
+    assert only_top_level(nb) == []                # every tableau_lab name from import tableau_lab as tl
 
 
 def test_stored_notebook_has_todays_outputs(executed):

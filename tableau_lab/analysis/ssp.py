@@ -69,7 +69,14 @@ def ssp_coefficient(m: Method) -> SSPResult:
     """The exact SSP coefficient of an RK method (module docstring).  Over ℚ the cuts are the
     real roots of the numerators; over a number field K (√3 in SSPIRK3) they are those of the
     numerators' norms (ℚ-polynomials whose roots include the numerators'), and each sign at a
-    rational probe is certified in K (:func:`stability.sign`)."""
+    rational probe is certified in K (:func:`stability.sign`).  [GKS11] Gottlieb, Ketcheson &
+    Shu, *Strong Stability Preserving Runge–Kutta and Multistep Time Discretizations* (2011),
+    ch. 3; Kraaijevanger 1991 (the radius of absolute monotonicity).
+
+    >>> import tableau_lab as tl
+    >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008: 6; Shu–Osher: 1
+    (6, 1)
+    """
     if m.kind != "rk":
         return SSPResult(m.name, None, f"defined here for Runge–Kutta methods, not {m.kind}")
     if m.parameters:

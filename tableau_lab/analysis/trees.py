@@ -35,7 +35,13 @@ def from_children(children) -> tuple:
 
 @lru_cache(maxsize=None)
 def trees_of_order(n: int) -> tuple:
-    """All rooted trees with n vertices, canonical and sorted (OEIS A000081)."""
+    """All rooted trees with n vertices, canonical and sorted (OEIS A000081; [B16] ch. 3,
+    Butcher 1963).
+
+    >>> import tableau_lab as tl
+    >>> [len(tl.trees_of_order(n)) for n in range(1, 9)]
+    [1, 1, 2, 4, 9, 20, 48, 115]
+    """
     if n < 1:
         return ()
     if n == 1:

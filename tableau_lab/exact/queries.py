@@ -70,6 +70,16 @@ class Queries:
         """
         return _top("principal_error_norm")(self, *args, **kw)
 
+    def ssp_coefficient(self, *args, **kw):
+        """The SSP coefficient (radius of absolute monotonicity) of an RK method, exact
+        (``tl.ssp_coefficient``; NodePy's ``absolute_monotonicity_radius``; [GKS11] ch. 3).
+
+        >>> import tableau_lab as tl
+        >>> tl.load("ssp104").ssp_coefficient().R
+        6
+        """
+        return _top("ssp_coefficient")(self, *args, **kw)
+
     def stability_function(self, *args, **kw):
         """R(z) = P(z)/Q(z) of an RK method, exact (``tl.stability_function``; [HW96] IV.3).
 
