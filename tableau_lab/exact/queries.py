@@ -24,73 +24,70 @@ def _top(name: str):
     return getattr(importlib.import_module("tableau_lab"), name)
 
 
+def _delegate(name: str, doc: str):
+    """The method ``name`` of :class:`Queries`: ``tableau_lab.<name>(self, ...)``, with ``doc``."""
+    def method(self, *args, **kw):
+        return _top(name)(self, *args, **kw)
+    method.__name__ = name
+    method.__qualname__ = f"Queries.{name}"
+    method.__doc__ = doc
+    return method
+
+
 class Queries:
     """The analyses of a method as its methods; each calls ``tableau_lab.<name>(self, ...)``."""
 
     __slots__ = ()
 
-    def order(self, *args, **kw):
-        """The order analysis (``tl.order``): ``int(m.order())`` is the order — classical for RK
+    order = _delegate("order", """The order analysis (``tl.order``): ``int(m.order())`` is the order — classical for RK
         and partitioned RK (elementary weights over (bicoloured) trees, [B16] ch. 3, [HLW06]
         III.2), the highest achievable with a starting method for GLMs ([B16] ch. 5).
 
         >>> import tableau_lab as tl
         >>> int(tl.load("gauss:3").order())
         6
-        """
-        return _top("order")(self, *args, **kw)
+        """)
 
-    def stability(self, *args, **kw):
-        """The exact linear-stability analysis (``tl.stability``): P(w, z), R(z), A-stability,
+    stability = _delegate("stability", """The exact linear-stability analysis (``tl.stability``): P(w, z), R(z), A-stability,
         the imaginary-axis radii ([HW96] IV.3, [BHHN14]).
 
         >>> import tableau_lab as tl
         >>> tl.load("gauss2").stability().a_stable
         True
-        """
-        return _top("stability")(self, *args, **kw)
+        """)
 
-    def imaginary_stability_interval(self, *args, **kw):
-        """The exact Y with |R(iy)| ≤ 1 for |y| ≤ Y (``tl.imaginary_stability_interval``; NodePy's
+    imaginary_stability_interval = _delegate("imaginary_stability_interval", """The exact Y with |R(iy)| ≤ 1 for |y| ≤ Y (``tl.imaginary_stability_interval``; NodePy's
         ``imaginary_stability_interval``, exact; [HW96] IV.2).
 
         >>> import tableau_lab as tl
         >>> tl.load("rk4").imaginary_stability_interval()
         2*sqrt(2)
-        """
-        return _top("imaginary_stability_interval")(self, *args, **kw)
+        """)
 
-    def principal_error_norm(self, *args, **kw):
-        """‖τ^(p+1)‖₂ of an RK method, exact (``tl.principal_error_norm``; NodePy's
+    principal_error_norm = _delegate("principal_error_norm", """‖τ^(p+1)‖₂ of an RK method, exact (``tl.principal_error_norm``; NodePy's
         ``principal_error_norm``; [HNW93] II.3).
 
         >>> import tableau_lab as tl
         >>> tl.load("rk4").principal_error_norm()
         sqrt(1745)/2880
-        """
-        return _top("principal_error_norm")(self, *args, **kw)
+        """)
 
-    def ssp_coefficient(self, *args, **kw):
-        """The SSP coefficient (radius of absolute monotonicity) of an RK method, exact
+    ssp_coefficient = _delegate("ssp_coefficient", """The SSP coefficient (radius of absolute monotonicity) of an RK method, exact
         (``tl.ssp_coefficient``; NodePy's ``absolute_monotonicity_radius``; [GKS11] ch. 3).
 
         >>> import tableau_lab as tl
         >>> tl.load("ssp104").ssp_coefficient().R
         6
-        """
-        return _top("ssp_coefficient")(self, *args, **kw)
+        """)
 
-    def stability_function(self, *args, **kw):
-        """R(z) = P(z)/Q(z) of an RK method, exact (``tl.stability_function``; [HW96] IV.3).
+    stability_function = _delegate("stability_function", """R(z) = P(z)/Q(z) of an RK method, exact (``tl.stability_function``; [HW96] IV.3).
 
         >>> import tableau_lab as tl
         >>> print(tl.load("implicit_midpoint").stability_function())
         R(z) = (z/2 + 1)/(1 - z/2)
-        """
-        return _top("stability_function")(self, *args, **kw)
+        """)
 
-    def modified_equation(self, *args, **kw):
-        """The modified equation to trees of order n (``tl.modified_equation(m, n)``; [HLW06] IX.1).
+    modified_equation = _delegate("modified_equation", """The modified equation to trees of order n (``tl.modified_equation(m, n)``; [HLW06] IX.1).
 
         >>> import tableau_lab as tl
         >>> print(tl.load("explicit_euler").modified_equation(3))
@@ -98,107 +95,86 @@ class Queries:
           ỹ′ = f
              + h   ( -1/2 f'f )
              + h^2 ( 1/12 f''(f, f) + 1/3 f'f'f )
-        """
-        return _top("modified_equation")(self, *args, **kw)
+        """)
 
-    def modified_hamiltonian(self, *args, **kw):
-        """The modified Hamiltonian H̃ for a Hamiltonian H to order n
+    modified_hamiltonian = _delegate("modified_hamiltonian", """The modified Hamiltonian H̃ for a Hamiltonian H to order n
         (``tl.modified_hamiltonian(m, H, n)``; [HLW06] IX.3).
 
         >>> import tableau_lab as tl, sympy as sp
         >>> q, p = sp.symbols("q p")
         >>> tl.load("implicit_midpoint").modified_hamiltonian(p**2/2 + q**2/2, 3).expression
         h**2*(-p**2/24 - q**2/24) + p**2/2 + q**2/2
-        """
-        return _top("modified_hamiltonian")(self, *args, **kw)
+        """)
 
-    def verify(self, *args, **kw):
-        """Every analysis that applies, and the verdict on each claim of the tableau
+    verify = _delegate("verify", """Every analysis that applies, and the verdict on each claim of the tableau
         (``tl.verify``; ``tableau-lab verify``).
 
         >>> import tableau_lab as tl
         >>> tl.load("example4_glm").verify().failed
         ()
-        """
-        return _top("verify")(self, *args, **kw)
+        """)
 
-    def g_symplectic(self, *args, **kw):
-        """G-symplecticity: G and D with the three conditions of [BHHN14] (``tl.g_symplectic``).
+    g_symplectic = _delegate("g_symplectic", """G-symplecticity: G and D with the three conditions of [BHHN14] (``tl.g_symplectic``).
 
         >>> import tableau_lab as tl
         >>> tl.load("example4_glm").g_symplectic().holds
         True
-        """
-        return _top("g_symplectic")(self, *args, **kw)
+        """)
 
-    def parasitism(self, *args, **kw):
-        """The parasitic growth parameters μ of a GLM (``tl.parasitism``; [BHHN14] Sec. 4).
+    parasitism = _delegate("parasitism", """The parasitic growth parameters μ of a GLM (``tl.parasitism``; [BHHN14] Sec. 4).
 
         >>> import tableau_lab as tl
         >>> tl.load("example4_glm").parasitism().free
         False
-        """
-        return _top("parasitism")(self, *args, **kw)
+        """)
 
-    def report(self, *args, **kw):
-        r"""The LaTeX proof report (``tl.report``; ``tableau-lab report``).
+    report = _delegate("report", r"""The LaTeX proof report (``tl.report``; ``tableau-lab report``).
 
         >>> import tableau_lab as tl
         >>> tl.load("implicit_midpoint").report()[:14]
         '\\documentclass'
-        """
-        return _top("report")(self, *args, **kw)
+        """)
 
     # the four below call functions of the numeric side and the plots (tl.integrate, …)
 
-    def integrate(self, *args, **kw):
-        """Integrate a problem with this method (``tl.integrate(m, f, y0, t_span, h=...)``).
+    integrate = _delegate("integrate", """Integrate a problem with this method (``tl.integrate(m, f, y0, t_span, h=...)``).
 
         >>> import tableau_lab as tl, math
         >>> sol = tl.load("gauss2").integrate(lambda t, y: [y[1], -y[0]], [1, 0], (0, 2 * math.pi), h=0.01,
         ...                                   notice=False)
         >>> bool(abs(sol.states[-1] - [1, 0]).max() < 1e-6)       # one period: back at (1, 0)
         True
-        """
-        return _top("integrate")(self, *args, **kw)
+        """)
 
-    def plot_stability_region(self, *args, **kw):
-        """The stability region, on matplotlib axes (``tl.plot_stability_region(m, ax=None, window=None)``).
+    plot_stability_region = _delegate("plot_stability_region", """The stability region, on matplotlib axes (``tl.plot_stability_region(m, ax=None, window=None)``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("rk4").plot_stability_region()
         >>> type(ax).__name__
         'Axes'
-        """
-        return _top("plot_stability_region")(self, *args, **kw)
+        """)
 
-    def plot_order_star(self, *args, **kw):
-        """The order star |R(z)e^(−z)| > 1 ([HW96] IV.4), on matplotlib axes (``tl.plot_order_star``).
+    plot_order_star = _delegate("plot_order_star", """The order star |R(z)e^(−z)| > 1 ([HW96] IV.4), on matplotlib axes (``tl.plot_order_star``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("gauss2").plot_order_star()
         >>> type(ax).__name__
         'Axes'
-        """
-        return _top("plot_order_star")(self, *args, **kw)
+        """)
 
-    def plot_imaginary_axis(self, *args, **kw):
-        """The root moduli along the imaginary axis, on matplotlib axes (``tl.plot_imaginary_axis``).
+    plot_imaginary_axis = _delegate("plot_imaginary_axis", """The root moduli along the imaginary axis, on matplotlib axes (``tl.plot_imaginary_axis``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("leapfrog").plot_imaginary_axis()
         >>> type(ax).__name__
         'Axes'
-        """
-        return _top("plot_imaginary_axis")(self, *args, **kw)
+        """)
 
-    def error_constant(self, *args, **kw):
-        """The classical error constant C_{p+1} of a linear multistep method (``tl.error_constant``;
+    error_constant = _delegate("error_constant", """The classical error constant C_{p+1} of a linear multistep method (``tl.error_constant``;
         [HNW93] III.2).
 
         >>> import tableau_lab as tl
         >>> c = tl.load("bdf:2").error_constant()
         >>> c.C, c.normalised                      # C₃ with α₂ = 1, and C₃/σ(1)
         (-2/9, -1/3)
-        """
-        return _top("error_constant")(self, *args, **kw)
+        """)
