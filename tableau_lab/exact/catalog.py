@@ -25,7 +25,7 @@ from ..files import OutputRefused, guard_output, path_exists
 from . import tableau_json
 from .methods import Method
 
-__all__ = ["load", "save"]
+__all__ = ["load", "load_with_numbers", "save"]
 
 
 def load(source, **size) -> Method:
@@ -54,9 +54,24 @@ def load(source, **size) -> Method:
         from .interop import from_nodepy
         return from_nodepy(source)
     if not isinstance(source, (str, os.PathLike)):
-        raise TypeError(f"load takes a path, a method name, JSON text, a NodePy method or a method, "
-                        f"not {type(source).__name__}")
+        raise TypeError(f"load takes a method or its name (a path, a shipped or family name), JSON text or a "
+                        f"NodePy method, not {type(source).__name__}")
     return tableau_json.load(source, **size)
+
+
+def load_with_numbers(source, purpose: str) -> Method:
+    """:func:`load`, refusing a method with free parameters: ``purpose`` ("a run", "a plot")
+    needs numbers (TableauError naming them).
+
+    >>> load_with_numbers("rk4", "a run").name
+    'classical Runge–Kutta (RK4)'
+    """
+    m = load(source)
+    if m.parameters:
+        raise tableau_json.TableauError(m.name, f"{purpose} needs numbers for the free parameters "
+                                                f"{', '.join(map(str, m.parameters))}; solve for them first "
+                                                "(tableau-lab solve)")
+    return m
 
 
 def save(method: Method, path, *, overwrite: bool = False) -> Path:

@@ -39,11 +39,11 @@ origin, where |R(z)e^{−z}| − 1 ≈ C z^{p+1}.
 """
 from __future__ import annotations
 
-import os
 
 import numpy as np
 import sympy as sp
 
+from ..exact.catalog import load_with_numbers
 from ..exact.methods import Method
 from ..numeric.arith import arith
 from . import figure_style as style
@@ -65,21 +65,6 @@ STAR_SCALE = 1.3           # … and this times the largest |zero| or |pole| of 
 FIGURE_SIZE = (4.5, 4.0)   # inches: a plot made without an ``ax``
 MAX_POINTS = 2001          # the largest grid side (or axis points) a caller may ask for: 4·10⁶ root problems
 MAX_COORDINATE = 1e12      # the largest |coordinate| of a window (as ``--window``: stability_plots.parse_window)
-
-
-def _method(method) -> Method:
-    """A Method, or what :func:`~tableau_lab.exact.tableau_json.load` reads (a file, a library or
-    family name such as ``"gauss:3"``)."""
-    if isinstance(method, Method):
-        m = method
-    elif isinstance(method, (str, os.PathLike)):
-        from ..exact.tableau_json import load
-        m = load(method)
-    else:
-        raise TypeError(f"a method or its name, not {type(method).__name__}")
-    if m.parameters:
-        raise ValueError(f"{m.name}: a plot needs numbers for the free parameters {', '.join(map(str, m.parameters))}")
-    return m
 
 
 def _rk_parts(m: Method) -> tuple:
@@ -147,7 +132,7 @@ def stability_polynomial_array(method) -> tuple:
     >>> bool(np.allclose(G, C))
     True
     """
-    m = _method(method)
+    m = load_with_numbers(method, "a plot")
     if m.kind == "rk":
         N, D, bounded = _rk_parts(m)
         C = np.zeros((2, max(len(N), len(D))))
@@ -176,7 +161,7 @@ def region_window(method) -> tuple:
     """
     C, variable, bounded = stability_polynomial_array(method)
     if variable != "z":
-        raise TypeError(f"{_method(method).name}: a partitioned method has no region in the z-plane "
+        raise TypeError(f"{load_with_numbers(method, 'a plot').name}: a partitioned method has no region in the z-plane "
                         "(it is analysed on the harmonic oscillator: plot_imaginary_axis)")
     return enclosing_window(locus_points(C, bounded))
 
@@ -249,7 +234,7 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None, an
     $[-\\beta, 0]$, $\\beta = 2.7853$ on the real axis
     >>> plt.close(ax.figure)
     """
-    m = _method(method)
+    m = load_with_numbers(method, "a plot")
     C, variable, bounded = stability_polynomial_array(m)
     if variable != "z":
         raise TypeError(f"{m.name}: a partitioned method has no region in the z-plane "
@@ -289,7 +274,7 @@ def order_star_modulus(method):
     >>> [round(float(v), 12) for v in f(np.array([-1, 1j, 1]))]
     [0.0, 1.414213562373, 0.735758882343]
     """
-    m = _method(method)
+    m = load_with_numbers(method, "a plot")
     if m.kind != "rk":
         raise TypeError(f"{m.name}: the order star is drawn for RK methods (R(z)), not {m.kind}")
     N, D, _ = _rk_parts(m)
@@ -313,7 +298,7 @@ def plot_order_star(method, ax=None, window=None, n: int = REGION_POINTS):
     [-4.0, 4.0]
     >>> plt.close(ax.figure)
     """
-    m = _method(method)
+    m = load_with_numbers(method, "a plot")
     f = order_star_modulus(m)
     if window is not None:
         box = _box(window)
@@ -341,7 +326,7 @@ def plot_imaginary_axis(method, ax=None, top=None, exact: bool = True, n: int = 
     [2.8284271247461903]
     >>> plt.close(ax.figure)
     """
-    m = _method(method)
+    m = load_with_numbers(method, "a plot")
     C, variable, _ = stability_polynomial_array(m)
     Y, kind = None, ""
     if exact:

@@ -68,6 +68,7 @@ import sympy as sp
 
 from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
+from ..exact.catalog import load_with_numbers
 from ..numeric.problems import (LABEL_LENGTH, MAX_ENTRIES, Problem, ProblemError, exact_value, get_problem,
                                 valid_name)
 
@@ -496,16 +497,6 @@ class Solution:
         return ax
 
 
-def _method(method):
-    """An exact method: a method object, or a file, library or family name (``load``)."""
-    from ..exact.tableau_json import TableauError, load
-    m = method if hasattr(method, "kind") else load(method)
-    if m.parameters:
-        raise TableauError(m.name, f"free parameters {', '.join(map(str, m.parameters))}: a run needs numbers; "
-                                   "solve for them first (tableau-lab solve)")
-    return m
-
-
 def _symbolic(f, y0, variables, time_symbol, invariants, t0) -> tuple:
     """(the Problem integrate runs, the number of its state components shown) for f a Problem,
     a built-in problem's name or a sympy right-hand side."""
@@ -566,7 +557,7 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     from ..numeric.kernels import available
     from .runs import compiled, generate, step_count
 
-    m = _method(method)
+    m = load_with_numbers(method, "a run")
     try:
         a = arith(precision)
     except ValueError as exc:
