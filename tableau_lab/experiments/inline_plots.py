@@ -39,7 +39,6 @@ origin, where |R(z)e^{−z}| − 1 ≈ C z^{p+1}.
 """
 from __future__ import annotations
 
-
 import numpy as np
 import sympy as sp
 
