@@ -36,6 +36,7 @@ H, STEPS, REPS = 0.01, 100_000, 5
 
 def measure(reps: int = REPS) -> list[dict]:
     import c_reference as cr
+
     from tableau_lab.files import atomic_write_text
     from tableau_lab.numeric import kernels
     known = kernels.dense_matrices

@@ -42,8 +42,7 @@ from tableau_lab.analysis.parasitism import growth_parameters  # noqa: E402
 from tableau_lab.analysis.trees import density, order as tree_order, symmetry, trees_up_to  # noqa: E402
 from tableau_lab.exact.grammar import format_entry  # noqa: E402
 from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.experiments.modified_energy import (NAME, energy_errors, modified_energy_expression,  # noqa: E402
-                                                     problem_hamiltonian)
+from tableau_lab.experiments.modified_energy import NAME, energy_errors, modified_energy_expression, problem_hamiltonian  # noqa: E402
 from tableau_lab.experiments.suite import growth_check  # noqa: E402
 from tableau_lab.numeric.codegen import compile_problem  # noqa: E402
 from tableau_lab.numeric.errors import IntegrationError  # noqa: E402
@@ -254,7 +253,7 @@ def plot(results, target: Path, steps: int) -> Path:
     floor = np.finfo(float).eps / 10
     fig, axes = plt.subplots(len(results), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(results) + 0.8),
                              squeeze=False, sharex=True)
-    for ax, r in zip(axes[:, 0], results):
+    for ax, r in zip(axes[:, 0], results, strict=False):
         n, t = r["numbers"], r["t"]
         pw = " + ".join(f"h^{{{k}}}" for k in r["powers"])
         ax.semilogy(t, np.maximum(r["err_H"], floor), lw=0.7, label=style.invariant_error("H"), **style.series_style(0))

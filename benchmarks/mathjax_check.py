@@ -119,8 +119,8 @@ def check(nb, modules: Path) -> tuple[list, list]:
     the message None for a control that typesets (which it must not)."""
     found, control = formulas(nb), old_displays()
     verdicts = typeset_errors([(t, d) for _, t, d in found + control], modules)
-    errors = [(w, e) for (w, _, _), e in zip(found, verdicts) if e is not None]
-    return errors, [(w, e) for (w, _, _), e in zip(control, verdicts[len(found):])]
+    errors = [(w, e) for (w, _, _), e in zip(found, verdicts, strict=False) if e is not None]
+    return errors, [(w, e) for (w, _, _), e in zip(control, verdicts[len(found):], strict=False)]
 
 
 def main(argv=None) -> int:

@@ -31,11 +31,18 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from doc_blocks import write_block  # noqa: E402
+
 from tableau_lab.analysis.family import dirk_stages, glm43_structure, parasitism_free_rows  # noqa: E402
 from tableau_lab.exact.tableau_json import load  # noqa: E402
 from tableau_lab.numeric.arith import arith  # noqa: E402
-from tableau_lab.numeric.objectives import (NumericGLM, growth, imaginary_interval, order_residuals,  # noqa: E402
-                                            real_interval, series_defects)
+from tableau_lab.numeric.objectives import (  # noqa: E402
+    NumericGLM,
+    growth,
+    imaginary_interval,
+    order_residuals,
+    real_interval,
+    series_defects,
+)
 
 BLOCK = "moonshot-table"
 ORDER = 4

@@ -35,8 +35,8 @@ from __future__ import annotations
 
 import argparse
 import re
-import textwrap
 import sys
+import textwrap
 import time
 from pathlib import Path
 
@@ -47,6 +47,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from doc_blocks import write_block  # noqa: E402
+
 from tableau_lab.analysis.order import order  # noqa: E402
 from tableau_lab.analysis.parasitism import growth_parameters  # noqa: E402
 from tableau_lab.analysis.stability import stability  # noqa: E402
@@ -154,8 +155,8 @@ def measure(m, problem: str, overrides: dict, repeat: int = 3) -> dict:
             run = integrate(nm, cp, cp.y0, H, STEPS, invariants=("H",), record_every=DIAGNOSTIC_EVERY)
         except IntegrationError as exc:
             run = exc.partial
-        comps = [max(c) for c in zip(*run.parasitic_components.values())]
-        best["history"] = [(t, c) for t, c in zip(run.times, comps) if t in (10, 100, 1000)] + \
+        comps = [max(c) for c in zip(*run.parasitic_components.values(), strict=False)]
+        best["history"] = [(t, c) for t, c in zip(run.times, comps, strict=False) if t in (10, 100, 1000)] + \
             ([(run.times[-1], comps[-1])] if comps and run.times[-1] not in (10, 100, 1000) else [])
     return best
 

@@ -17,6 +17,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from doc_blocks import write_block  # noqa: E402
+
 from tableau_lab.analysis.method_series import method_series  # noqa: E402
 from tableau_lab.analysis.modified import modified_equation  # noqa: E402
 from tableau_lab.analysis.series_structure import structure  # noqa: E402

@@ -14,6 +14,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from doc_blocks import cli  # noqa: E402
+
 from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS, cheapest  # noqa: E402,F401
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -17,6 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from doc_blocks import cli  # noqa: E402
+
 from tableau_lab.experiments.workprecision import cheapest  # noqa: E402  (the least cost reaching an energy error)
 
 DATA = ROOT / "reports" / "workprecision" / "wp_kepler_glm" / "data.json"
@@ -62,7 +63,7 @@ def text(data: dict) -> str:
         "equations from simplified Newton to fixed-point iteration (the data predate issue 29: the rule was "
         "h·‖A‖∞·ρ(f′) < 0.1, now the cheaper by `limits.iteration_costs`, docs/speed.md): " + "; ".join(
             f"{k.split(' (')[0]} {a['steps']:,} → {b['steps']:,} steps: {a['cpu']:.3f} → {b['cpu']:.3f} s"
-            for k in (GAUSS, OLD, NEW, MOON) for a, b in zip(S[k], S[k][1:]) if b["cpu"] < a["cpu"])
+            for k in (GAUSS, OLD, NEW, MOON) for a, b in zip(S[k], S[k][1:], strict=False) if b["cpu"] < a["cpu"])
         + ". The f-evaluation panels do not have this effect."])
 
 

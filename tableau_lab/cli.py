@@ -18,9 +18,19 @@ from pathlib import Path
 
 from . import __version__
 from .budget import MODIFIED_ORDER as MODIFIED_MAX_ORDER
-from .errors import EXIT_BUG, EXIT_CLAIM, EXIT_DEGRADED, EXIT_INPUT, EXIT_INTERRUPTED, EXIT_OK, EXIT_TERMINATED, InputError, Terminated
-from .inputs import MAX_STEPS, SAFE_NAME, printable                                # --steps, --max-steps
+from .errors import (
+    EXIT_BUG,
+    EXIT_CLAIM,
+    EXIT_DEGRADED,
+    EXIT_INPUT,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_TERMINATED,
+    InputError,
+    Terminated,
+)
 from .files import derived_name
+from .inputs import MAX_STEPS, SAFE_NAME, printable  # --steps, --max-steps
 
 EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
 BUILT_WITHIN = ("run", "workprecision", "convergence")     # their exact stage (problem, method, generated code) within --timeout
@@ -199,9 +209,9 @@ def _design(args) -> int:
     """Search a solution family for its best member and certify it (experiments/design_search.py)."""
     from .analysis.family import FamilyError, families_of
     from .budget import computing
+    from .exact.tableau_json import TableauError, save
     from .experiments.design_search import SearchError, check_constraints, search
     from .experiments.executor import SchedulerError
-    from .exact.tableau_json import TableauError, save
 
     lo, _, hi = args.box.partition(":")
     try:
@@ -347,8 +357,8 @@ def _run(args) -> int:
 
 
 def _run_scenes(args) -> int:
-    from .experiments.scene import SceneError, run_scene
     from .exact.tableau_json import TableauError
+    from .experiments.scene import SceneError, run_scene
 
     status = EXIT_OK
     for path in args.scenes:
@@ -454,10 +464,8 @@ def _convergence(args) -> int:
 def _convergence_runs(args, ex) -> int:
     from .exact.tableau_json import TableauError
     from .experiments.plots import convergence_title, draw_convergence
-    from .experiments.runs import convergence
+    from .experiments.runs import convergence, final_time
     from .numeric.problems import ProblemError
-
-    from .experiments.runs import final_time
     try:
         T = float(final_time(_exact_number(args.T, "--T"), f"--T {args.T}"))
     except ValueError as exc:
@@ -524,7 +532,6 @@ def _workprecision(args) -> int:
 
 def _workprecision_runs(args, ex) -> int:
     from .experiments.executor import SchedulerError
-    from .experiments.scene import SceneError
     from .experiments.workprecision import load_wp_scene, run_wp
     code = EXIT_OK
     for path in args.scenes:

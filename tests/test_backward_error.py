@@ -6,16 +6,29 @@ not; trapezoidal rule conjugate to the midpoint rule; AVF energy-preserving and 
 import pytest
 import sympy as sp
 
-from tableau_lab.analysis.bseries import (BSeries, compose, exact_flow, flow_of, inverse, modified_field,
-                                         modifying_field, series_order, substitute)
+from tableau_lab.analysis.bseries import (
+    BSeries,
+    compose,
+    exact_flow,
+    flow_of,
+    inverse,
+    modified_field,
+    modifying_field,
+    series_order,
+    substitute,
+)
 from tableau_lab.analysis.free_trees import free_tree
 from tableau_lab.analysis.glm_order import theta_matrix
 from tableau_lab.analysis.method_series import method_series
 from tableau_lab.analysis.modified import modified_equation
-from tableau_lab.analysis.modified_hamiltonian import (elementary_differential, modified_hamiltonian,
-                                                       _hamiltonian_field)
-from tableau_lab.analysis.series_structure import (conjugate_symplectic, energy_order, structure, symplectic_order,
-                                                  tree_pairs)
+from tableau_lab.analysis.modified_hamiltonian import _hamiltonian_field, elementary_differential, modified_hamiltonian
+from tableau_lab.analysis.series_structure import (
+    conjugate_symplectic,
+    energy_order,
+    structure,
+    symplectic_order,
+    tree_pairs,
+)
 from tableau_lab.analysis.tree_kinds import BICOLOURED, PLAIN, partitions
 from tableau_lab.analysis.trees import butcher_product, parse_tree as T, symmetry, trees_of_order, trees_up_to
 from tableau_lab.exact.methods import RungeKutta
@@ -137,7 +150,7 @@ def test_midpoint_modified_hamiltonian_hlw_ix3():
     H, q, p = _pendulum()
     mh = modified_hamiltonian(modified_field(series("implicit_midpoint", 5)))
     f = _hamiltonian_field(H, q, p)
-    Hff = sum(sp.diff(H, x, y) * fx * fy for x, fx in zip(q + p, f) for y, fy in zip(q + p, f))
+    Hff = sum(sp.diff(H, x, y) * fx * fy for x, fx in zip(q + p, f, strict=False) for y, fy in zip(q + p, f, strict=False))
     assert sp.expand(mh.expression(H, q, p, 3) + Hff / 24) == 0
 
 
@@ -156,7 +169,7 @@ def test_modified_hamiltonian_generates_the_modified_field(name, upto):
         grad = _hamiltonian_field(Hn, q, p)
         field = [sum((b[t] / symmetry(t) * elementary_differential(t, y, f, cache)[i] for t in trees_of_order(n)),
                      sp.Integer(0)) for i in range(len(y))]
-        assert all(sp.expand(g - fi) == 0 for g, fi in zip(grad, field)), n
+        assert all(sp.expand(g - fi) == 0 for g, fi in zip(grad, field, strict=False)), n
 
 
 def test_glm43_modified_energy_is_conserved_by_its_modified_field():
@@ -215,7 +228,7 @@ def test_cli_modified(capsys):
 # ------------------------------------------------------------------ P-series (partitioned methods)
 
 def _poisson(F, G, q, p):
-    return sum(sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi) for qi, pi in zip(q, p))
+    return sum(sp.diff(F, qi) * sp.diff(G, pi) - sp.diff(F, pi) * sp.diff(G, qi) for qi, pi in zip(q, p, strict=False))
 
 
 def test_symplectic_euler_modified_hamiltonian_hlw_ix3():
@@ -259,7 +272,7 @@ def test_pseries_modified_hamiltonian_generates_the_modified_field(name):
         grad = _hamiltonian_field(mh.expression(H, q, p, n), q, p)
         field = [sum((b[t] / B.symmetry(t) * elementary_differential(t, y, f, cache)[i] for t in B.trees_of_order(n)),
                      sp.Integer(0)) for i in range(len(y))]
-        assert all(sp.expand(g - fi) == 0 for g, fi in zip(grad, field)), n
+        assert all(sp.expand(g - fi) == 0 for g, fi in zip(grad, field, strict=False)), n
 
 
 def test_pseries_algebra():
@@ -274,6 +287,7 @@ def test_documented_outputs_are_current(capsys):
     import re
     import shlex
     from pathlib import Path
+
     from tableau_lab.cli import main
     root = Path(__file__).resolve().parents[1]
     seen = 0
@@ -326,9 +340,9 @@ def test_glm_step_maps_starting_method_onto_underlying_method(name, monkeypatch)
         Y = list(Y)
         out = [h * sum(B[i][j] * f(Y[j]) for j in range(g.s)) + sum(V[i][k] * x[k] for k in range(g.r))
                for i in range(g.r)]
-        errs.append(max(abs(a - b) for a, b in zip(out, S(Phi(y0, h), h))))
+        errs.append(max(abs(a - b) for a, b in zip(out, S(Phi(y0, h), h), strict=False)))
     lx = [float(mp.log(h)) for h in hs]
     ly = [float(mp.log(e)) for e in errs]
     mx, my = sum(lx) / 4, sum(ly) / 4
-    slope = sum((a - mx) * (b - my) for a, b in zip(lx, ly)) / sum((a - mx) ** 2 for a in lx)
+    slope = sum((a - mx) * (b - my) for a, b in zip(lx, ly, strict=False)) / sum((a - mx) ** 2 for a in lx)
     assert 5.8 < slope < 6.4, (slope, errs)

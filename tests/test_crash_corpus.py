@@ -16,9 +16,9 @@ import sympy as sp
 from tableau_lab.analysis.design import solve_file
 from tableau_lab.analysis.order import order
 from tableau_lab.analysis.rk_order import simplifying_assumptions
-from tableau_lab.exact.field import is_zero
 from tableau_lab.analysis.verify import verify
 from tableau_lab.cli import main
+from tableau_lab.exact.field import is_zero
 from tableau_lab.exact.methods import GeneralLinearMethod, MethodError
 from tableau_lab.exact.tableau_json import load, loads
 

@@ -1,4 +1,5 @@
 import re
+
 """Double-double arithmetic (numeric/ddmath.py) and its code printer (numeric/ddcode.py) against
 mpmath at 50 digits: the primitives compiled by numba on random and adversarial inputs
 (cancellation, magnitudes from 1e-290 to 1e290, arguments near multiples of pi/2), the same
@@ -15,9 +16,36 @@ from numba import njit
 
 from tableau_lab.numeric.ddcode import dd_function, dd_source
 from tableau_lab.numeric.ddmath import (
-    dd_abs, dd_add, dd_add_d, dd_cos, dd_div, dd_exp, dd_from_double, dd_get, dd_gt, dd_log, dd_lt,
-    dd_mul, dd_mul_d, dd_mul_pwr2, dd_neg, dd_pow_int, dd_set, dd_sin, dd_sincos, dd_sqr, dd_sqrt,
-    dd_sub, from_dd, from_dd_array, quick_two_sum, to_dd, to_dd_array, two_prod, two_sum)
+    dd_abs,
+    dd_add,
+    dd_add_d,
+    dd_cos,
+    dd_div,
+    dd_exp,
+    dd_from_double,
+    dd_get,
+    dd_gt,
+    dd_log,
+    dd_lt,
+    dd_mul,
+    dd_mul_d,
+    dd_mul_pwr2,
+    dd_neg,
+    dd_pow_int,
+    dd_set,
+    dd_sin,
+    dd_sincos,
+    dd_sqr,
+    dd_sqrt,
+    dd_sub,
+    from_dd,
+    from_dd_array,
+    quick_two_sum,
+    to_dd,
+    to_dd_array,
+    two_prod,
+    two_sum,
+)
 from tableau_lab.numeric.problems import PROBLEMS, get_problem
 
 U2 = Fraction(1, 2 ** 106)          # u² for u = 2^-53
@@ -99,7 +127,7 @@ def fraction(v):
 def error(out, ref, relative=True):
     """max |out − ref| (/ |ref|) in units of u², out a dd array, ref exact values (Fractions or mpf)."""
     worst = Fraction(0)
-    for got, r in zip(from_dd_array(out), ref):
+    for got, r in zip(from_dd_array(out), ref, strict=False):
         r = fraction(r)
         e = abs(fraction(got) - r)
         worst = max(worst, e / abs(r) if relative and r else e)
@@ -126,8 +154,8 @@ def test_arithmetic_is_accurate(lo, hi):
     x, y = exact(a), exact(b)
     yd = [Fraction(v) for v in b[:, 0]]
     bounds = {"add": 3, "sub": 3, "mul": 8, "div": 16, "mul_d": 4, "add_d": 2}
-    refs = [[p + q for p, q in zip(x, y)], [p - q for p, q in zip(x, y)], [p * q for p, q in zip(x, y)],
-            [p / q for p, q in zip(x, y)], [p * q for p, q in zip(x, yd)], [p + q for p, q in zip(x, yd)]]
+    refs = [[p + q for p, q in zip(x, y, strict=False)], [p - q for p, q in zip(x, y, strict=False)], [p * q for p, q in zip(x, y, strict=False)],
+            [p / q for p, q in zip(x, y, strict=False)], [p * q for p, q in zip(x, yd, strict=False)], [p + q for p, q in zip(x, yd, strict=False)]]
     for k, (name, bound) in enumerate(bounds.items()):
         assert error(out[k], refs[k]) <= bound, name
 
@@ -143,9 +171,9 @@ def test_addition_under_cancellation():
     out = np.empty((6, len(a), 2))
     binary_ops(a, b, out)
     x, y = exact(a), exact(b)
-    assert error(out[0], [p + q for p, q in zip(x, y)]) <= 3
+    assert error(out[0], [p + q for p, q in zip(x, y, strict=False)]) <= 3
     binary_ops(a, -b, out)
-    assert error(out[1], [p + q for p, q in zip(x, y)]) <= 3          # x − (−y)
+    assert error(out[1], [p + q for p, q in zip(x, y, strict=False)]) <= 3          # x − (−y)
 
 
 def test_unary_operations():
@@ -170,10 +198,10 @@ def test_extreme_magnitudes():
     out = np.empty((6, len(big), 2))
     binary_ops(big, small, out)
     x, y, z = exact(big), exact(small), exact(other)
-    assert error(out[2], [p * q for p, q in zip(x, y)]) <= 8
-    assert error(out[0], [p + q for p, q in zip(x, y)]) <= 3
+    assert error(out[2], [p * q for p, q in zip(x, y, strict=False)]) <= 8
+    assert error(out[0], [p + q for p, q in zip(x, y, strict=False)]) <= 3
     binary_ops(big, other, out)
-    assert error(out[3], [p / q for p, q in zip(x, z)]) <= 16
+    assert error(out[3], [p / q for p, q in zip(x, z, strict=False)]) <= 16
     edge = to_dd_array(["1e280", "1e-280"])          # full dd precision needs |x| > 2^-969 ≈ 2e-292
     out = np.empty((7, 2, 2))
     unary_ops(edge, out)
@@ -327,7 +355,7 @@ def agree(problem, got, ref, tol=1e-29):
     near-cancellation of larger terms (the sun's rows in the solar system)."""
     ref = np.array(ref, dtype=object).reshape(got.shape)
     scale = max(abs(v) for v in ref.flat)
-    for g, v in zip(got.flat, ref.flat):
+    for g, v in zip(got.flat, ref.flat, strict=False):
         assert abs(g - v) <= tol * max(abs(v), scale * mpmath.mpf("1e-3")), (problem.name, g, v)
 
 
@@ -356,7 +384,7 @@ def test_generated_f_and_jacobian(name):
     with mpmath.workdps(100):
         h = mpmath.mpf(10) ** -30
         columns = [[(a - b) / (2 * h) for a, b in zip(fun(y[:j] + [y[j] + h] + y[j + 1:], c),
-                                                          fun(y[:j] + [y[j] - h] + y[j + 1:], c))]
+                                                          fun(y[:j] + [y[j] - h] + y[j + 1:], c), strict=False)]
                    for j in range(n)]
         agree(problem, got, [[columns[j][i] for j in range(n)] for i in rows])
 
@@ -397,7 +425,7 @@ def test_printer_choices():
         xv, yv = (from_dd(*to_dd(v)) for v in ("0.7", "-1.3"))
         ref = [xv / 3 - 2 * yv + mpmath.mpf(1) / 3, xv ** -2.5, mpmath.sin(xv) * mpmath.cos(xv),
                mpmath.exp(yv) + mpmath.log(xv) + abs(yv)]
-        assert all(abs(g_ - r_) < 1e-30 for g_, r_ in zip(from_dd_array(out).flat, ref))
+        assert all(abs(g_ - r_) < 1e-30 for g_, r_ in zip(from_dd_array(out).flat, ref, strict=False))
 
 
 @pytest.mark.parametrize("exprs, message", [

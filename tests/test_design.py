@@ -20,7 +20,7 @@ DESIGN = ROOT / "methods" / "design"
 
 
 def _same(M, N):
-    return M.shape == N.shape and all(is_zero(x - y) for x, y in zip(M, N))
+    return M.shape == N.shape and all(is_zero(x - y) for x, y in zip(M, N, strict=False))
 
 
 def test_two_stage_order_4_is_gauss_both_orderings():

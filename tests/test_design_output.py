@@ -4,7 +4,6 @@ height — and item 11: bad --constrain/--require values and an unreachable sche
 Checked against independent facts: μ = u on the P/N family (so min |μ| on a box sits on its face),
 the exact error terms of a family that do not depend on its parameter, brute-force enumeration of
 the rationals of smaller height."""
-import json
 from fractions import Fraction
 from math import ceil, floor
 

@@ -119,6 +119,7 @@ def test_documented_design_output_is_current(capsys):
     import re
     import shlex
     from pathlib import Path
+
     from tableau_lab.cli import main
     text = (Path(__file__).resolve().parents[1] / "docs/design.md").read_text()
     blocks = re.findall(r"```\n\$ (tableau-lab design [^\n]*)\n(.*?)```", text, re.S)

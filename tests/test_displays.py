@@ -9,9 +9,9 @@ import pytest
 import sympy as sp
 
 from tableau_lab.analysis.results import Combined, Result, latex_markdown
-from tableau_lab.exact.render import markdown_literal
 from tableau_lab.exact.library import family, library_path
 from tableau_lab.exact.methods import RungeKutta
+from tableau_lab.exact.render import markdown_literal
 from tableau_lab.exact.tableau_json import load, loads
 
 PKG = Path(__file__).resolve().parents[1] / "tableau_lab"
@@ -330,7 +330,7 @@ def test_hostile_names_render_as_text_under_commonmark():
     md = MarkdownIt("commonmark").enable(["table", "strikethrough"])
     plain = [_Html(md.render(d._repr_markdown_())) for d in _hostile_displays("plain")]
     for name in HOSTILE_NAMES:
-        for d, ref in zip(_hostile_displays(name), plain):
+        for d, ref in zip(_hostile_displays(name), plain, strict=False):
             source = d._repr_markdown_()
             html = _Html(md.render(source))
             what = (name, type(d).__name__, source[:200])

@@ -5,7 +5,6 @@ is changed by hand."""
 from pathlib import Path
 
 import pytest
-
 from conftest import benchmark_script
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -3,13 +3,12 @@
 naming the item; an unreachable scheduler is a clear error, quickly."""
 import functools
 import json
-
-import numpy as np
 import math
 import time
 from pathlib import Path
 
 import mpmath
+import numpy as np
 import pytest
 from distributed import LocalCluster
 

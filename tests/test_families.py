@@ -10,8 +10,15 @@ from tableau_lab.analysis.algebraic_stability import algebraic_stability
 from tableau_lab.analysis.rk_order import rk_order
 from tableau_lab.analysis.stability import stability
 from tableau_lab.analysis.symplectic import rk_symplectic
-from tableau_lab.exact.families import (gauss, lobatto_iiia, lobatto_iiib, lobatto_iiic, lobatto_iiic_star, radau_ia,
-                                        radau_iia)
+from tableau_lab.exact.families import (
+    gauss,
+    lobatto_iiia,
+    lobatto_iiib,
+    lobatto_iiic,
+    lobatto_iiic_star,
+    radau_ia,
+    radau_iia,
+)
 from tableau_lab.exact.field import field_of, is_zero
 from tableau_lab.exact.tableau_json import load
 
@@ -60,7 +67,7 @@ def test_small_members_equal_the_library_files():
         f = load(path)
         g = family(f.s)
         K = field_of([f.A, f.b, g.A, g.b])
-        assert all(is_zero(x - y, K) for x, y in zip(list(f.A) + list(f.b), list(g.A) + list(g.b)))
+        assert all(is_zero(x - y, K) for x, y in zip(list(f.A) + list(f.b), list(g.A) + list(g.b), strict=False))
 
 
 @pytest.mark.parametrize("family, s", [(radau_iia, 3), (lobatto_iiia, 3), (gauss, 3)])
@@ -73,7 +80,7 @@ def test_congruent_symplecticity_form_has_the_inertia_of_M(family, s):
     M = sp.Matrix(s, s, lambda i, j: b[i] * A[i, j] + b[j] * A[j, i] - b[i] * b[j])
     V = sp.Matrix(s, s, lambda j, k: m.c[j] ** k)
     form = rk_symplectic(m).M
-    assert all(is_zero(x - y, K) for x, y in zip(V.T * M * V, form))
+    assert all(is_zero(x - y, K) for x, y in zip(V.T * M * V, form, strict=False))
 
 
 @pytest.mark.parametrize("family, s, symplectic, a_stable, alg_stable", [
@@ -142,4 +149,4 @@ def test_sdirk_families(spec, order, l_stable):
     assert (N.degree() < D.degree()) is l_stable
     if spec == "sdirk_crouzeix:3":
         f = load("sdirk34")
-        assert all(is_zero(x - y) for x, y in zip(list(f.A) + list(f.b), list(m.A) + list(m.b)))
+        assert all(is_zero(x - y) for x, y in zip(list(f.A) + list(f.b), list(m.A) + list(m.b), strict=False))

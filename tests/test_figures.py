@@ -15,8 +15,7 @@ import pytest
 import sympy as sp
 
 from tableau_lab import files
-from tableau_lab.experiments import figure_style as style
-from tableau_lab.experiments import plots
+from tableau_lab.experiments import figure_style as style, plots
 from tableau_lab.files import OutputError
 
 

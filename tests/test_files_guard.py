@@ -298,8 +298,9 @@ def _bomb(total: int) -> bytes:
 
 
 def test_replot_refuses_a_zip_bomb_before_decompressing(tmp_path):
-    from tableau_lab.files import MAX_NPZ_UNPACKED
     import resource
+
+    from tableau_lab.files import MAX_NPZ_UNPACKED
     folder = _scene_folder(tmp_path, _bomb(MAX_NPZ_UNPACKED + (16 << 20)))
     assert (folder / "data.npz").stat().st_size < 2 << 20
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
@@ -482,8 +483,8 @@ def test_lock_timeout_must_be_a_finite_number(tmp_path, monkeypatch, value):
 
 
 def test_cache_that_is_a_file_is_refused(tmp_path, monkeypatch):
-    from tableau_lab.numeric.kernels import cache_dir
     from tableau_lab.errors import InputError
+    from tableau_lab.numeric.kernels import cache_dir
     (tmp_path / "file").write_text("x")
     monkeypatch.setenv("TABLEAU_LAB_CACHE", str(tmp_path / "file"))
     with pytest.raises(InputError, match="TABLEAU_LAB_CACHE"):

@@ -12,8 +12,7 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
-from hypothesis import HealthCheck, given, seed, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, given, seed, settings, strategies as st
 
 from tableau_lab.errors import InputError
 from tableau_lab.exact.grammar import parse_entry

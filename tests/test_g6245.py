@@ -16,7 +16,7 @@ import sympy as sp
 from tableau_lab.analysis.glm_order import glm_order
 from tableau_lab.budget import time_limit
 from tableau_lab.exact.radicals import reduce_generators
-from tableau_lab.exact.tableau_json import load, read, entries
+from tableau_lab.exact.tableau_json import entries, load, read
 
 G6245 = Path(__file__).parent / "data" / "g6245.json"
 

@@ -91,7 +91,7 @@ def test_example4_starting_method_by_power_series():
         return sum(e.coeff(h, k) * h ** k for k in range(N))
 
     def F(v):
-        return f.subs(dict(zip(y, v)), simultaneous=True)
+        return f.subs(dict(zip(y, v, strict=False)), simultaneous=True)
 
     def elem(t, at):
         """Elementary differential F(t)(at) by directional derivatives of f."""
@@ -101,7 +101,7 @@ def test_example4_starting_method_by_power_series():
         expr = f
         for a in args:
             expr = sum((sp.diff(expr, y[j]) * a[j] for j in range(2)), sp.zeros(2, 1))
-        return expr.subs(dict(zip(y, at)), simultaneous=True)
+        return expr.subs(dict(zip(y, at, strict=False)), simultaneous=True)
 
     def sigma(t):
         out = 1
@@ -127,7 +127,7 @@ def test_example4_starting_method_by_power_series():
     term = sp.Matrix(y)
     for k in range(1, N):
         term = (term.jacobian(y) * f)
-        yh += h ** k / sp.factorial(k) * term.subs(dict(zip(y, y0)), simultaneous=True)
+        yh += h ** k / sp.factorial(k) * term.subs(dict(zip(y, y0, strict=False)), simultaneous=True)
     yh = yh.applyfunc(trunc)
 
     start = S(y0)
@@ -141,7 +141,7 @@ def test_example4_starting_method_by_power_series():
     out = [(sum((m.V[i, j] * start[j] for j in range(m.r)), sp.zeros(2, 1))
             + h * sum((m.B[i, j] * FY[j] for j in range(m.s)), sp.zeros(2, 1))).applyfunc(trunc) for i in range(m.r)]
     target = S(yh)
-    diff = [(o - t_).applyfunc(lambda e: sp.radsimp(trunc(e))) for o, t_ in zip(out, target)]
+    diff = [(o - t_).applyfunc(lambda e: sp.radsimp(trunc(e))) for o, t_ in zip(out, target, strict=False)]
     for k in range(N):
         coeffs = [sp.radsimp(d[j].coeff(h, k)) for d in diff for j in range(2)]
         if k <= 4:
@@ -153,7 +153,7 @@ def test_example4_starting_method_by_power_series():
 def test_finishing_inverts_principal_part():
     """α·α⁻¹ = identity on τ and [τ]: α⁻¹(τ) = -α(τ), α⁻¹([τ]) = -α([τ]) + α(τ)²."""
     res = glm_order(load(METHODS / "example4_glm.json"))
-    a = {k: sum(wi * x for wi, x in zip(res.w, v)) for k, v in res.starting.items()}
+    a = {k: sum(wi * x for wi, x in zip(res.w, v, strict=False)) for k, v in res.starting.items()}
     assert sp.simplify(res.finishing["τ"] + a["τ"]) == 0
     assert sp.simplify(res.finishing["[τ]"] + a["[τ]"] - a["τ"] ** 2) == 0
 
@@ -169,6 +169,7 @@ def test_effective_order_exceeds_classical_measured_slope():
     (θ([τ])) and finishing method raises the measured convergence slope from 2 to 3 on
     y' = y² (exact solution y0/(1 - y0 t))."""
     import numpy as np
+
     from tableau_lab.exact.methods import RungeKutta
 
     m = RungeKutta.from_lists([[0, 0], [sp.Rational(2, 3), sp.Rational(1, 3)]], [sp.Rational(1, 2)] * 2)

@@ -82,7 +82,7 @@ def _stage_series_ok(m, starting, q):
             xi = sp.Matrix(starting[bracket(t)])
             eta[t] = m.A * d + m.U * xi
             want = [ci ** k / gamma(t) for ci in m.c]
-            if any(sp.simplify(a - b) != 0 for a, b in zip(eta[t], want)):
+            if any(sp.simplify(a - b) != 0 for a, b in zip(eta[t], want, strict=False)):
                 return False
     return True
 

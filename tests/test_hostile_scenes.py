@@ -393,7 +393,7 @@ def test_cli_refuses_hostile_scenes_exit_2_no_traceback_nothing_written(tmp_path
     assert "Traceback" not in proc.stderr and proc.stdout == ""
     errors = [line for line in proc.stderr.splitlines() if line.startswith("tableau-lab: error:")]
     assert len(errors) == len(paths) + 3, proc.stderr
-    for p, line in zip(paths, errors):
+    for p, line in zip(paths, errors, strict=False):
         assert str(p) in line
     assert "FIFO" in errors[-3] and "character device" in errors[-2] and "directory" in errors[-1]
     assert "\x1b" not in proc.stderr

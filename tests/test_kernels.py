@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 from tableau_lab.exact.tableau_json import load
+from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import integrate
-from tableau_lab.numeric import limits
 from tableau_lab.numeric.kernels import cache_dir, compiled_loop
 
 METHODS = Path(__file__).parent.parent / "methods"
@@ -124,6 +124,7 @@ def test_dense_matrices_are_the_exact_zeros(name):
     without a zero test) against the exact method: DENSE_X is 1 iff no entry of X is 0 in either
     class (A_q and A_p, B_q and B_p); the double-double arrays give the same flags."""
     import sympy as sp
+
     from tableau_lab.numeric.integrate import component_masks
     from tableau_lab.numeric.kernels import DENSE, Pack, dense_matrices
     m = load(METHODS / f"{name}.json")
@@ -162,7 +163,7 @@ def test_double_double_agrees_with_mpmath_32(name, problem, project):
     runs = [integrate(to_numeric(load(METHODS / f"{name}.json"), prec), cp, cp.y0, sp.Rational(1, 100), steps,
                       project=project, invariants=project, record_every=100) for prec in ("dd", "mp:32")]
     with mpmath.workdps(40):
-        diff = max(abs(a - b) for a, b in zip(runs[0].final, runs[1].final))
+        diff = max(abs(a - b) for a, b in zip(runs[0].final, runs[1].final, strict=False))
     assert diff < 1e-31 * steps, mpmath.nstr(diff, 3)
     # the same iteration; the tolerances differ (dd: u = 2^-104 ≈ 4.9e-32, mp:32: 1e-32), a sweep
     # in some steps

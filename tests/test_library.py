@@ -45,7 +45,7 @@ def test_quadrature_conditions(name):
     """Independent facts of the published order: b·c^(k-1) = 1/k for k <= p, and c = A·1."""
     m = RK[name]
     for k in range(1, QUADRATURE_ORDER[name] + 1):
-        assert _z(sum(bi * ci ** (k - 1) for bi, ci in zip(m.b, m.c)) - sp.Rational(1, k)), (name, k)
+        assert _z(sum(bi * ci ** (k - 1) for bi, ci in zip(m.b, m.c, strict=False)) - sp.Rational(1, k)), (name, k)
 
 
 @pytest.mark.parametrize("name", sorted(RK))

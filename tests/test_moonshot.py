@@ -98,6 +98,7 @@ def test_moonshot_member_is_certified():
     ρ(M(iy)) on a grid of 1e-5 confirms: stable (to round-off) below Y* and unstable just above it.
     The script regenerates the file's matrices exactly."""
     import sympy as sp
+
     from tableau_lab.analysis.stability import stability
     from tableau_lab.exact.tableau_json import load
     from tableau_lab.numeric.objectives import _radii, imaginary_interval

@@ -153,7 +153,7 @@ def test_bdf_7_and_8_are_not_zero_stable(k):
     big = sorted(abs(np.roots([float(a) for a in alpha[::-1]])))
     outside = [m for m in big if m > 1 + 1e-9]
     assert len(res.outside) == len(outside)
-    for d, m in zip(res.outside, sorted(outside, reverse=True)):
+    for d, m in zip(res.outside, sorted(outside, reverse=True), strict=False):
         assert float(d.modulus[0]) == pytest.approx(m, rel=1e-12)
         assert d.modulus[1] - d.modulus[0] < 1e-30
     if k == 7:

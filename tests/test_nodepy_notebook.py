@@ -12,12 +12,10 @@ from datetime import datetime
 from pathlib import Path
 
 import nbformat
+import nodepy  # noqa: F401,E402  (in the test extra: a missing NodePy fails here, it is not skipped)
 import pytest
 from nbclient import NotebookClient
-
 from test_notebook import only_top_level
-
-import nodepy  # noqa: F401,E402  (in the test extra: a missing NodePy fails here, it is not skipped)
 
 NOTEBOOK = Path(__file__).resolve().parents[1] / "docs" / "nodepy_tutorial.ipynb"
 TEXT = ("text/plain", "text/markdown", "text/latex")

@@ -17,9 +17,8 @@ from pathlib import Path
 
 import nbformat
 import pytest
-from nbclient import NotebookClient
-
 from conftest import benchmark_script
+from nbclient import NotebookClient
 from test_displays import markdown_problems, math_problems, tableau_rows
 
 NOTEBOOK = Path(__file__).resolve().parents[1] / "docs" / "notebook.ipynb"

@@ -3,8 +3,8 @@ table in the docs is current.  The timed runs are not repeated here (``rows(meas
 from pathlib import Path
 
 import pytest
-from conftest import benchmark_script
 import sympy as sp
+from conftest import benchmark_script
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -8,8 +8,8 @@ import re
 
 import pytest
 import sympy as sp
+from printed import latex_to_grammar, read_latex_sum, read_text_sum, same
 
-from printed import latex_to_grammar, linear_form, read_latex_sum, read_text_sum, same
 from tableau_lab.analysis.modified import modified_equation
 from tableau_lab.analysis.modified_hamiltonian import modified_hamiltonian
 from tableau_lab.exact.field import is_zero

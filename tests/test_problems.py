@@ -147,7 +147,7 @@ def test_elementary_differentials_sum_to_the_taylor_coefficients(name):
     state = sp.Matrix(problem.state)
     subs = {s: problem.parameters[k] for k, s in problem.parameter_symbols.items()}
     f = sp.Matrix(problem.f_expr).xreplace(subs)
-    point = dict(zip(problem.state, [sp.Rational(7, 10), sp.Rational(-3, 10), sp.Rational(1, 5), sp.Rational(9, 10)]))
+    point = dict(zip(problem.state, [sp.Rational(7, 10), sp.Rational(-3, 10), sp.Rational(1, 5), sp.Rational(9, 10)], strict=False))
     y = np.array([float(point[s]) for s in problem.state])
     F = compile_problem(problem).elementary_differentials(4)(y)
     g = f
@@ -163,14 +163,14 @@ def test_reference_solutions():
     exact, integrated = (reference(harmonic, 10, 32, method=m) for m in ("exact", "integrate"))
     with mpmath.workdps(32):
         assert abs(exact[0] - (mpmath.cos(10) / 3 - 2 * mpmath.sin(10))) < 1e-30
-        assert max(abs(a - b) for a, b in zip(exact, integrated)) < 1e-25
+        assert max(abs(a - b) for a, b in zip(exact, integrated, strict=False)) < 1e-25
     kepler0 = get_problem("kepler_unperturbed")
     exact, integrated = (reference(kepler0, 10, 32, method=m) for m in ("exact", "integrate"))
     with mpmath.workdps(32):
-        assert max(abs(a - b) for a, b in zip(exact, integrated)) < 1e-20
+        assert max(abs(a - b) for a, b in zip(exact, integrated, strict=False)) < 1e-20
         period = reference(kepler0, 2 * sp.pi, 32)                    # a = 1: period 2π
         y0 = compile_problem(kepler0, "mpmath", dps=32).y0
-        assert max(abs(a - b) for a, b in zip(period, y0)) < 1e-28
+        assert max(abs(a - b) for a, b in zip(period, y0, strict=False)) < 1e-28
     assert reference(kepler0, 10, 32) is reference(kepler0, 10, 32)   # cached
 
 

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import pytest
 import sympy as sp
-
 from test_printed_formulas import check_report_tex
+
 from tableau_lab.cli import main
 from tableau_lab.exact.field import is_zero
 from tableau_lab.exact.grammar import parse_entry

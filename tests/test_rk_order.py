@@ -101,6 +101,7 @@ def test_order_dispatch_and_latex():
 ])
 def test_order_claims_checked_exit_codes(tmp_path, capsys, claims, failed):
     import json
+
     from tableau_lab.cli import main
     data = json.loads((METHODS / "butcher_effective5.json").read_text())
     data["claims"] = claims
@@ -115,6 +116,7 @@ def test_order_claims_checked_exit_codes(tmp_path, capsys, claims, failed):
 
 def test_order_cli_json_glm(capsys):
     import json
+
     from tableau_lab.cli import main
     assert main(["order", "--json", str(METHODS / "example4_glm.json")]) == 0
     out = json.loads(capsys.readouterr().out)

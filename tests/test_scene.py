@@ -214,7 +214,9 @@ def test_scene_format_doc_is_generated_from_the_schema():
     validator uses: every key it accepts is in the doc and the doc names no other; the example
     scene of the page is a valid scene."""
     import re
+
     from conftest import benchmark_script
+
     from tableau_lab.experiments import scene as S
     from tableau_lab.numeric.problems import DEFINE_KEYS
     root = Path(__file__).resolve().parents[1]

@@ -75,7 +75,7 @@ def test_table_numbers_are_the_saved_runs(fig):
     same = benchmark_script("docs_check").same_number
     quoted = [m.group().replace("−", "-").lstrip("-") for m in MEASURED.finditer(_table()[fig])]
     assert len(quoted) == len(ROWS[fig]), (fig, quoted)
-    for q, where in zip(quoted, ROWS[fig]):
+    for q, where in zip(quoted, ROWS[fig], strict=False):
         if where is not None:
             assert same(q, repr(_saved(*where))), f"Fig {fig}: the page says {q}, {where} saved {_saved(*where):.3g}"
 
@@ -194,7 +194,7 @@ def _H0(scene: str, run: int = 0) -> float:
     prob = get_problem(m["problem"], **m["parameters"])
     y0 = _data(scene)[f"run{run}_y"][0]
     H = prob.hamiltonian.subs({prob.parameter_symbols[k]: v for k, v in prob.parameters.items()})
-    return float(H.subs(dict(zip(prob.state, (sp.Float(float(x), 30) for x in y0)))))
+    return float(H.subs(dict(zip(prob.state, (sp.Float(float(x), 30) for x in y0), strict=False))))
 
 
 @cache
@@ -259,7 +259,7 @@ def test_order4_rk_energy_factor_closed_form():
     z, h = sp.symbols("z h")
     R = sp.expand(sp.simplify(1 + z * (m.b.T * (sp.eye(m.A.shape[0]) - z * m.A).inv() * sp.ones(m.A.shape[0], 1))[0]))
     poly = sp.Poly(sp.expand(R.subs(z, sp.I * h) * R.subs(z, -sp.I * h)), h)
-    c = {k[0]: v for k, v in zip(poly.monoms(), poly.coeffs())}
+    c = {k[0]: v for k, v in zip(poly.monoms(), poly.coeffs(), strict=False)}
     nonzero = sorted(k for k, v in c.items() if k > 0 and v != 0)
     assert c[0] == 1 and nonzero[:2] == [p, rest], f"|R(ih)|² − 1 has powers {nonzero}"
     assert c[p] == -Fraction(den) ** -1, f"coefficient of h^{p}: {c[p]}, the page says −1/{den}"

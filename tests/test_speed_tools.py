@@ -3,14 +3,14 @@ reference, failures with clear messages.  No timed assertions (benchmarks are no
 import json
 from pathlib import Path
 
-import pytest
 import numpy as np
+import pytest
 import sympy as sp
 
 from tableau_lab.cli import main
 from tableau_lab.experiments.workprecision import load_wp_scene, reference_state, run_wp
-from tableau_lab.numeric.problems import get_problem
 from tableau_lab.numeric.codegen import reference
+from tableau_lab.numeric.problems import get_problem
 
 METHODS = Path(__file__).parent.parent / "methods"
 
@@ -41,7 +41,7 @@ def test_workprecision_sweep(tmp_path):
     ours, dop = data["series"]["gauss2"], data["series"]["DOP853"]
     errs = [p["error"] for p in ours]
     # order 4: halving h divides the error by about 16
-    assert all(8 < a / b < 32 for a, b in zip(errs, errs[1:])), errs
+    assert all(8 < a / b < 32 for a, b in zip(errs, errs[1:], strict=False)), errs
     assert dop[1]["error"] < dop[0]["error"] and dop[1]["nfev"] > dop[0]["nfev"]
     assert all(p["invariant_error"] > 0 and p["nfev"] > 0 for p in ours + dop)
 
@@ -73,7 +73,7 @@ def test_bench_step_sizes_interleaved(capsys):
     assert main(["bench", "--method", str(METHODS / "gauss3.json"), "--problem", "kepler", "--steps", "400",
                  "--h", "1/100, 1/25", "--reps", "2", "--json"]) == 0
     res = json.loads(capsys.readouterr().out)
-    for one, row in zip(single, res["cases"]):
+    for one, row in zip(single, res["cases"], strict=False):
         assert row["h"] == one["h"] and row["nfev"] == one["nfev"] and row["reps"] == 2
         assert row["max_invariant_error"] == one["max_invariant_error"]
     (q,) = res["cost_ratios"]

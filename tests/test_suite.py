@@ -37,7 +37,7 @@ def test_predicted_growth_is_max_real_part_of_mu_times_jacobian():
     # the left eigenvectors: y V = ζ y, normalised by y x = 1
     for m in (ex4, g43, lf):
         V = np.array(m.as_glm().V.tolist(), dtype=complex)
-        for p, md in zip(growth_parameters(m).items, numeric_modes(m)):
+        for p, md in zip(growth_parameters(m).items, numeric_modes(m), strict=False):
             x = np.array([complex(v) for v in p.right])
             assert np.allclose(md.left @ V, md.zeta * md.left) and abs(md.left @ x - 1) < 1e-14
 

@@ -15,7 +15,7 @@ t, (y1, y2, y3, y4) = symbols(4)
 
 
 def same(got, want):
-    return len(got) == len(want) and all(sp.expand(a - sp.sympify(b)) == 0 for a, b in zip(got, want))
+    return len(got) == len(want) and all(sp.expand(a - sp.sympify(b)) == 0 for a, b in zip(got, want, strict=False))
 
 
 @pytest.mark.parametrize("f, want", [

@@ -7,10 +7,27 @@ from math import factorial
 import pytest
 import sympy as sp
 
-from tableau_lab.analysis.bseries import (compose, compose_coefficients, exact_flow, identity, inverse,
-                                         inverse_coefficients, stage_derivative)
-from tableau_lab.analysis.trees import (TAU, bracket, butcher_product, density, from_children, order, subtrees,
-                                        symmetry, trees_of_order, trees_up_to)
+from tableau_lab.analysis.bseries import (
+    compose,
+    compose_coefficients,
+    exact_flow,
+    identity,
+    inverse,
+    inverse_coefficients,
+    stage_derivative,
+)
+from tableau_lab.analysis.trees import (
+    TAU,
+    bracket,
+    butcher_product,
+    density,
+    from_children,
+    order,
+    subtrees,
+    symmetry,
+    trees_of_order,
+    trees_up_to,
+)
 
 
 def test_counts_a000081():

@@ -142,7 +142,7 @@ def test_mp_precision_with_a_traced_numpy_callable():
         call = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", notice=False)
         expr = integrate(load("rk4"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p],
                          precision="mp:30", notice=False)
-        assert all(a == b for u, v in zip(call.run.values, expr.run.values) for a, b in zip(u, v))
+        assert all(a == b for u, v in zip(call.run.values, expr.run.values, strict=False) for a, b in zip(u, v, strict=False))
     with pytest.raises(InputError, match="raised TypeError in mp:30"):
         integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", trace=False, notice=False)
 
@@ -214,8 +214,8 @@ def test_float64_dd_and_mpmath_on_a_builtin_problem():
     assert runs["dd"].loop == "compiled with numba" and runs["mp:32"].loop == "Python"
     with mpmath.workdps(40):
         ref = runs["mp:32"].run.final
-        dd = max(abs(mpmath.mpf(a) - b) for a, b in zip(runs["dd"].run.final, ref))
-        f64 = max(abs(mpmath.mpf(float(a)) - b) for a, b in zip(runs["float64"].run.final, ref))
+        dd = max(abs(mpmath.mpf(a) - b) for a, b in zip(runs["dd"].run.final, ref, strict=False))
+        f64 = max(abs(mpmath.mpf(float(a)) - b) for a, b in zip(runs["float64"].run.final, ref, strict=False))
     assert dd < 1e-27 and 1e-18 < f64 < 1e-12
 
 

@@ -61,7 +61,7 @@ from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import component_masks, stage_iteration, start_values
-from tableau_lab.numeric.kernels import DENSE, LoopState, Pack, dense_matrices, compiled_loop, run_shape
+from tableau_lab.numeric.kernels import DENSE, LoopState, Pack, compiled_loop, dense_matrices, run_shape
 from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
@@ -234,7 +234,7 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     kind = ("-shared", "-fPIC", "-DGLM_LIBRARY") if shared else ()
     if dense and len(dense) != len(DENSE):
         raise ValueError(f"dense: {len(DENSE)} flags, not {len(dense)}")
-    known = tuple(f"-D{name}={int(dense)}" for name, dense in zip(DENSE, dense))
+    known = tuple(f"-D{name}={int(dense)}" for name, dense in zip(DENSE, dense, strict=False))
     digest = hashlib.sha256(b"\0".join([SOURCE.read_bytes(), lim.encode(), prob.encode(),
                                         f"{s} {r} {d} {' '.join(flags)} {version} {cc}".encode()]
                                        + ([" ".join(known).encode()] if known else [])

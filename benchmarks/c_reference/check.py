@@ -27,8 +27,8 @@ import sys
 import mpmath
 import numpy as np
 import sympy as sp
-
 from c_reference import CASES, NOTES, c_functions, prepare, run_c, run_numba
+
 from tableau_lab.numeric import limits
 from tableau_lab.numeric.integrate import finish, integrate
 from tableau_lab.numeric.kernels import compiled_loop

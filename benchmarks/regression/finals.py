@@ -30,8 +30,9 @@ STEP = {"harmonic": "1/100", "pendulum": "1/100", "kepler": "1/100", "kepler_unp
 
 def record(out, steps, perturb=False, precision="float64", cases=None):
     import sympy as sp
-    from tableau_lab.numeric.integrate import IntegrationError, integrate
+
     from tableau_lab.experiments.runs import _setup
+    from tableau_lab.numeric.integrate import IntegrationError, integrate
     rows = {}
     for path in sorted((ROOT / "methods").glob("*.json")):
         for problem, h in STEP.items():

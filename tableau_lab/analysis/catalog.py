@@ -100,7 +100,7 @@ class MethodList(Result):
         head = ("name", "kind", "size", "order", "source")
         cells = self._cells()
         widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
-        line = lambda row: "  ".join(x.ljust(w) for x, w in zip(row, widths)).rstrip()  # noqa: E731
+        line = lambda row: "  ".join(x.ljust(w) for x, w in zip(row, widths, strict=False)).rstrip()  # noqa: E731
         return "\n".join([self.title, "", line(head), line(["-" * w for w in widths])] + [line(c) for c in cells]
                          + ["(order: claimed by the file and checked by `tableau-lab verify`; * computed; "
                             "families: the published formula; load a family as name:N, e.g. gauss:3)"])

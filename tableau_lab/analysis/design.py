@@ -49,9 +49,9 @@ import sympy as sp
 from ..errors import InputError
 from ..exact.field import is_zero, normal_form, power
 from ..exact.grammar import EntryError, format_entry, parse_entry
-from ..exact.render import latex_text
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
+from ..exact.render import latex_text
 from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
@@ -299,7 +299,7 @@ class _Problem:
             if m.kind == "prk":
                 A, b, Ah, bh = self._mat(m.A), self._vec(m.b), self._mat(m.Ahat), self._vec(m.bhat)
                 return (_symplectic_rk(A, b, F, hat=(bh, Ah))
-                        + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh))])
+                        + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh, strict=False))])
             raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
         if r.name == "symmetric":
             if m.kind == "prk":
@@ -320,7 +320,7 @@ class _Problem:
             if m.kind != "rk":
                 raise DesignError("stage-order is implemented for RK methods (C(q))")
             A, c = self._mat(m.A), self._vec(m.c)
-            return [(f"C({k}) stage {i + 1}", sum((a * power(F, cj, k - 1) for a, cj in zip(A[i], c)), F.zero)
+            return [(f"C({k}) stage {i + 1}", sum((a * power(F, cj, k - 1) for a, cj in zip(A[i], c, strict=False)), F.zero)
                      - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
         if r.name == "order":
             return self._order(r.value)

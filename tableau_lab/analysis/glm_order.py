@@ -147,28 +147,28 @@ class _Solver:
     def mat(self, M, v):
         K = self.K
         rows = M.to_list()
-        return [sum((a * x for a, x in zip(row, v)), K.zero) for row in rows]
+        return [sum((a * x for a, x in zip(row, v, strict=False)), K.zero) for row in rows]
 
     def mat_rows(self, rows, v):
-        return [sum((a * x for a, x in zip(row, v)), self.K.zero) for row in rows]
+        return [sum((a * x for a, x in zip(row, v, strict=False)), self.K.zero) for row in rows]
 
     def dot_w(self, v):
-        return sum((a * b for a, b in zip(self.w, v)), self.K.zero)
+        return sum((a * b for a, b in zip(self.w, v, strict=False)), self.K.zero)
 
     def defect(self, t, eta, xi, etaD, nonzero):
         """Q(t) = B(ηD)(t) − [(ξ·E)(t) − ξ(t)] from η of the subtrees of t and ξ of its trunks
         (those in ``nonzero``; ξ[None] = u); (ηD)(t) is stored in ``etaD``."""
         d = [self.K.one] * self.s
         for c in t:
-            d = [x * y for x, y in zip(d, eta[c])]
+            d = [x * y for x, y in zip(d, eta[c], strict=False)]
         etaD[t] = d
         q = self.mat(self.B, d)
         e = self.rational(sp.Rational(1, density(t)))
-        q = [a - b * e for a, b in zip(q, xi[None])]
+        q = [a - b * e for a, b in zip(q, xi[None], strict=False)]
         for trunk, coef in flow_cuts(t):
             if trunk in nonzero:
                 cf = self.rational(coef)
-                q = [a - cf * b for a, b in zip(q, xi[trunk])]
+                q = [a - cf * b for a, b in zip(q, xi[trunk], strict=False)]
         return q
 
     def run(self, max_order, free_theta, theta_tau, collect=None):
@@ -196,17 +196,17 @@ class _Solver:
                 if sol is None:
                     errors = _pivot_residuals(L, res, Tk, K)
                     break
-                for s_, th in zip(prev, sol):
+                for s_, th in zip(prev, sol, strict=False):
                     theta[s_] = th
-                    xi[s_] = [a + th * b for a, b in zip(xi[s_], self.u)]
+                    xi[s_] = [a + th * b for a, b in zip(xi[s_], self.u, strict=False)]
                     eta[s_] = [a + th for a in eta[s_]]
                     if not K.is_zero(th):
                         nonzero.add(s_)
                 res = [self.dot_w(Q(t)) for t in Tk]
             if collect is not None:
-                collect.extend((f"order {k}, tree {bracket(t)}", x) for t, x in zip(Tk, res) if not K.is_zero(x))
+                collect.extend((f"order {k}, tree {bracket(t)}", x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x))
                 res = []
-            bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res) if not K.is_zero(x)}
+            bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x)}
             if bad:
                 errors = bad
                 break
@@ -217,12 +217,12 @@ class _Solver:
                 qt = Q(t)
                 x = self.mat_rows(self.Pinv, qt + [K.zero])
                 if t == () and theta_tau is not None:
-                    x = [a + theta_tau * b for a, b in zip(x, self.u)]
+                    x = [a + theta_tau * b for a, b in zip(x, self.u, strict=False)]
                     theta[t] = theta_tau
                 xi[t] = x
                 if any(not K.is_zero(v) for v in x):
                     nonzero.add(t)
-                eta[t] = [a + b for a, b in zip(self.mat(self.A, etaD[t]), self.mat(self.U, x))]
+                eta[t] = [a + b for a, b in zip(self.mat(self.A, etaD[t]), self.mat(self.U, x), strict=False)]
         return p, xi, eta, theta, errors
 
 
@@ -241,7 +241,7 @@ def _pivot_residuals(L, res, Tk, K):
     th = left_inverse(L, [-x for x in res])    # θ from the first maximal set of independent rows
     out = {}
     for i, t in enumerate(Tk):
-        v = res[i] + sum((a * b for a, b in zip(rows[i], th)), K.zero)
+        v = res[i] + sum((a * b for a, b in zip(rows[i], th, strict=False)), K.zero)
         if not K.is_zero(v):
             out[bracket(t)] = K.to_sympy(v)
     return out
@@ -260,7 +260,7 @@ def _stage_order(solver, p, xi, eta, theta, free_top) -> int:
     K = solver.K
     q = 0
     for k in range(1, p + 1):
-        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e for e, ci in zip(eta[t], solver.c)]
+        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e for e, ci in zip(eta[t], solver.c, strict=False)]
                 for t in trees_of_order(k)}
         if all(all(K.is_zero(g) for g in d) for d in gaps.values()):
             q = k
@@ -269,7 +269,7 @@ def _stage_order(solver, p, xi, eta, theta, free_top) -> int:
             for t, d in gaps.items():
                 if not K.is_zero(d[0]):
                     theta[t] = theta.get(t, K.zero) + d[0]
-                    xi[t] = [a + d[0] * b for a, b in zip(xi[t], solver.u)]
+                    xi[t] = [a + d[0] * b for a, b in zip(xi[t], solver.u, strict=False)]
                     eta[t] = [a + d[0] for a in eta[t]]
             q = k
         break
@@ -284,8 +284,8 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     K = field_of([g.A, g.U, g.B, g.V, g.c])
     solver = _Solver(g, K)
     # θ(τ): the uniform shift that makes the stage abscissae equal to the method's c
-    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u)] + [K.zero])
-    c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r))]
+    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u, strict=False)] + [K.zero])
+    c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
     shift = solver.c[0] - c0[0] if x0 is not None else K.zero
     p0, xi0, eta0, theta0, errors0 = solver.run(max_order, False, shift)
     bound = m.order_bound if m.kind == "rk" else None
@@ -353,8 +353,8 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
             xi[t] = x
             if any(not K.is_zero(v) for v in x):
                 nonzero.add(t)
-            eta[t] = [a + b for a, b in zip(solver.mat(solver.A, etaD[t]), solver.mat(solver.U, x))]
-            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, solver.mat(solver.V, x)))
+            eta[t] = [a + b for a, b in zip(solver.mat(solver.A, etaD[t]), solver.mat(solver.U, x), strict=False)]
+            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, solver.mat(solver.V, x), strict=False))
         if missing:
             break
     repairable = None

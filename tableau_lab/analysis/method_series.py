@@ -40,9 +40,9 @@ from ..exact.methods import Method, PartitionedRungeKutta
 from .bseries import BSeries, check_series_order, kept_cuts
 from .glm_order import _Solver
 from .prk_order import weight_function as prk_weights
+from .results import Result
 from .rk_order import weight_function
 from .tree_kinds import BICOLOURED
-from .results import Result
 from .trees import bracket, density, symmetry, trees_of_order, trees_up_to
 
 __all__ = ["method_series", "MethodSeries", "error_terms"]
@@ -89,7 +89,7 @@ def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:
         out = []
         for row in rows:
             acc = zero
-            for a, x in zip(row, v):
+            for a, x in zip(row, v, strict=False):
                 acc = acc + a * x
             out.append(acc)
         return out
@@ -100,16 +100,16 @@ def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:
     for t in trees_up_to(max_order):
         d = [one] * s
         for c in t:
-            d = [x * y for x, y in zip(d, eta[c])]
+            d = [x * y for x, y in zip(d, eta[c], strict=False)]
         q = mat(B, d)
         for trunk, coef in kept_cuts(t, lambda c: phi[c], one).items():
             if trunk != t:
-                q = [a - coef * b for a, b in zip(q, xi[trunk])]
+                q = [a - coef * b for a, b in zip(q, xi[trunk], strict=False)]
         ph = mat([w], q)[0]
         phi[t] = ph
-        x = mat(Pinv, [a - ph * b for a, b in zip(q, u)] + [zero])
+        x = mat(Pinv, [a - ph * b for a, b in zip(q, u, strict=False)] + [zero])
         xi[t] = x
-        eta[t] = [a + b for a, b in zip(mat(A, d), mat(U, x))]
+        eta[t] = [a + b for a, b in zip(mat(A, d), mat(U, x), strict=False)]
     return phi, xi
 
 

@@ -81,7 +81,7 @@ class ModifiedEquation(Result):
                 continue
             F = elementary_differential(t, ys, fs, cache)
             c = v / k.symmetry(t) * h ** (k.order(t) - 1)
-            total = [a + c * b for a, b in zip(total, F)]
+            total = [a + c * b for a, b in zip(total, F, strict=False)]
         total = [sp.expand(x) for x in total]
         return total[0] if scalar else tuple(total)
 

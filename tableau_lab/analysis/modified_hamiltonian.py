@@ -157,7 +157,7 @@ def modified_hamiltonian(b: BSeries) -> ModifiedHamiltonian:
         if x is None:
             return _result(b, n - 2, beta, free)
         free += len(unknowns) - M.rank()
-        for key, xv in zip(unknowns, x):
+        for key, xv in zip(unknowns, x, strict=False):
             beta[key] = F.lift(xv)
     return _result(b, N, beta, free)
 
@@ -180,8 +180,8 @@ def _multilinear(g, state, vectors):
     dirs = [[sp.Dummy() for _ in state] for _ in vectors]
     out = g
     for d in dirs:
-        out = sum(sp.diff(out, y) * di for y, di in zip(state, d))
-    return out.xreplace({di: vi for d, v in zip(dirs, vectors) for di, vi in zip(d, v)})
+        out = sum(sp.diff(out, y) * di for y, di in zip(state, d, strict=False))
+    return out.xreplace({di: vi for d, v in zip(dirs, vectors, strict=False) for di, vi in zip(d, v, strict=False)})
 
 
 def elementary_differential(t, state, f, cache=None) -> tuple:

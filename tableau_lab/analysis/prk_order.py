@@ -69,11 +69,11 @@ def weight_function(m: PartitionedRungeKutta, K):
             v = [K.one] * s
             for c in t[1]:
                 Ac, pc = As[c[0]], stage(c)
-                w = [sum((a * x for a, x in zip(row, pc)), K.zero) for row in Ac]
-                v = [x * y for x, y in zip(v, w)]
+                w = [sum((a * x for a, x in zip(row, pc, strict=False)), K.zero) for row in Ac]
+                v = [x * y for x, y in zip(v, w, strict=False)]
             psi[t] = v
         return psi[t]
-    return lambda t: sum((b * x for b, x in zip(bs[t[0]], stage(t))), K.zero)
+    return lambda t: sum((b * x for b, x in zip(bs[t[0]], stage(t), strict=False)), K.zero)
 
 
 def _residuals(m: PartitionedRungeKutta, K):
@@ -90,7 +90,7 @@ def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
     ≤ max_order (the free parameters stay symbolic)."""
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     out = []
-    for n, level in zip(range(1, max_order + 1), _residuals(m, K)):
+    for n, level in zip(range(1, max_order + 1), _residuals(m, K), strict=False):
         out += [(f"order {n}, tree {_label(t)}", K.to_sympy(r)) for t, r in level]
     return out
 
@@ -110,7 +110,7 @@ def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     p = 0
     errors = {}
-    for n, level in zip(range(1, max_order + 2), _residuals(m, K)):
+    for n, level in zip(range(1, max_order + 2), _residuals(m, K), strict=False):
         bad = {_label(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
         if bad:
             errors = bad

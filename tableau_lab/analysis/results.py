@@ -266,7 +266,7 @@ class Combined(Result):
 
     def to_json(self) -> dict:
         out = dict(self.parts[0].to_json())
-        for k, p in zip(self.keys[1:], self.parts[1:]):
+        for k, p in zip(self.keys[1:], self.parts[1:], strict=False):
             out[k] = p.to_json()
         return out
 

@@ -82,7 +82,7 @@ class RKOrderResult(Result):
         """((|t|, bracket, LaTeX, Φ(t), 1/γ(t), Φ(t) − 1/γ(t)), ...) for every tree checked (|t| ≤ p + 1),
         the difference computed in the method's field (exact sympy values)."""
         return tuple((tree_order(t),) + w + (self._F.to_sympy(phi - self._F.rational(w[3])),)
-                     for w, (t, phi) in zip(self.weights, self._phi))
+                     for w, (t, phi) in zip(self.weights, self._phi, strict=False))
 
     @cached_property
     def residuals(self) -> dict:
@@ -162,7 +162,7 @@ class RKOrderResult(Result):
 
     def to_latex(self):
         rows = "\n".join(f"${tex}$ & ${sp.latex(phi)}$ & ${sp.latex(g)}$ \\\\"
-                         for (b, tex, phi, g), (t, _) in zip(self.weights, self._phi)
+                         for (b, tex, phi, g), (t, _) in zip(self.weights, self._phi, strict=False)
                          if tree_order(t) <= LATEX_MAX_ORDER)
         hidden = sum(1 for t, _ in self._phi if tree_order(t) > LATEX_MAX_ORDER)
         note = (f"\n\\par Trees of order $>{LATEX_MAX_ORDER}$: {hidden} more conditions, "
@@ -185,7 +185,7 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     b = [F.lift(element(K, x)) for x in m.b]
     c = [F.lift(element(K, x)) for x in m.c]
     frac = lambda k: F.rational(sp.Rational(1, k))  # noqa: E731
-    dot = lambda xs, ys: sum((x * y for x, y in zip(xs, ys)), F.zero)  # noqa: E731
+    dot = lambda xs, ys: sum((x * y for x, y in zip(xs, ys, strict=False)), F.zero)  # noqa: E731
     pw = lambda x, k: power(F, x, k)  # noqa: E731
 
     def holds_B(k):
@@ -196,7 +196,7 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
         return all(F.is_zero(dot(A[i], ck) - c[i] ** k * frac(k)) for i in range(s))
 
     def holds_D(k):
-        w = [bi * pw(ci, k - 1) for bi, ci in zip(b, c)]
+        w = [bi * pw(ci, k - 1) for bi, ci in zip(b, c, strict=False)]
         return all(F.is_zero(dot(w, [A[i][j] for i in range(s)]) - b[j] * (F.one - c[j] ** k) * frac(k))
                    for j in range(s))
 
@@ -260,11 +260,11 @@ def elementary_weights(A, b, zero, one):
             for ch in t:
                 if ch not in apsi:
                     pc = stage(ch)
-                    apsi[ch] = [sum((a * x for a, x in zip(row, pc)), zero) for row in A]
-                v = [x * y for x, y in zip(v, apsi[ch])]
+                    apsi[ch] = [sum((a * x for a, x in zip(row, pc, strict=False)), zero) for row in A]
+                v = [x * y for x, y in zip(v, apsi[ch], strict=False)]
             psi[t] = v
         return psi[t]
-    return lambda t: sum((bi * x for bi, x in zip(b, stage(t))), zero)
+    return lambda t: sum((bi * x for bi, x in zip(b, stage(t), strict=False)), zero)
 
 
 def weight_function(m: RungeKutta):

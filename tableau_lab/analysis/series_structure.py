@@ -35,7 +35,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import solve_linear
 from ..exact.grammar import format_entry
-from .bseries import (BSeries, _new, adjoint, compose, identity, inverse, modified_field)
+from .bseries import BSeries, _new, adjoint, compose, identity, inverse, modified_field
 from .free_trees import free_tree
 from .glm_order import theta_matrix
 from .results import Result
@@ -150,7 +150,7 @@ def conjugate_symplectic(a: BSeries):
             return n - 1, chi
         for sign in (1, -1):
             vals = dict(chi.values)
-            for s, xs in zip(prev, x):
+            for s, xs in zip(prev, x, strict=False):
                 vals[s] = vals[s] + F.lift(xs) * F.rational(sign)
             trial = _new(chi, vals, "χ")
             if all(F.is_zero(d) for _, d in _symplectic_defects(_conjugated(a, trial).values, n, False)):

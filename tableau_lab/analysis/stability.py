@@ -67,10 +67,10 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.rings import ring
 
 from ..exact.field import field_of, to_dm
-from ..exact.subfield import subfield
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.rationals import simplest_between
+from ..exact.subfield import subfield
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
@@ -190,7 +190,7 @@ def _cauchy_index(p0, p1, K) -> int:
     def changes(at_minus):
         signs = [sign(K, p.LC) * (-1 if at_minus and p.degree() % 2 else 1) for p in chain]
         signs = [s for s in signs if s]
-        return sum(1 for a, b in zip(signs, signs[1:]) if a != b)
+        return sum(1 for a, b in zip(signs, signs[1:], strict=False) if a != b)
     return changes(True) - changes(False)
 
 
@@ -317,7 +317,7 @@ def _over_coefficient_field(P, K):
     if F is K:
         return P, K
     R = ring(",".join(map(str, P.ring.symbols)), F)[0]
-    return R.from_dict(dict(zip(P.keys(), coeffs))), F
+    return R.from_dict(dict(zip(P.keys(), coeffs, strict=False))), F
 
 
 def stability_function(m: Method):

@@ -125,7 +125,7 @@ def g_symplectic_residuals(m: Method, G, D) -> dict:
     G, D = sp.Matrix(G), sp.Matrix(D)
     K = field_of([g.A, g.U, g.B, g.V, G, D])
     dms = [to_dm(X, K) for X in (g.A, g.U, g.B, g.V, G, D)]
-    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(*dms))}
+    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(*dms), strict=False)}
 
 
 @dataclass(frozen=True)
@@ -183,7 +183,7 @@ class GSymplecticResult(Result):
         out = [f"Solution family of dimension {self.dimension}."]
         if self.G is not None:
             out.append(f"\\[ G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)} \\]")
-            for (name, R), tex in zip(self.residuals.items(), RESIDUAL_LATEX):
+            for (name, R), tex in zip(self.residuals.items(), RESIDUAL_LATEX, strict=False):
                 out.append(f"\\[ {tex} = {matrix_latex(R)} \\]")
         out.append("The method is " + ("G-symplectic." if self.holds else "not G-symplectic. " + self.reason))
         return "\n".join(out)
@@ -206,8 +206,8 @@ def _unknown_basis(r, s, K):
 
 
 def _combine(units, coeffs, K):
-    G = sum((u[0] * c for u, c in zip(units, coeffs) if not K.is_zero(c)), units[0][0] * K.zero)
-    D = sum((u[1] * c for u, c in zip(units, coeffs) if not K.is_zero(c)), units[0][1] * K.zero)
+    G = sum((u[0] * c for u, c in zip(units, coeffs, strict=False) if not K.is_zero(c)), units[0][0] * K.zero)
+    D = sum((u[1] * c for u, c in zip(units, coeffs, strict=False) if not K.is_zero(c)), units[0][1] * K.zero)
     return G, D
 
 
@@ -232,9 +232,9 @@ def _nonsingular_member(family, K):
         if not any(lam):
             continue
         coeffs = [K.convert(l) for l in lam]
-        G = sum((F[0] * c for F, c in zip(family, coeffs)), family[0][0] * K.zero)
+        G = sum((F[0] * c for F, c in zip(family, coeffs, strict=False)), family[0][0] * K.zero)
         if not K.is_zero(G.det()):
-            D = sum((F[1] * c for F, c in zip(family, coeffs)), family[0][1] * K.zero)
+            D = sum((F[1] * c for F, c in zip(family, coeffs, strict=False)), family[0][1] * K.zero)
             return G, D
     return None
 
@@ -297,7 +297,7 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     else:
         G, D = _normalise(*member, K)
         reason, holds = "", True
-    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(A, U, B, V, G, D))}
+    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(A, U, B, V, G, D), strict=False)}
     Gs = from_dm(G)
     return GSymplecticResult(holds=holds, G=Gs, D=from_dm(D), residuals=res, reason=reason,
                              definite=_definite(Gs) if holds else None, **common)
@@ -315,6 +315,6 @@ def _g_symplectic_conjugate(m) -> GSymplecticResult:
             "The only solution is G = 0, D = 0: D = g·diag(b) is forced and g·M = 0 needs g = 0, as M ≠ 0 "
             "(VᵀMV ≠ 0, V the nodes' Vandermonde matrix)."), **common)
     G, D = sp.ImmutableMatrix([[1]]), sp.ImmutableMatrix(sp.diag(*m.b))
-    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, ((1, 1), (s, 1), (s, s)))}
+    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, ((1, 1), (s, 1), (s, s)), strict=False)}
     return GSymplecticResult(holds=True, G=G, D=D, residuals=zero, reason="", definite=True, dimension=1, rank=s,
                              basis=((G, D),), **common)

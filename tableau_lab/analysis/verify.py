@@ -15,12 +15,12 @@ import sympy as sp
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.multistep import as_lmm
-from .results import Result
 from .error_constant import ErrorConstantResult, error_constant
 from .glm_order import GLMOrderResult
 from .order import order as order_of
 from .parasitism import ParasitismResult, growth_parameters
 from .prk_order import PRKOrderResult
+from .results import Result
 from .rk_order import RKOrderResult
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
 

@@ -301,7 +301,7 @@ def detect(A, b, c) -> Conjugate | None:
         atom.append(a)
     distinct = list(dict.fromkeys(factors))
     for Q in distinct:
-        if sum(1 for F in factors if F == Q) != Q.degree() or len({a for F, a in zip(factors, atom) if F == Q}) != Q.degree():
+        if sum(1 for F in factors if F == Q) != Q.degree() or len({a for F, a in zip(factors, atom, strict=False) if F == Q}) != Q.degree():
             return None                                  # not every conjugate, or a repeated node
     P = sp.Poly(sp.prod([Q.as_expr() for Q in distinct]), X)
     if P.degree() != s:
@@ -409,7 +409,7 @@ def solve_conditions(P, images=(), D: int = 0, name: str = "") -> Conjugate:
 
     eqs = []
     for phi, psi in images:
-        eqs += [a - b for a, b in zip(_coeffs(apply(phi), P), _coeffs(psi, P))]
+        eqs += [a - b for a, b in zip(_coeffs(apply(phi), P), _coeffs(psi, P), strict=False)]
     for k in range(1, D + 1):
         for m in range(s):
             eqs.append(bfun(X ** (k - 1) * apply(X ** m)) - bfun(X ** m * (1 - X ** k)) / k)

@@ -20,8 +20,16 @@ from functools import lru_cache
 
 import sympy as sp
 
-from .conjugate import X, collocation, lagrange_at, lobatto_nodes, radau_left, radau_right, shifted_legendre, \
-    solve_conditions
+from .conjugate import (
+    X,
+    collocation,
+    lagrange_at,
+    lobatto_nodes,
+    radau_left,
+    radau_right,
+    shifted_legendre,
+    solve_conditions,
+)
 from .field import field_of, from_dm, to_dm
 from .methods import RungeKutta
 

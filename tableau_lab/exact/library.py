@@ -27,8 +27,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from . import families, multistep
 from ..errors import InputError
+from . import families, multistep
 from .methods import Method
 
 __all__ = ["FamilyError", "FAMILIES", "ALIASES", "family", "family_sizes", "is_family", "library_path", "library_names",

@@ -286,7 +286,7 @@ class RungeKutta(Method):
             parts = _tableau(self.A, self.b, self.c)
         except FieldError as exc:
             raise MethodError(str(exc)) from None
-        for k, v in zip("Abc", parts):
+        for k, v in zip("Abc", parts, strict=False):
             object.__setattr__(self, k, v)
         self._check_field()
 
@@ -299,7 +299,7 @@ class RungeKutta(Method):
         _shape(c, (s, 1), "c")
         if list(c) != self.conjugate.abscissae():
             raise MethodError("c is not consistent with A: c ≠ A·1 (Ã e₀ at the nodes)")
-        for k, v in zip("Abc", (A, b, c)):
+        for k, v in zip("Abc", (A, b, c), strict=False):
             object.__setattr__(self, k, v)
 
     @classmethod
@@ -372,7 +372,7 @@ class PartitionedRungeKutta(Method):
         if first[0].rows != second[0].rows:
             raise MethodError(f"the two tableaux of a partitioned method need the same number of stages "
                               f"(A has {first[0].rows}, Ahat has {second[0].rows})")
-        for k, v in zip(("A", "b", "c", "Ahat", "bhat", "chat"), first + second):
+        for k, v in zip(("A", "b", "c", "Ahat", "bhat", "chat"), first + second, strict=False):
             object.__setattr__(self, k, v)
         self._check_field()
 

@@ -78,7 +78,7 @@ def lmm_coefficients(family: str, k: int) -> tuple[list, list]:
     alpha[lo] = sp.Integer(-1)
     nodes = list(range(0, k + 1 if implicit else k))      # p interpolates f there
     w = _lagrange_weights(nodes, lo, k)
-    for x, v in zip(nodes, w):
+    for x, v in zip(nodes, w, strict=False):
         beta[x] += v
     return alpha, beta
 

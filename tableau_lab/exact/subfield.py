@@ -48,7 +48,7 @@ class _Span:
         for p, row in self.rows:
             if v[p]:
                 f = v[p] / row[p]
-                v = [x - f * y for x, y in zip(v, row)]
+                v = [x - f * y for x, y in zip(v, row, strict=False)]
         return v
 
     def add(self, K, a) -> bool:
@@ -104,7 +104,7 @@ def _primitive(K, basis: list, e: int):
     """α ∈ span with 1, α, …, α^(e−1) independent (e = the subfield's degree), and those powers."""
     for weights in itertools.chain(([1 if i == j else 0 for i in range(len(basis))] for j in range(len(basis))),
                                    itertools.product(range(-2, 3), repeat=len(basis))):
-        alpha = sum((K.convert(w) * b for w, b in zip(weights, basis) if w), K.zero)
+        alpha = sum((K.convert(w) * b for w, b in zip(weights, basis, strict=False) if w), K.zero)
         powers, span = [K.one], _Span()
         span.add(K, K.one)
         while len(powers) < e and span.add(K, powers[-1] * alpha):

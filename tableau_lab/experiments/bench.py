@@ -100,7 +100,7 @@ def step_sizes(method, problem, steps, hs, precision="float64", reps=5, kernel="
                 times[k].append(integrate(nm, cp, cp.y0, h, steps, record_every=steps, kernel=kernel).seconds)
     except IntegrationError as exc:
         return {"cases": rows, "failed": str(exc)}
-    for row, t in zip(rows, times):
+    for row, t in zip(rows, times, strict=False):
         med = statistics.median(t)
         row.update(seconds=med, steps_per_second=steps / med, us_per_step=med / steps * 1e6, reps=reps)
     first = rows[0]
@@ -275,13 +275,14 @@ def standard(steps=10 ** 5, reps=5, mp_steps=100, dd_steps=20000, memory=True, l
 
 def _agreement(method, problem, steps) -> float:
     import mpmath
+
     from ..numeric.integrate import integrate
     finals = []
     for prec in ("dd", "mp:32"):
         nm, cp = _setup(method, problem, prec)
         finals.append(integrate(nm, cp, cp.y0, sp.Rational(1, 100), steps, record_every=steps).final)
     with mpmath.workdps(40):
-        return float(max(abs(a - b) for a, b in zip(*finals)))
+        return float(max(abs(a - b) for a, b in zip(*finals, strict=False)))
 
 
 _HEAD = ("| method | problem | h | µs/step | C µs/step | ours/C | goal | f-evals/step ours / C | GNI_IRK2 µs/step · "

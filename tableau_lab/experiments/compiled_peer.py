@@ -74,6 +74,7 @@ def dop853_point(problem, T, rtol, atol_factor, invariant):
     if not available():
         return {"rtol": rtol, "failed": "numbalsoda is not installed (pip install -e \".[bench]\"; it needs gfortran)"}
     from numbalsoda import dop853
+
     from ..numeric.codegen import compile_problem
     from ..numeric.kernels import compiled_loop
     cp = compile_problem(problem)

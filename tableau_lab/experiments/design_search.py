@@ -42,8 +42,15 @@ from ..exact.grammar import format_entry
 from ..exact.rationals import by_height, height
 from ..exact.render import latex_text
 from ..files import atomic_write_text
-from ..numeric.objectives import (YMAX, NumericGLM, growth, imaginary_interval, order_residuals, real_interval,
-                                  series_defects)
+from ..numeric.objectives import (
+    YMAX,
+    NumericGLM,
+    growth,
+    imaginary_interval,
+    order_residuals,
+    real_interval,
+    series_defects,
+)
 
 __all__ = ["design", "search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError",
            "check_constraints", "is_checkpoint"]
@@ -130,7 +137,7 @@ class SearchResult(Result):
                  + (f" subject to {', '.join(self.constraints)}" if self.constraints else "")
                  + f" ({self.evaluations} evaluations)"]
         for i, c in enumerate(self.candidates, 1):
-            pt = ", ".join(f"{s} = {v:.10g}" for s, v in zip(self.free, c.point))
+            pt = ", ".join(f"{s} = {v:.10g}" for s, v in zip(self.free, c.point, strict=False))
             vals = ", ".join(f"{k} {'≥' if k.endswith('interval') and v >= YMAX else '='} {v:.6g}"
                              for k, v in c.values.items())
             lines.append(f"  {i}. {pt}: {vals}; violation {c.violation:.1e}")
@@ -225,7 +232,7 @@ class _Task:
     def mix(self, vals, weight=1.0) -> float:
         """The objectives to minimise, scaled and weighted (weight, 1 − weight)."""
         return sum(-OBJECTIVES[o][0] * v / s * w
-                   for o, v, s, w in zip(self.objectives, vals, self.scales, (weight, 1.0 - weight)))
+                   for o, v, s, w in zip(self.objectives, vals, self.scales, (weight, 1.0 - weight), strict=False))
 
     def rank(self, out, weight=1.0) -> float:
         """The penalised score of (values, violation) as :meth:`values` gives them."""
@@ -387,8 +394,8 @@ def _objectives(maximize, minimize) -> tuple:
 
 
 def _dominates(a, b, senses) -> bool:
-    better = [s * x >= s * y for s, x, y in zip(senses, a, b)]
-    strictly = [s * x > s * y for s, x, y in zip(senses, a, b)]
+    better = [s * x >= s * y for s, x, y in zip(senses, a, b, strict=False)]
+    strictly = [s * x > s * y for s, x, y in zip(senses, a, b, strict=False)]
     return all(better) and any(strictly)
 
 
@@ -531,7 +538,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
         todo = [x for x in pts if not cp.has("sample", x)]
         chunks = [todo[i::n] for i in range(n) if todo[i::n]]
         ex.map(_evaluate, [(task, c) for c in chunks], desc="sample",
-               on_result=lambda i, out: cp.put("sample", zip(chunks[i], out)))
+               on_result=lambda i, out: cp.put("sample", zip(chunks[i], out, strict=False)))
         found = dict(sorted((x, _tuples(cp.get("sample", x))) for x in pts if cp.get("sample", x) is not None))
         count = len(pts)
         if len(names) == 2:                 # scale each objective by its spread over the sample
@@ -545,7 +552,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
             feasible = sorted(found, key=lambda x: found[x][1])[:per] if constraints else []
             jobs += [(task, x, float(w)) for x in dict.fromkeys(ranked + feasible)]
         keys = [(x, w) for _, x, w in jobs]
-        todo = [j for j, k in zip(jobs, keys) if not cp.has("refine", k)]
+        todo = [j for j, k in zip(jobs, keys, strict=False) if not cp.has("refine", k)]
         ex.map(_refine, todo, desc="local searches",
                on_result=lambda i, out: cp.put("refine", [((todo[i][1], todo[i][2]), out)]))
         refined = [_tuples(cp.get("refine", k)) for k in keys]
@@ -554,11 +561,11 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
         count += calls
         if out is None or any(np.allclose(x, o.point, atol=1e-6) for o in optima):
             continue
-        optima.append(Candidate(x, dict(zip(names, out[0])), out[1]))
+        optima.append(Candidate(x, dict(zip(names, out[0], strict=False)), out[1]))
     senses = [OBJECTIVES[o][0] for o in names]
     if len(names) == 2:                     # the front: feasible points no other feasible point dominates
         pool = [c for c in optima if c.violation <= FEASIBLE] + [
-            Candidate(x, dict(zip(names, o[0])), o[1]) for x, o in found.items() if o[1] <= FEASIBLE]
+            Candidate(x, dict(zip(names, o[0], strict=False)), o[1]) for x, o in found.items() if o[1] <= FEASIBLE]
         optima = [c for c in pool if not any(_dominates(tuple(d.values.values()), tuple(c.values.values()), senses)
                                              for d in pool)]
         uniq = {}                           # one member per distinct pair of objective values
@@ -585,10 +592,10 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
 
 def _verify(m, constraints, p) -> dict | str:
     """The exact properties of a member, or why it fails a constraint."""
+    from ..analysis.method_series import error_terms, method_series
     from ..analysis.order import order
     from ..analysis.parasitism import growth_parameters
     from ..analysis.stability import stability
-    from ..analysis.method_series import error_terms, method_series
     from ..exact.field import is_zero, normal_form
     out = {}
     if p > 1 or any(c.startswith("order") for c in constraints):
@@ -618,7 +625,7 @@ def _keeps(task, c: Candidate, point, share: float = 1.0) -> bool:
     out = task.values(tuple(point))
     return out is not None and out[1] <= max(FEASIBLE, c.violation) and all(
         abs(v - c.values[o]) <= share * SNAP_TOLERANCE * max(1.0, abs(c.values[o]))
-        for o, v in zip(task.objectives, out[0]))
+        for o, v in zip(task.objectives, out[0], strict=False))
 
 
 def _tolerance_interval(ok, x: float, lo: float, hi: float) -> tuple:
@@ -879,14 +886,14 @@ def _certify_partial(family: Family, c: Candidate, constraints, p, key: str) -> 
             x = list(c.point)
             for i, v in fixed.items():
                 x[i] = float(v)
-            for i, v in zip(solved, z):
+            for i, v in zip(solved, z, strict=False):
                 x[i] = v
             return tuple(x)
         fit = least_squares(lambda z: task.residuals(full(z), size), [c.point[i] for i in solved], xtol=1e-15,
                             ftol=1e-15, gtol=1e-15, max_nfev=200 * len(solved))
         out = task.values(full(fit.x))
         if out is None or out[1] > FEASIBLE or not all(
-                abs(v - c.values[o]) <= PARTIAL_TOLERANCE * max(1.0, abs(c.values[o])) for o, v in zip(task.objectives, out[0])):
+                abs(v - c.values[o]) <= PARTIAL_TOLERANCE * max(1.0, abs(c.values[o])) for o, v in zip(task.objectives, out[0], strict=False)):
             continue
         tried += 1
         sub = {family.free[i]: v for i, v in fixed.items()}

@@ -46,8 +46,16 @@ from ..exact.catalog import load_with_numbers
 from ..exact.methods import Method
 from ..numeric.arith import arith
 from . import figure_style as style
-from .stability_plots import (coefficient_array, draw_moduli, enclosing_window, finite_float, locus_points,
-                              mark_intervals, root_moduli, shade_region)
+from .stability_plots import (
+    coefficient_array,
+    draw_moduli,
+    enclosing_window,
+    finite_float,
+    locus_points,
+    mark_intervals,
+    root_moduli,
+    shade_region,
+)
 
 __all__ = ["plot_stability_region", "plot_order_star", "plot_imaginary_axis", "stability_polynomial_array",
            "region_window", "order_star_modulus", "REGION_POINTS", "GLM_POINTS", "AXIS_POINTS", "CIRCLE_TOL",

@@ -201,7 +201,7 @@ def plot_energy_panels(panels, target, title: str = "", floor: float | None = No
     floor = np.finfo(float).eps / 10 if floor is None else floor
     fig, axes = plt.subplots(len(panels), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(panels) + 0.8),
                              squeeze=False, sharex=True)
-    for ax, r in zip(axes[:, 0], panels):
+    for ax, r in zip(axes[:, 0], panels, strict=False):
         t = np.asarray(r["t"], dtype=float)
         eH = np.asarray(r["err_H"], dtype=float)
         ax.semilogy(t[: len(eH)], np.maximum(np.abs(eH), floor), lw=0.6, label=style.invariant_error("H"),

@@ -34,7 +34,7 @@ def draw(scene, meta, arrays, out: Path) -> list:
             invs = [k for k in scene.problem.invariants if any(f"run{i}_{k}" in arrays for i in range(len(runs)))]
             fig, axes = plt.subplots(len(invs), 1, figsize=(style.PRINT_WIDTH, style.PANEL_HEIGHT * len(invs) + 0.7),
                                      squeeze=False, sharex=True)
-            for ax, k in zip(axes[:, 0], invs):
+            for ax, k in zip(axes[:, 0], invs, strict=False):
                 for i, r in enumerate(runs):
                     t, e = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_{k}")
                     if t is None or e is None:
@@ -90,7 +90,7 @@ def _phase(plt, problem, kind, runs, arrays):
     groups = [g for g in groups if g] or [[]]
     fig, axes = plt.subplots(1, len(groups), figsize=(style.SQUARE_SIZE[0] * (1 + 0.6 * (len(groups) - 1)),
                                                       style.SQUARE_SIZE[1]), squeeze=False)
-    for ax, members in zip(axes[0], groups):
+    for ax, members in zip(axes[0], groups, strict=False):
         for i in members:
             y = np.array(arrays[f"run{i}_y"], dtype=float)
             if one:
@@ -99,7 +99,7 @@ def _phase(plt, problem, kind, runs, arrays):
             for k, c in enumerate(cols):
                 if names[c] in angles:
                     xy[k] = np.mod(xy[k] + np.pi, 2 * np.pi) - np.pi
-            wrapped = [v for c, v in zip(cols, xy) if names[c] in angles]
+            wrapped = [v for c, v in zip(cols, xy, strict=False) if names[c] in angles]
             jumps = np.flatnonzero(np.any([np.abs(np.diff(v)) > np.pi for v in wrapped], axis=0)) + 1 if wrapped else []
             x, v = (np.insert(a, jumps, np.nan) for a in xy)
             ax.plot(x, v, lw=0.7, label=_label(runs[i]), **style.series_style(i))
@@ -256,10 +256,10 @@ def draw_convergence(results: list, target: Path, title: str) -> None:
     heights = [max(style.SMALL_PANEL_HEIGHT, style.legend_height(labels[p] + ["reference"])) for p in orders]
     fig, axes = plt.subplots(len(orders), 1, figsize=(style.PRINT_WIDTH, sum(heights) + 0.7), squeeze=False,
                              sharex=True, sharey=True, gridspec_kw={"height_ratios": heights})
-    for ax, p in zip(axes[:, 0], orders):
+    for ax, p in zip(axes[:, 0], orders, strict=False):
         points = []
-        for i, (c, label) in enumerate(zip(groups[p], labels[p])):
-            pts = [(h, e) for h, e in zip(c["h"], c["error"]) if e is not None and e > 0]
+        for i, (c, label) in enumerate(zip(groups[p], labels[p], strict=False)):
+            pts = [(h, e) for h, e in zip(c["h"], c["error"], strict=False) if e is not None and e > 0]
             if not pts:
                 ax.plot([], [], label=label + " (no run finished)", **style.series_style(i))
                 continue

@@ -15,6 +15,7 @@ def bar(total: int, desc: str | None, unit: str):
     control characters of untrusted text (:func:`inputs.printable`), which would garble the
     bar's own; the description (it may name a file's method) is escaped here instead."""
     from tqdm import tqdm
+
     from ..inputs import printable
     return tqdm(total=total, desc=None if desc is None else printable(desc), unit=unit, leave=False,
                 file=sys.__stderr__ or sys.stderr)

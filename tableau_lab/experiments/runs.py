@@ -15,19 +15,18 @@ from __future__ import annotations
 import dataclasses
 import functools
 from dataclasses import dataclass, field
+from math import isfinite as math_isfinite
 from typing import NamedTuple
 
 import mpmath
 import numpy as np
 import sympy as sp
 
-from math import isfinite as math_isfinite
-
 from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
 from ..exact.tableau_json import TableauError, load
 from ..inputs import MAX_STEPS
-from ..numeric.arith import is_exact, arith
+from ..numeric.arith import arith, is_exact
 from ..numeric.codegen import compile_problem, reference
 from ..numeric.export import to_numeric
 from ..numeric.integrate import IntegrationError, integrate
@@ -53,6 +52,7 @@ def step_size(h, what: str = "h"):
     tableau_lab.errors.InputError: --h -1/100: the step size must be positive
     """
     import math
+
     from ..exact.grammar import EntryError, parse_number
     text = h
     if isinstance(h, str):
@@ -161,6 +161,7 @@ def generate(cp, nm, invariants=(), project=()) -> None:
     or finishing series — now, inside the caller's time budget, not lazily at the run's first
     step (a user problem's Jacobian can take minutes to generate)."""
     import numpy as np
+
     from ..analysis.trees import order as tree_order
     y = cp.y0
     with np.errstate(all="ignore"), nm.arith.context():     # values are checked by the run (step 0)
@@ -179,7 +180,7 @@ def generate(cp, nm, invariants=(), project=()) -> None:
 def fit_order(hs, errs, floor: float):
     """Least-squares slope of log err against log h over the points above 100·floor (the
     round-off plateau); None with fewer than three such points."""
-    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs) if e is not None and e > 100 * floor]
+    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs, strict=False) if e is not None and e > 100 * floor]
     if len(pts) < 3:
         return None
     x, y = np.array(pts).T
@@ -251,7 +252,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
         def runs(ns):
             return ex.map(task, ns, describe=lambda n: f"n = {n}, h = {float(T) / n:.3g}", desc=m.name)
         if steps:
-            for n, point in zip(steps, runs(list(steps))):
+            for n, point in zip(steps, runs(list(steps)), strict=False):
                 _add_point(out, n, point, ref)
         n = n0
         while not steps and n <= max_steps:
@@ -262,7 +263,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
                 batch.append(n)
                 n *= 2
             if any(_add_point(out, k, point, ref) and _settled(out.hs, out.errors, a.eps)
-                   for k, point in zip(batch, runs(batch))):
+                   for k, point in zip(batch, runs(batch), strict=False)):
                 break
     # adaptive: the last four points, whose three local slopes agree when the study settled
     k = 0 if steps else -4                  # an adaptive study fits its last four (settled) points
@@ -304,7 +305,7 @@ def _add_point(out: Convergence, n: int, point: ConvergencePoint, ref) -> bool:
         return False
     a = arith(out.precision)
     with a.context():
-        out.errors.append(float(max(abs(x - r) for x, r in zip(point.final, ref))))
+        out.errors.append(float(max(abs(x - r) for x, r in zip(point.final, ref, strict=False))))
     out.nfev.append(point.nfev)
     par = [x for x in point.parasitic if x > 0]
     out.growth.append(float(max(par) / min(par)) if len(par) > 1 else None)
@@ -313,7 +314,7 @@ def _add_point(out: Convergence, n: int, point: ConvergencePoint, ref) -> bool:
 
 def _settled(hs, errs, floor) -> bool:
     """Three successive local slopes within 0.1 of each other, or the round-off plateau reached."""
-    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs) if e is not None]
+    pts = [(np.log(h), np.log(e)) for h, e in zip(hs, errs, strict=False) if e is not None]
     if errs and errs[-1] is not None and errs[-1] <= 100 * floor:
         return True
     if len(pts) < 4:
@@ -341,15 +342,15 @@ def roundoff(method, problem, h, steps, *, starts=4, every=None, dps: int = 32, 
     for _ in range(starts):
         factors = [sp.Rational(int(x), 1000) for x in 1000 + rng.integers(-100, 101, size=P.dimension)]
         # the problem's exact start (parameters substituted: Kepler's 1 − e), perturbed exactly, rounded once
-        y064 = nm64.arith.array([v * f for v, f in zip(P.initial_state(), factors)])
+        y064 = nm64.arith.array([v * f for v, f in zip(P.initial_state(), factors, strict=False)])
         with nm_mp.arith.context():
             ref = integrate(nm_mp, cp_mp, [mpmath.mpf(v) for v in y064], mpmath.mpf(h64), steps,
                             record_every=every, record_states=True)
         for key, comp in (("compensated", True), ("plain", False)):
             run = integrate(nm64, cp64, y064, h64, steps, record_every=every, record_states=True, compensated=comp)
             with mpmath.workdps(dps):           # the difference is taken at the reference's precision
-                acc[key] = acc[key] + np.array([float(sum((mpmath.mpf(x) - y) ** 2 for x, y in zip(a, b)))
-                                                for a, b in zip(run.values, ref.values)])
+                acc[key] = acc[key] + np.array([float(sum((mpmath.mpf(x) - y) ** 2 for x, y in zip(a, b, strict=False)))
+                                                for a, b in zip(run.values, ref.values, strict=False)])
     n = np.arange(len(acc["plain"])) * every
     out = {"n": n.tolist()}
     for key in acc:

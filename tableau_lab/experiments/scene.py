@@ -160,8 +160,8 @@ def scene_doc() -> str:
     >>> print(scene_doc().splitlines()[2])
     | key | takes | default | what it does |
     """
-    from ..numeric.problems import DEFINE_KEYS
     from ..numeric.expressions import FUNCTIONS
+    from ..numeric.problems import DEFINE_KEYS
 
     def cell(text):
         return str(text).replace("|", "\\|")
@@ -607,7 +607,15 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
     A full disk (:class:`~tableau_lab.files.OutputError`) leaves the previous set as it was.
     ``also(out)``: more files drawn in the same phase (their names, kept).  Returns the
     metadata (with ``"plots"``)."""
-    from ..files import OutputRefused, confined, deferred_interrupt, guard_output, output_lock, output_set, remove_stale_temps
+    from ..files import (
+        OutputRefused,
+        confined,
+        deferred_interrupt,
+        guard_output,
+        output_lock,
+        output_set,
+        remove_stale_temps,
+    )
     from .plots import draw
     out = Path(out)
     results = list(results) + [None] * (len(sc.runs) - len(results))

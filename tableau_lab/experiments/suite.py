@@ -260,7 +260,7 @@ def _draw_energy(plt, sc, results, out) -> str:
                              squeeze=False, sharex=True, sharey=True)
     kinds = {False: ("without projection", {**style.series_style(0), "linestyle": "-"}),
              True: ("with projection", {**style.series_style(1), "linestyle": "--"})}
-    for ax, stem in zip(axes.flat, stems):
+    for ax, stem in zip(axes.flat, stems, strict=False):
         for arrays, meta, _ in results:
             if Path(meta["file"]).stem != stem or "H" not in arrays or len(arrays["t"]) < 2:
                 continue

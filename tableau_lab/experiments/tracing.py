@@ -35,7 +35,6 @@ expressions instead of a tape.
 """
 from __future__ import annotations
 
-import math
 import operator
 import time
 from fractions import Fraction

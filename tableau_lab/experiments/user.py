@@ -69,8 +69,7 @@ import sympy as sp
 from ..budget import DEFAULT_SECONDS, computing, time_limit
 from ..errors import InputError
 from ..exact.catalog import load_with_numbers
-from ..numeric.problems import (LABEL_LENGTH, MAX_ENTRIES, Problem, ProblemError, exact_value, get_problem,
-                                valid_name)
+from ..numeric.problems import LABEL_LENGTH, MAX_ENTRIES, Problem, ProblemError, exact_value, get_problem, valid_name
 
 __all__ = ["integrate", "problem", "Solution", "step_grid"]
 

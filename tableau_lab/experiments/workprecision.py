@@ -29,8 +29,8 @@ import numpy as np
 
 from ..budget import DEFAULT_SECONDS
 from ..files import atomic_write_text, output_phase
-
 from .compiled_peer import PEER as COMPILED_PEER, dop853_point, max_invariant_error
+
 __all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus", "cheapest"]
 
 FORMAT = "tableau_lab/workprecision/1"
@@ -61,8 +61,19 @@ def load_wp_scene(path, timeout: float | None = DEFAULT_SECONDS) -> WPScene:
     :data:`PEERS`.  Messages name the file and the entry (one-based: ``methods[1].steps[2]``)."""
     from ..budget import computing, time_limit
     from ..inputs import MAX_STEPS, printable
-    from .scene import (MAX_RUNS, NAME, SceneError, float64_number, method_file, method_label, read_scene,
-                        scene_number, scene_problem, scene_text, shown)
+    from .scene import (
+        MAX_RUNS,
+        NAME,
+        SceneError,
+        float64_number,
+        method_file,
+        method_label,
+        read_scene,
+        scene_number,
+        scene_problem,
+        scene_text,
+        shown,
+    )
     path = Path(path)
     src = printable(path)
     data = read_scene(path)
@@ -165,9 +176,10 @@ def reference_steps(T, steps=None) -> tuple:
 
 def method_point(method_path, problem, T, steps, invariant):
     """One run of our method, compiled float64: CPU seconds, nfev, final state, max |I − I₀|."""
+    import sympy as sp
+
     from ..numeric.integrate import IntegrationError, integrate
     from .runs import _setup
-    import sympy as sp
     _, _, cp, nm = _setup(method_path, problem, "float64", None)
     h = sp.Rational(T) / steps
     integrate(nm, cp, cp.y0, h, 1)                       # compile / load the kernel, not timed
@@ -192,6 +204,7 @@ def peer_point(peer, problem, T, rtol, atol_factor, invariant):
     Python wrapper as scipy requires): CPU seconds, nfev, final state, max |I − I₀| over the
     accepted steps."""
     from scipy.integrate import solve_ivp
+
     from ..numeric.codegen import compile_problem
     from ..numeric.kernels import compiled_loop
     cp = compile_problem(problem)
@@ -218,13 +231,14 @@ def peer_point(peer, problem, T, rtol, atol_factor, invariant):
 def reference_state(problem, T, steps=None):
     """The state at T to about 30 digits: 3-stage Gauss (order 6) in double-double at n and 2n
     steps; returns (state as floats, the difference of the two runs: a bound on its error)."""
+    import sympy as sp
+
     from ..exact.families import gauss
     from ..numeric.integrate import integrate
     from .runs import _setup
-    import sympy as sp
     _, _, cp, nm = _setup(gauss(3), problem, "dd", None)
     runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in reference_steps(T, steps)]
-    gap = max(abs(float(a - b)) for a, b in zip(*runs))
+    gap = max(abs(float(a - b)) for a, b in zip(*runs, strict=False))
     return np.array([float(x) for x in runs[1]]), gap
 
 
@@ -252,7 +266,7 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     with executor(scheduler=scheduler, workers=workers) as ex:
         results = ex.map(_call, [(fn, args) for fn, args, _ in tasks])
     series: dict = {}
-    for (fn, args, label), res in zip(tasks, results):
+    for (fn, args, label), res in zip(tasks, results, strict=False):
         if "final" in res:
             res["error"] = float(np.max(np.abs(np.array(res.pop("final")) - ref)))
         series.setdefault(label, []).append(res)

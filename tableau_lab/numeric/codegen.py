@@ -82,7 +82,7 @@ class CompiledProblem(ProblemFunctions):
         # the m-th derivative: ∂ᵐ/∂s₁…∂s_m f(y + s₁u₁ + … + s_m u_m) at s = 0
         us = [[sp.Dummy(f"u{k}_{j}", real=True) for j in range(P.dimension)] for k in range(arg)]
         ss = [sp.Dummy(f"s{k}", real=True) for k in range(arg)]
-        shift = {y: y + sum(s * u[j] for s, u in zip(ss, us)) for j, y in enumerate(P.state)}
+        shift = {y: y + sum(s * u[j] for s, u in zip(ss, us, strict=False)) for j, y in enumerate(P.state)}
         out = []
         for g in P.f_expr:
             g = g.xreplace(shift)
@@ -121,7 +121,7 @@ def _integrate(f, y, t, tol, k):
             H = t - s
         ynew, diff = _gbs_step(f, y, f(y), H, k)
         floor = max(abs(v) for v in y) * mpmath.mpf(10) ** -6 + mpmath.eps
-        err = max(abs(d) / (abs(v) + floor) for d, v in zip(diff, y)) / tol
+        err = max(abs(d) / (abs(v) + floor) for d, v in zip(diff, y, strict=False)) / tol
         if not mpmath.isfinite(err):
             raise ProblemError(f"reference integration failed: non-finite values at t = {mpmath.nstr(s, 8)}")
         if err <= 1:
@@ -142,7 +142,7 @@ def extrapolation(problem: Problem, t, dps: int, k: int | None = None):
         coarse = _integrate(c.f, c.y0, t, mpmath.mpf(10) ** -(dps + 4), k)
         fine = _integrate(c.f, c.y0, t, mpmath.mpf(10) ** -(dps + 8), k)
         size = max(1, max(abs(v) for v in fine))
-        gap = max(abs(a - b) for a, b in zip(coarse, fine)) / size
+        gap = max(abs(a - b) for a, b in zip(coarse, fine, strict=False)) / size
         if gap > mpmath.mpf(10) ** -dps:
             raise ProblemError(f"reference solution of {problem.name!r} at t = {t}: two tolerances disagree "
                                f"by {mpmath.nstr(gap, 3)} (relative), more than 1e-{dps}")

@@ -142,7 +142,7 @@ class _Printer:
     def _tree(self, op: str, names: list) -> str:
         """names combined by op as a balanced binary tree (short dependency chains)."""
         while len(names) > 1:
-            pairs = [self.emit(f"{op}({a}, {b})") for a, b in zip(names[::2], names[1::2])]
+            pairs = [self.emit(f"{op}({a}, {b})") for a, b in zip(names[::2], names[1::2], strict=False)]
             names = pairs + names[len(pairs) * 2:]
         return names[0]
 
@@ -243,7 +243,7 @@ def dd_source(name: str, args, exprs, at=None, row: bool = False) -> str:
     if len(args) not in (1, 2):
         raise ValueError("dd_source: args is (state symbols,) or (state symbols, parameter symbols)")
     symbols = {}
-    for array, syms in zip("yc", args):
+    for array, syms in zip("yc", args, strict=False):
         for i, s in enumerate(syms):
             if not isinstance(s, sp.Symbol) or s in symbols:
                 raise ValueError(f"dd_source: {s} is not a symbol, or appears twice in args")
@@ -261,7 +261,7 @@ def dd_source(name: str, args, exprs, at=None, row: bool = False) -> str:
     fill = at is None and not row and sum(zeros) > 2     # one loop, not hundreds of stores (compile time)
     if fill:
         lines.append("    out[...] = 0.0")
-    for index, e, zero in zip(np.ndindex(shape), reduced, zeros):
+    for index, e, zero in zip(np.ndindex(shape), reduced, zeros, strict=False):
         if zero and fill:
             continue
         if at is not None:

@@ -135,7 +135,7 @@ def _inline(*kinds):
             def double(value, ty):
                 return _Traced(builder, context.cast(builder, value, ty, types.float64))
             values = [double(v, t) if k == "d" else tuple(double(builder.extract_value(v, i), t[i]) for i in range(2))
-                      for v, t, k in zip(args, sig.args, kinds)]
+                      for v, t, k in zip(args, sig.args, kinds, strict=False)]
             return context.make_tuple(builder, _DD, [_llvm(x) for x in _traced(fn.__name__)(*values)])
         return fn
     return register
@@ -364,7 +364,7 @@ def _lower_dd_set(context, builder, sig, args):
     aryty, indexty, xty = sig.args
     ints = _index_types(indexty)
     raw = [args[1]] if isinstance(indexty, types.Integer) else cgutils.unpack_tuple(builder, args[1], len(ints))
-    index = [context.cast(builder, v, t, types.intp) for v, t in zip(raw, ints)]
+    index = [context.cast(builder, v, t, types.intp) for v, t in zip(raw, ints, strict=False)]
     for k in (0, 1):
         value = context.cast(builder, builder.extract_value(args[2], k), xty[k], types.float64)
         builder.store(value, _element_pointer(context, builder, aryty, args[0],

@@ -61,6 +61,7 @@ def _newton_data(Aq, Ap, c, a, conjugate=None):
     the working precision from the exact entries and rounded once; None where c has repeated
     nodes or A is singular (decided exactly)."""
     import mpmath
+
     from ..exact.field import normal_form
     wp = arith(f"mp:{max(a.dps, 16) + 20}")
     s = len(c)
@@ -133,7 +134,7 @@ def roundtrip_error(m: Method, precision: str = "float64") -> float:
     parts = _exact_parts(m)
     worst = mpmath.mpf(0)
     with mpmath.workdps(nm.arith.dps + 60):
-        for X, M in zip((nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V), parts[:6]):
+        for X, M in zip((nm.Aq, nm.Ap, nm.U, nm.Bq, nm.Bp, nm.V), parts[:6], strict=False):
             M = sp.Matrix(M)
             for i in range(M.rows):
                 for j in range(M.cols):

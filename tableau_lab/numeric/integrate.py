@@ -178,13 +178,13 @@ class _Monitor:
                 acc = run.predicted_growth[k]
                 acc.append(acc[-1] + (t - self.last[0]) * (v + self.last[1][k]) / 2 if acc else 0.0)
             self.last = (t, rates)
-        for m, v in zip(self.modes, sizes):
+        for m, v in zip(self.modes, sizes, strict=False):
             run.parasitic_components[m.label].append(float(v))
             if m.label not in self.first and v > 0:              # the first nonzero record: growth from here
                 self.first[m.label] = (len(run.times) - 1, t)
         if self.bound is None:
             return
-        for m, v in zip(self.modes, sizes):
+        for m, v in zip(self.modes, sizes, strict=False):
             if not v <= self.bound:                            # NaN stops too
                 run.completed = n
                 mu = m.mu.real if m.mu.imag == 0 else m.mu
@@ -308,8 +308,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         if isinstance(h, int) or is_exact(h):
             h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
         elif a.dtype is object and not hasattr(h, "_mpf_"):
-            import mpmath
             from fractions import Fraction
+
+            import mpmath
             q = Fraction(repr(float(h)))           # a float: the decimal it prints as, rounded once
             h = mpmath.mpf(q.numerator) / q.denominator
         run = Run(nm.name, problem_name, a.name, float(h), steps,

@@ -196,7 +196,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     if shape is not None:
         text += (f"\n\n@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n\n\n"
                  f"LOOP_MODE = {shape.mode}\nLOOP_PROJECTS = {shape.projects}\n")
-        text += "".join(f"{name} = {flag}\n" for name, flag in zip(DENSE, shape.dense))
+        text += "".join(f"{name} = {flag}\n" for name, flag in zip(DENSE, shape.dense, strict=False))
     return text
 
 
@@ -551,4 +551,4 @@ def _count(out, st: LoopState):
     out.nfev, out.nvel, out.sweeps = int(stats[L.S_NFEV]), int(stats[L.S_NVEL]), int(stats[L.S_SWEEPS])
     out.projection_iterations, out.fallbacks = int(stats[L.S_PROJ]), int(stats[L.S_FALLBACKS])
     out.projection_residual, out.last_correction = float(stats[L.S_PROJ_RES]), float(stats[L.S_LAST])
-    out.tracked = {k: float(v) for k, v in zip(pk.track_names, tmax)}
+    out.tracked = {k: float(v) for k, v in zip(pk.track_names, tmax, strict=False)}

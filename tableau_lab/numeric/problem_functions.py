@@ -13,8 +13,8 @@ from __future__ import annotations
 import mpmath
 import numpy as np
 
-from ..errors import InputError
 from ..analysis.trees import trees_up_to
+from ..errors import InputError
 
 __all__ = ["ProblemError", "ProblemFunctions"]
 

@@ -31,8 +31,8 @@ import mpmath
 import sympy as sp
 
 from ..exact.grammar import NUMBER_NAMES
+from .expressions import FUNCTIONS, NAME, ExpressionError, exact_number, parse_expression
 from .problem_functions import ProblemError
-from .expressions import NAME, FUNCTIONS, ExpressionError, exact_number, parse_expression
 
 __all__ = ["ProblemError", "Problem", "PROBLEMS", "get_problem", "problem_from_dict", "exact_value", "valid_name",
            "DEFINE_KEYS", "LABEL_LENGTH", "MAX_ENTRIES"]
@@ -222,10 +222,10 @@ class Problem:
         y0 = self.initial_state()
         labels = [f"{n}[{i + 1}]" for n in (("q0", "p0") if self.kind == "hamiltonian" else ("y0",))
                   for i in range(len(getattr(self, n)))]
-        for label, v in zip(labels, y0):
+        for label, v in zip(labels, y0, strict=False):
             if v.has(sp.zoo, sp.nan, sp.oo, -sp.oo) or not v.is_real:
                 raise ProblemError(f"problem {self.name!r}: the initial value {label} = {v} is not a finite real number")
-        subs = {**dict(zip(self.state, y0)), **{s: self.parameters[k] for k, s in self.parameter_symbols.items()}}
+        subs = {**dict(zip(self.state, y0, strict=False)), **{s: self.parameters[k] for k, s in self.parameter_symbols.items()}}
         for name, e in [*self.invariants.items(), *((f"f[{i + 1}]", e) for i, e in enumerate(self.f_expr))]:
             value = e.evalf(20, subs=subs)
             if not (value.is_real and value.is_finite):
@@ -304,17 +304,17 @@ def _outer_solar_system():
     m = _symbols(" ".join(f"m_{b}" for b in _BODIES))
     G, = _symbols("G")
     kinetic = sum(sum(c**2 for c in p[i]) / (2 * m[i]) for i in range(6))
-    potential = sum(m[i] * m[j] / sp.sqrt(sum((a - b)**2 for a, b in zip(q[i], q[j])))
+    potential = sum(m[i] * m[j] / sp.sqrt(sum((a - b)**2 for a, b in zip(q[i], q[j], strict=False)))
                     for i in range(6) for j in range(i + 1, 6))
     L = [sum(q[i][a] * p[i][b] - q[i][b] * p[i][a] for i in range(6)) for a, b in ((1, 2), (2, 0), (0, 1))]
     num = lambda text: [parse_expression(v) for v in text.split()]  # noqa: E731
     return Problem(
         "outer_solar_system", "hamiltonian", q=sum(q, ()), p=sum(p, ()), hamiltonian=kinetic - G * potential,
-        invariants=dict(zip(("Lx", "Ly", "Lz"), L)),
+        invariants=dict(zip(("Lx", "Ly", "Lz"), L, strict=False)),
         parameters={"G": parse_expression("2.95912208286e-4"),
                     **{f"m_{b}": parse_expression(_SOLAR[b][0]) for b in _BODIES}},
         q0=tuple(v for b in _BODIES for v in num(_SOLAR[b][1])),
-        p0=tuple(mi * v for b, mi in zip(_BODIES, m) for v in num(_SOLAR[b][2])),
+        p0=tuple(mi * v for b, mi in zip(_BODIES, m, strict=False) for v in num(_SOLAR[b][2])),
         source=f"{HLW06}, I.2.4 and Table I.2.1 (outer solar system; p = m v)")
 
 
@@ -440,7 +440,7 @@ def problem_from_dict(d: dict) -> Problem:
                 raise fail(key if isinstance(names, dict) else f"{key}[{i + 1}]", f"{n!r} is not a valid name")
         return _symbols(" ".join(names))
 
-    psyms = dict(zip(items("parameters", True), declare("parameters", items("parameters", True))))
+    psyms = dict(zip(items("parameters", True), declare("parameters", items("parameters", True)), strict=False))
     for k in items("invariants", True):
         if not NAME.match(k) or k.lower() in NOT_NAMES:
             raise fail(f"invariants.{k}", f"{k!r} is not a valid invariant name (a letter, then letters, digits, _)")

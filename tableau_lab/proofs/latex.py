@@ -17,8 +17,8 @@ geometry, graphicx, booktabs, longtable).
 from __future__ import annotations
 
 import json
-import shutil
 import os
+import shutil
 import subprocess
 from pathlib import Path
 
@@ -26,17 +26,17 @@ import sympy as sp
 
 from ..analysis.glm_order import condition_residuals
 from ..analysis.order import order as order_of
-from ..analysis.prk_order import condition_table
-from ..analysis.trees import bracket, bracket_tex, trees_of_order
 from ..analysis.parasitism import growth_parameters
+from ..analysis.prk_order import condition_table
 from ..analysis.symplectic import g_symplectic, rk_symplectic
-from .backward_error import modified_section
+from ..analysis.trees import bracket, bracket_tex, trees_of_order
 from ..exact.field import normal_form
+from ..exact.grammar import format_entry
+from ..exact.methods import Method
+from ..exact.render import LATEX, latex_text, signed_term
 from ..files import OutputError, atomic_copy, atomic_write_text, output_phase
 from ..process import die_with_parent, scratch_folder
-from ..exact.grammar import format_entry
-from ..exact.render import LATEX, latex_text, signed_term
-from ..exact.methods import Method
+from .backward_error import modified_section
 
 __all__ = ["method_document", "library_document", "compile_pdf", "ReportError", "write_report", "report_paths",
            "FACTS_SUFFIX", "report"]
