@@ -46,9 +46,10 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from ..exact.methods import Method
+from ..exact.real_roots import cayley_transform, over_coefficient_field, primitive_part, sign
 from .results import Result
 from .roots import box, coefficients, disc_counts, lower, poly_box, real_root_boxes, upper
-from .stability import _cayley, _over_coefficient_field, _primitive, characteristic_polynomial, sign
+from .stability import characteristic_polynomial
 
 __all__ = ["a_alpha", "AAlphaResult"]
 
@@ -160,8 +161,8 @@ def _locus(p0, p1, K) -> _Locus:
     Rt = ring("t", K)[0]
     t = Rt.gens[0]
     n = max(p0.degree(), p1.degree())
-    Ar, Ai = _cayley({k: (Rt(c), Rt.zero) for (k,), c in p0.terms()}, n, t)
-    Br, Bi = _cayley({k: (Rt(c), Rt.zero) for (k,), c in p1.terms()}, n, t)
+    Ar, Ai = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p0.terms()}, n, t)
+    Br, Bi = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p1.terms()}, n, t)
     X, Y = Ar * Br + Ai * Bi, Ai * Br - Ar * Bi
     G = X.gcd(Y) if Y else X.monic()
     return _Locus(K, G, X.exquo(G), Y.exquo(G) if Y else Rt.zero, (Ar, Ai))
@@ -326,10 +327,10 @@ def a_alpha(m: Method, zero=None, polynomial=None) -> AAlphaResult:
             return AAlphaResult(method=m.name, status="not computed", degree=d, reason=f"P has degree {d} in z")
         if zero is not None and not zero.holds:
             return AAlphaResult(method=m.name, status="none", degree=1, reason="the method is not zero-stable")
-    P, K = _over_coefficient_field(*characteristic_polynomial(m))
+    P, K = over_coefficient_field(*characteristic_polynomial(m))
     z = P.ring.gens[1]
     d = P.degree(z)
-    Pp = _primitive(P)
+    Pp = primitive_part(P)
     if d != 1:
         return AAlphaResult(method=m.name, status="not computed", degree=d, reason=f"P has degree {d} in z")
     if Pp.degree(z) != 1:

@@ -56,7 +56,7 @@ from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
 
-__all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
+__all__ = ["solve", "solve_file", "solve_text", "method_from_design", "parse_requirements", "Requirement", "DesignResult",
            "Solution", "DesignError"]
 
 CLASSICAL_ORDERS = ("order", "identity-start-order")      # imply consistency (the order-1 conditions)
@@ -557,9 +557,18 @@ def _dedupe(sols):
     return out
 
 
-def _design_method(data: dict, source: str):
-    """A method from a design tableau: when c or A holds unknowns, c is dropped (c = A·1 is
-    derived) and its entries become the equations cᵢ = Σⱼ aᵢⱼ."""
+def method_from_design(data: dict, source: str):
+    """(method, extra equations) from the parsed JSON ``data`` of a design tableau read from
+    ``source``: when c or A holds unknowns, c is dropped (c = A·1 is derived) and its entries
+    become the equations cᵢ = Σⱼ aᵢⱼ, labelled for the design report; claims are dropped (they
+    are what the design will establish).  One reader for ``solve_text``, ``solve_file`` and
+    ``family.tableau_family``.
+
+    >>> m, extra = method_from_design({"name": "heun", "kind": "rk", "A": [["0", "0"], ["a", "0"]],
+    ...                                "b": ["1/2", "1/2"], "c": ["0", "1"]}, "<example>")
+    >>> m.c.T, extra
+    (Matrix([[0, a]]), [('c1 = row sum of A', 0), ('c2 = row sum of A', 1 - a)])
+    """
     extra = []
     if data.get("kind") in ("rk", "prk") and "c" in data:
         c = entries(data["c"], source, "c")
@@ -572,12 +581,12 @@ def _design_method(data: dict, source: str):
 
 
 def solve_text(text: str, requirements, source: str = "<tableau>") -> DesignResult:
-    m, extra = _design_method(parse(text, source), source)
+    m, extra = method_from_design(parse(text, source), source)
     return solve(m, requirements, extra, _symbols(extra))
 
 
 def solve_file(path, requirements) -> DesignResult:
-    m, extra = _design_method(read(path), str(path))
+    m, extra = method_from_design(read(path), str(path))
     return solve(m, requirements, extra, _symbols(extra))
 
 

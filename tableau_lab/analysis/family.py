@@ -95,8 +95,8 @@ def tableau_family(path) -> Family:
     denominators of its entries the branch conditions (no requirement is solved; the search's
     constraints then pick the members, e.g. ``methods/design/glm4_symmetric_family.json``)."""
     from ..exact.tableau_json import read
-    from .design import _design_method
-    m, extra = _design_method(read(path), str(path))
+    from .design import method_from_design
+    m, extra = method_from_design(read(path), str(path))
     if extra:
         raise FamilyError(f"{path}: unknown abscissae need a requirement (the row sums of A become equations)")
     if not m.parameters:

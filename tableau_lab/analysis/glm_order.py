@@ -43,7 +43,7 @@ from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
-__all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
+__all__ = ["glm_order", "GLMOrderResult", "OrderSolver", "theta_matrix", "order_conditions", "condition_residuals"]
 
 @lru_cache(maxsize=None)
 def theta_matrix(k: int) -> tuple:
@@ -114,7 +114,21 @@ class GLMOrderResult(Result):
                 + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
 
 
-class _Solver:
+class OrderSolver:
+    """The exact data of Butcher's sequential solve of a GLM's order conditions over its field K
+    ([B16] Sec. 53, the module docstring): the matrices A, U, B, V as ``DomainMatrix``, the
+    preconsistency vector u (Vu = u, Uu = 𝟙), the left eigenvector w (wᵀV = wᵀ, wᵀu = 1), a left
+    inverse ``Pinv`` of [I − V; wᵀ] (ξ(t) without principal part), and the tree-by-tree defect
+    Q(t) and the sequential :meth:`run`; :func:`glm_order` and
+    ``method_series.method_series`` (the underlying one-step method) use it.
+
+    >>> from sympy import QQ
+    >>> from tableau_lab.exact.library import family
+    >>> S = OrderSolver(family("bdf:2").as_glm(), QQ)
+    >>> [str(x) for x in S.u], [str(x) for x in S.w]
+    (['1', '1'], ['3/2', '-1/2'])
+    """
+
     def __init__(self, g, K):
         self.K = K
         self.s, self.r = g.s, g.r
@@ -282,7 +296,7 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     the finishing method and the error terms at order p + 1."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, g.c])
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     # θ(τ): the uniform shift that makes the stage abscissae equal to the method's c
     x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u, strict=False)] + [K.zero])
     c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
@@ -318,7 +332,7 @@ def order_conditions(m: Method, max_order: int, K, free_theta: bool = True) -> l
     the principal parts θ free (eliminated) or ≡ 0; K holds the method's free parameters.
     All vanish exactly when the method has that order (for the parameter values)."""
     g = m.as_glm()
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     out: list = []
     solver.run(max_order, free_theta, None, collect=out)
     return out
@@ -340,7 +354,7 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
     L_k θ = −wᵀR solvable — and is None otherwise."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, g.c])
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     xi = {None: list(solver.u)}
     eta, etaD, nonzero, out, missing = {}, {}, set(), {}, []
     for k in range(1, upto + 1):

@@ -57,7 +57,8 @@ def real_stability_interval(m: Method) -> RealIntervalResult:
     (ℚ-polynomials whose roots include theirs) and each sign at a rational probe is certified in K."""
     if m.kind != "rk":
         return RealIntervalResult(m.name, None, f"computed here for Runge–Kutta methods, not {m.kind}")
-    from .stability import last_good_cut, sign_at, stability_function
+    from ..exact.real_roots import last_good_cut, sign_at
+    from .stability import stability_function
     N, D, K = stability_function(m)
     n = sp.Poly.from_list(N.to_dense() if N else [K.zero], _X, domain=K)      # the ring's coefficients, as they are
     d = sp.Poly.from_list(D.to_dense(), _X, domain=K)

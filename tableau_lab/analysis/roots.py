@@ -42,7 +42,7 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from ..exact.field import normal_form
-from .stability import _cayley, _enclose, _half_plane_counts, _norm, _real_roots
+from ..exact.real_roots import cayley_transform, count_real_roots, enclose, half_plane_counts, norm_to_rationals
 
 __all__ = ["disc_counts", "self_reciprocal", "exact_circle_roots", "unit_circle_eigenvalues", "RootDisc",
            "outside_roots", "real_root_boxes", "box", "poly_box", "lower", "upper", "coefficients", "complex_text"]
@@ -68,8 +68,8 @@ def disc_counts(p, K) -> tuple[int, int, int]:
         return 0, 0, 0
     Rt = ring("t", K)[0]
     t = Rt.gens[0]
-    FR, FI = _cayley({k: (Rt(c), Rt.zero) for (k,), c in p.terms()}, n, t)
-    up, real, down = _half_plane_counts(FR, FI, K)
+    FR, FI = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p.terms()}, n, t)
+    up, real, down = half_plane_counts(FR, FI, K)
     return up, real + n - (up + real + down), down
 
 
@@ -126,7 +126,7 @@ def box(K, c, ctx):
     if K.is_QQ or K.is_ZZ:
         c = QQ.convert(c)
         return ctx.mpf(int(c.numerator)) / ctx.mpf(int(c.denominator))
-    return _enclose(K.to_sympy(c), ctx)
+    return enclose(K.to_sympy(c), ctx)
 
 
 def poly_box(coeffs, x, ctx):
@@ -239,8 +239,8 @@ def real_root_boxes(p, K, bits: int) -> list:
     if K.is_QQ:
         poly = sp.Poly.from_dict({m: QQ.convert(c) for m, c in p.terms()}, sp.Symbol("t"), domain=QQ)
         return [(sp.Rational(a), sp.Rational(b)) for (a, b), _ in poly.intervals(eps=eps)]
-    target = _real_roots(p, K)
-    norm = _norm(p, K)
+    target = count_real_roots(p, K)
+    norm = norm_to_rationals(p, K)
     norm = sp.Poly(sp.sqf_part(norm.as_expr()), norm.gen, domain=QQ)
     cs = coefficients(p)
     for extra in range(0, 40 * 64, 64):

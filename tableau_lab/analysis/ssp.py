@@ -82,7 +82,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")
     from ..exact.field import element, field_of
-    from .stability import last_good_cut, sign, sign_at
+    from ..exact.real_roots import last_good_cut, sign, sign_at
     K = field_of([m.A, m.b])
     s = m.s
     # at r = 0 the conditions are K ≥ 0 (a negative entry: R = 0, whatever the size)

@@ -32,7 +32,8 @@ from ..exact.grammar import format_matrix
 from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from .results import Result, matrix_latex, matrix_text
 
-__all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "RKSymplecticResult", "GSymplecticResult"]
+__all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "g_symplectic_residuals_dm", "RKSymplecticResult",
+           "GSymplecticResult"]
 
 
 # --------------------------------------------------------------------------- RK
@@ -104,8 +105,18 @@ def rk_symplectic(m: Method) -> RKSymplecticResult:
 
 # --------------------------------------------------------------------------- GLM
 
-def _residuals_dm(A, U, B, V, G, D):
-    """The three G-symplectic residuals as DomainMatrices (all over one field)."""
+def g_symplectic_residuals_dm(A, U, B, V, G, D):
+    """The three G-symplectic residuals VᵀGV − G, DU − BᵀGV and DA + AᵀD − BᵀGB of the GLM
+    (A, U, B, V) for given G, D, all ``DomainMatrix`` over one field: the method is G-symplectic
+    with (G, D) exactly when all three vanish ([BHHN14] Butcher, Habib, Hill & Norton, SIAM J.
+    Numer. Anal. 52 (2014), Def. 1; :func:`g_symplectic_residuals` for a method object).
+
+    >>> from sympy import QQ
+    >>> from sympy.polys.matrices import DomainMatrix
+    >>> half, one = DomainMatrix([[QQ(1, 2)]], (1, 1), QQ), DomainMatrix([[QQ(1)]], (1, 1), QQ)
+    >>> [R.is_zero_matrix for R in g_symplectic_residuals_dm(half, one, one, one, one, one)]  # midpoint, G = D = 1
+    [True, True, True]
+    """
     Vt, Bt = V.transpose(), B.transpose()
     BtG = Bt * G
     return (Vt * G * V - G, D * U - BtG * V, D * A + A.transpose() * D - BtG * B)
@@ -125,7 +136,7 @@ def g_symplectic_residuals(m: Method, G, D) -> dict:
     G, D = sp.Matrix(G), sp.Matrix(D)
     K = field_of([g.A, g.U, g.B, g.V, G, D])
     dms = [to_dm(X, K) for X in (g.A, g.U, g.B, g.V, G, D)]
-    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(*dms), strict=False)}
+    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, g_symplectic_residuals_dm(*dms), strict=False)}
 
 
 @dataclass(frozen=True)
@@ -275,7 +286,7 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     columns = []
     for G, D in units:
         col = []
-        for R in _residuals_dm(A, U, B, V, G, D):
+        for R in g_symplectic_residuals_dm(A, U, B, V, G, D):
             col.extend(x for row in R.to_list() for x in row)
         columns.append(col)
     n, neq = len(units), len(columns[0])
@@ -297,7 +308,7 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     else:
         G, D = _normalise(*member, K)
         reason, holds = "", True
-    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(A, U, B, V, G, D), strict=False)}
+    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, g_symplectic_residuals_dm(A, U, B, V, G, D), strict=False)}
     Gs = from_dm(G)
     return GSymplecticResult(holds=holds, G=Gs, D=from_dm(D), residuals=res, reason=reason,
                              definite=_definite(Gs) if holds else None, **common)
