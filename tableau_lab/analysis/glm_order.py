@@ -218,7 +218,8 @@ class OrderSolver:
                         nonzero.add(s_)
                 res = [self.dot_w(Q(t)) for t in Tk]
             if collect is not None:
-                collect.extend((f"order {k}, tree {bracket(t)}", x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x))
+                collect.extend((f"order {k}, tree {bracket(t)}", x)
+                               for t, x in zip(Tk, res, strict=False) if not K.is_zero(x))
                 res = []
             bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x)}
             if bad:
@@ -274,7 +275,8 @@ def _stage_order(solver, p, xi, eta, theta, free_top) -> int:
     K = solver.K
     q = 0
     for k in range(1, p + 1):
-        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e for e, ci in zip(eta[t], solver.c, strict=False)]
+        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e
+                    for e, ci in zip(eta[t], solver.c, strict=False)]
                 for t in trees_of_order(k)}
         if all(all(K.is_zero(g) for g in d) for d in gaps.values()):
             q = k
@@ -298,8 +300,9 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     K = field_of([g.A, g.U, g.B, g.V, g.c])
     solver = OrderSolver(g, K)
     # θ(τ): the uniform shift that makes the stage abscissae equal to the method's c
-    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u, strict=False)] + [K.zero])
-    c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
+    ones = [K.one] * g.s
+    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, ones), solver.u, strict=False)] + [K.zero])
+    c0 = [a + b for a, b in zip(solver.mat(solver.A, ones), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
     shift = solver.c[0] - c0[0] if x0 is not None else K.zero
     p0, xi0, eta0, theta0, errors0 = solver.run(max_order, False, shift)
     bound = m.order_bound if m.kind == "rk" else None
@@ -368,7 +371,8 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
             if any(not K.is_zero(v) for v in x):
                 nonzero.add(t)
             eta[t] = [a + b for a, b in zip(solver.mat(solver.A, etaD[t]), solver.mat(solver.U, x), strict=False)]
-            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, solver.mat(solver.V, x), strict=False))
+            Vx = solver.mat(solver.V, x)
+            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, Vx, strict=False))
         if missing:
             break
     repairable = None
@@ -376,7 +380,7 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
         k = order(missing[0][0])
         res = [v for _, v in missing]
         L = theta_matrix(k) if k >= 2 else ()
-        repairable = bool(L) and solve_linear(
-            DomainMatrix([[K.convert(x) for x in row] for row in L], (len(L), len(L[0])), K), [-v for v in res]) is not None
+        Ldm = DomainMatrix([[K.convert(x) for x in row] for row in L], (len(L), len(L[0])), K) if L else None
+        repairable = bool(L) and solve_linear(Ldm, [-v for v in res]) is not None
     out.update((bracket(t), K.to_sympy(v)) for t, v in missing)
     return out, repairable

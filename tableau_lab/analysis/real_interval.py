@@ -42,8 +42,9 @@ class RealIntervalResult(Result):
         return f"real-axis interval: [−β, 0] with β = {format_entry(self.beta)}{approx}"
 
     def to_json(self):
-        return {"real_interval": None if self.beta is None else ("oo" if self.beta == sp.oo else str(format_entry(self.beta))),
-                "real_interval_float": None if self.beta is None else float(self.beta), "real_interval_reason": self.reason}
+        exact = None if self.beta is None else ("oo" if self.beta == sp.oo else str(format_entry(self.beta)))
+        return {"real_interval": exact, "real_interval_float": None if self.beta is None else float(self.beta),
+                "real_interval_reason": self.reason}
 
     def to_latex(self):
         if self.beta is None:

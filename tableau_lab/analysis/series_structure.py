@@ -41,8 +41,8 @@ from .glm_order import theta_matrix
 from .results import Result
 from .trees import bracket, butcher_product, from_children, symmetry, trees_of_order
 
-__all__ = ["structure", "SeriesStructure", "PSeriesStructure", "symplectic_order", "symmetric_order", "hamiltonian_order",
-           "energy_order", "conjugate_symplectic", "tree_pairs"]
+__all__ = ["structure", "SeriesStructure", "PSeriesStructure", "symplectic_order", "symmetric_order",
+           "hamiltonian_order", "energy_order", "conjugate_symplectic", "tree_pairs"]
 
 
 @lru_cache(maxsize=None)

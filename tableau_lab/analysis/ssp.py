@@ -74,7 +74,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     ch. 3; Kraaijevanger 1991 (the radius of absolute monotonicity).
 
     >>> import tableau_lab as tl
-    >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008: 6; Shu–Osher: 1
+    >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008; Shu–Osher
     (6, 1)
     """
     if m.kind != "rk":

@@ -170,10 +170,10 @@ def stability_function(m: Method):
 
 # ------------------------------------------------------------------ the axis analysis
 
-def _i_power(c, l, yl, zero):
-    """c·(i·y)^l as a (real, imaginary) pair: i^l = 1, i, −1, −i."""
-    term = yl * c
-    return [(term, zero), (zero, term), (-term, zero), (zero, -term)][l % 4]
+def _i_power(c, n, yn, zero):
+    """c·(i·y)^n as a (real, imaginary) pair, given yn = y^n: i^n = 1, i, −1, −i."""
+    term = yn * c
+    return [(term, zero), (zero, term), (-term, zero), (zero, -term)][n % 4]
 
 
 @dataclass
@@ -195,8 +195,8 @@ def _axis(P, K, imaginary: bool) -> _Axis:
     w = P.ring.gens[0]
     r = P.degree(w)
     coeff = {}                       # k -> Q_k(y) = coefficient of w^k at z = iy (or x = y)
-    for (k, l), c in P.terms():
-        part = _i_power(c, l, y ** l, zero) if imaginary else (y ** l * c, zero)
+    for (k, n), c in P.terms():          # c·w^k·z^n
+        part = _i_power(c, n, y ** n, zero) if imaginary else (y ** n * c, zero)
         old = coeff.get(k, (zero, zero))
         coeff[k] = (old[0] + part[0], old[1] + part[1])
     FR, FI = cayley_transform(coeff, r, t)
@@ -427,8 +427,8 @@ def _endpoint_roots(P, Ystar, imaginary) -> tuple:
         yv = mpmath.mpf(str(Ystar.evalf(45)))
         zv = mpmath.mpc(0, yv) if imaginary else yv
         coeffs = [mpmath.mpc(0)] * (P.degree(P.ring.gens[0]) + 1 - low)
-        for (k, l), c in P.terms():
-            coeffs[-1 - (k - low)] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** l
+        for (k, n), c in P.terms():      # c·w^k·z^n
+            coeffs[-1 - (k - low)] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** n
         roots = _numeric_roots(mpmath, coeffs)
     groups = [[mpmath.mpc(0), low]] if low else []
     for v in roots:
@@ -513,10 +513,12 @@ class StabilityResult(Result):
                                                            f"|{a}| < {_text(val)} ≈ {float(val):.15g}")
             lines.append(f"    every root {name}: {where}")
         lines.append(f"  reported interval ({self.interval_kind}"
-                     f"{', the method is (G-)symplectic' if self.symplectic else ''}): {_text(self.imaginary_interval)}")
+                     f"{', the method is (G-)symplectic' if self.symplectic else ''}): "
+                     f"{_text(self.imaginary_interval)}")
         if self.endpoint_roots:
             lines.append(f"  roots at the end {self._axis_letter} = Y*: " + ", ".join(
-                f"w = {e.root} (|w| = {e.modulus:.15g}{', multiplicity %d' % e.multiplicity if e.multiplicity > 1 else ''})"
+                f"w = {e.root} (|w| = {e.modulus:.15g}"
+                f"{f', multiplicity {e.multiplicity}' if e.multiplicity > 1 else ''})"
                 for e in self.endpoint_roots))
         return "\n".join(lines)
 
@@ -605,8 +607,8 @@ def e_polynomial(N, D, K):
 
     def on_axis(p):
         re, im = Ry.zero, Ry.zero
-        for (l,), c in p.terms():
-            part = _i_power(c, l, y ** l, Ry.zero)
+        for (n,), c in p.terms():
+            part = _i_power(c, n, y ** n, Ry.zero)
             re, im = re + part[0], im + part[1]
         return re * re + im * im
     return on_axis(D) - on_axis(N)
@@ -678,7 +680,8 @@ def stability(m: Method, gsym=None) -> StabilityResult:
     elif m.kind == "glm":
         a_stable, reason = _a_stability_glm(Pp, K, Yle)
     else:
-        a_stable, reason = None, "A-stability is for y' = λy; a partitioned method is analysed on the harmonic oscillator"
+        a_stable = None
+        reason = "A-stability is for y' = λy; a partitioned method is analysed on the harmonic oscillator"
     Ystar = Yeq if symplectic else Yle
     return StabilityResult(method=m.name, kind=m.kind, variable="z" if imaginary else "x", polynomial=P.as_expr(),
                            r=P.degree(P.ring.gens[0]), unit_radius=Yeq, bounded_radius=Yle, symplectic=symplectic,

@@ -242,7 +242,7 @@ def _nonsingular_member(family, K):
     for lam in product(range(r + 1), repeat=d):
         if not any(lam):
             continue
-        coeffs = [K.convert(l) for l in lam]
+        coeffs = [K.convert(x) for x in lam]
         G = sum((F[0] * c for F, c in zip(family, coeffs, strict=False)), family[0][0] * K.zero)
         if not K.is_zero(G.det()):
             D = sum((F[1] * c for F, c in zip(family, coeffs, strict=False)), family[0][1] * K.zero)
@@ -308,7 +308,8 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     else:
         G, D = _normalise(*member, K)
         reason, holds = "", True
-    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, g_symplectic_residuals_dm(A, U, B, V, G, D), strict=False)}
+    residuals = g_symplectic_residuals_dm(A, U, B, V, G, D)
+    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, residuals, strict=False)}
     Gs = from_dm(G)
     return GSymplecticResult(holds=holds, G=Gs, D=from_dm(D), residuals=res, reason=reason,
                              definite=_definite(Gs) if holds else None, **common)
@@ -326,6 +327,7 @@ def _g_symplectic_conjugate(m) -> GSymplecticResult:
             "The only solution is G = 0, D = 0: D = g·diag(b) is forced and g·M = 0 needs g = 0, as M ≠ 0 "
             "(VᵀMV ≠ 0, V the nodes' Vandermonde matrix)."), **common)
     G, D = sp.ImmutableMatrix([[1]]), sp.ImmutableMatrix(sp.diag(*m.b))
-    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, ((1, 1), (s, 1), (s, s)), strict=False)}
+    shapes = ((1, 1), (s, 1), (s, s))
+    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, shapes, strict=False)}
     return GSymplecticResult(holds=True, G=G, D=D, residuals=zero, reason="", definite=True, dimension=1, rank=s,
                              basis=((G, D),), **common)
