@@ -140,10 +140,17 @@ def _scan():
 SCAN = _scan()
 
 
-def _floor(mod: str) -> str:
+def _floor(mod: str) -> str | None:
+    """The floor of a module (None: not placed yet)."""
     if mod in TOP_LEVEL_FLOOR:
         return TOP_LEVEL_FLOOR[mod]
-    return SUBPACKAGE_FLOOR[mod.split(".")[1]]
+    parts = mod.split(".")
+    return SUBPACKAGE_FLOOR.get(parts[1]) if len(parts) >= 2 else None
+
+
+def test_every_module_has_a_floor():
+    unplaced = sorted(m for m in MODULES if _floor(m) is None)
+    assert not unplaced, f"place these in SUBPACKAGE_FLOOR or TOP_LEVEL_FLOOR (and docs/architecture.md): {unplaced}"
 
 
 def _strongly_connected(graph: dict) -> list[list[str]]:
@@ -207,6 +214,7 @@ def test_no_import_cycles():
 
 def test_no_floor_reaches_up():
     rank = {f: i for i, f in enumerate(FLOORS)}
+    rank[None] = -1                   # an unplaced module fails test_every_module_has_a_floor
     up = sorted((m, t) for m in MODULES for t in SCAN[m].edges if rank[_floor(t)] > rank[_floor(m)])
     assert not up, "\n".join(f"{m} ({_floor(m)}) imports {t} ({_floor(t)})" for m, t in up)
 
