@@ -39,7 +39,9 @@ applies.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import reduce
+from typing import Any, TypeAlias
 
 import sympy as sp
 from sympy import QQ
@@ -53,10 +55,16 @@ __all__ = ["enclose", "sign", "sign_at", "rational_between", "last_good_cut", "d
 
 _PRECISIONS = (64, 160, 400, 1000, 2500, 6000)      # bits tried by :func:`sign`, in turn
 
+Field: TypeAlias = Any        # a sympy domain: QQ or a real algebraic field QQ<α> (``exact.field.field_of``)
+Element: TypeAlias = Any      # an element of such a field
+RingPoly: TypeAlias = Any     # an element of a sympy polynomial ring over it (``sympy.polys.rings.PolyElement``)
+Interval: TypeAlias = Any     # an interval of mpmath's ``MPIntervalContext``
+Pair: TypeAlias = tuple[RingPoly, RingPoly]     # (real part, imaginary part)
+
 
 # ------------------------------------------------------------------ certified signs in a real field
 
-def enclose(e, ctx):
+def enclose(e: sp.Expr, ctx: Any) -> Interval:
     """An interval of the interval context ``ctx`` (mpmath ``MPIntervalContext``, at its working
     precision) enclosing the real algebraic sympy expression ``e``: rationals, sums, products,
     rational powers (radicals), cos(kπ/n), sin(kπ/n) and real ``CRootOf`` (certified by sympy's
@@ -93,7 +101,7 @@ def enclose(e, ctx):
     raise ValueError(f"no certified enclosure for {e}")
 
 
-def sign(K, a) -> int:
+def sign(K: Field, a: Element) -> int:
     """The sign of an element ``a`` of a real field K (ℚ or ℚ⟨α⟩ of real radicals): exact zero
     test, then interval arithmetic (:func:`enclose`) at rising precision until the enclosure
     excludes 0 (certified).
@@ -123,7 +131,7 @@ def sign(K, a) -> int:
     raise ArithmeticError(f"sign of {e} not decided at {_PRECISIONS[-1]} bits")
 
 
-def sign_at(p, x, K) -> int:
+def sign_at(p: sp.Poly, x: Any, K: Field) -> int:
     """The certified sign of the univariate sympy Poly ``p`` over K at the rational ``x``
     (Horner in K, then :func:`sign`).
 
@@ -137,7 +145,7 @@ def sign_at(p, x, K) -> int:
     return sign(K, acc)
 
 
-def rational_between(a, b) -> sp.Rational:
+def rational_between(a: sp.Expr, b: sp.Expr) -> sp.Rational:
     """A rational strictly between the real algebraic numbers a < b (compared exactly).
 
     >>> q = rational_between(sp.sqrt(2), sp.sqrt(3))
@@ -150,7 +158,8 @@ def rational_between(a, b) -> sp.Rational:
     return q
 
 
-def last_good_cut(start, cuts, fails, step: int):
+def last_good_cut(start: Any, cuts: Any, fails: Callable[[sp.Rational], Any],
+                  step: int) -> tuple[Any, Any]:
     """Walking from ``start`` across ``cuts`` (exact real numbers, sorted in the walking direction,
     ``step`` = +1 rightwards, −1 leftwards), test each open interval between them at a rational
     point: the cut (or ``start``) where the first failing interval begins, with the probe's
@@ -177,17 +186,17 @@ def last_good_cut(start, cuts, fails, step: int):
 
 # ------------------------------------------------------------------ Sturm sequences over K
 
-def degree(p) -> int:
+def degree(p: RingPoly) -> int:
     """The degree of a univariate ring element, −1 for the zero polynomial.
 
     >>> R, t = ring("t", QQ)
     >>> degree(t**3 + 1), degree(R.one), degree(R.zero)
     (3, 0, -1)
     """
-    return -1 if not p else p.degree()
+    return -1 if not p else int(p.degree())
 
 
-def cauchy_index(p0, p1, K) -> int:
+def cauchy_index(p0: RingPoly, p1: RingPoly, K: Field) -> int:
     """Ind_{−∞}^{+∞} p₁/p₀ for univariate p₀ ≠ 0 and p₁ over K: the sign changes of the generalised
     Sturm chain at −∞ minus those at +∞ ([BPR06] Thm. 2.58); 0 for p₀ = 0.
 
@@ -202,14 +211,14 @@ def cauchy_index(p0, p1, K) -> int:
         chain.append(-chain[-2].rem(chain[-1]))
     chain.pop()
 
-    def changes(at_minus):
+    def changes(at_minus: bool) -> int:
         signs = [sign(K, p.LC) * (-1 if at_minus and p.degree() % 2 else 1) for p in chain]
         signs = [s for s in signs if s]
         return sum(1 for a, b in zip(signs, signs[1:], strict=False) if a != b)
     return changes(True) - changes(False)
 
 
-def count_real_roots(p, K) -> int:
+def count_real_roots(p: RingPoly, K: Field) -> int:
     """The number of real roots of a univariate p over K, with multiplicity (square-free
     factorisation, then Sturm on each factor: :func:`cauchy_index` of f′/f).
 
@@ -225,7 +234,7 @@ def count_real_roots(p, K) -> int:
     return sum(m * cauchy_index(f, f.diff(f.ring.gens[0]), K) for f, m in factors)
 
 
-def _upper_count(fr, fi, K) -> int:
+def _upper_count(fr: RingPoly, fi: RingPoly, K: Field) -> int:
     """N₊, the number of roots with Im t > 0 of fr + i·fi (univariate over K, fr and fi coprime, so
     no real root): arg f grows by π(N₊ − N₋) along the real line, which is −π·Ind(fi/fr) when
     deg fi ≤ deg fr."""
@@ -237,7 +246,7 @@ def _upper_count(fr, fi, K) -> int:
     return (n - cauchy_index(fr, fi, K)) // 2
 
 
-def half_plane_counts(fr, fi, K) -> tuple[int, int, int]:
+def half_plane_counts(fr: RingPoly, fi: RingPoly, K: Field) -> tuple[int, int, int]:
     """(N₊, N₀, N₋): the roots of fr + i·fi (univariate over K, not both zero) with Im t > 0, real,
     Im t < 0, with multiplicity.  The common factor h = gcd(fr, fi) holds the real roots and the
     conjugate pairs t, t̄ (one above, one below).
@@ -255,7 +264,7 @@ def half_plane_counts(fr, fi, K) -> tuple[int, int, int]:
     return up + pairs, real, max(degree(fr), degree(fi), 0) - up + pairs
 
 
-def all_in_upper_half(fr, fi, K) -> bool:
+def all_in_upper_half(fr: RingPoly, fi: RingPoly, K: Field) -> bool:
     """Whether every root of fr + i·fi (univariate over K) has Im t > 0.
 
     >>> R, t = ring("t", QQ)
@@ -270,7 +279,7 @@ def all_in_upper_half(fr, fi, K) -> bool:
     return _upper_count(fr, fi, K) == n
 
 
-def all_roots_right(p, K) -> bool:
+def all_roots_right(p: RingPoly, K: Field) -> bool:
     """Every root of the univariate p over K has Re z > 0 (Routh–Hurwitz, as a Cauchy index of
     p(−it) = fr + i·fi: Re z > 0 is Im t > 0; [HW96] §IV.3).
 
@@ -291,12 +300,12 @@ def all_roots_right(p, K) -> bool:
 
 # ------------------------------------------------------------------ the Cayley transform
 
-def _complex_mul(a, b):
+def _complex_mul(a: Pair, b: Pair) -> Pair:
     """(re, im) pairs multiplied."""
     return (a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
 
 
-def cayley_transform(coeff: dict, n: int, t) -> tuple:
+def cayley_transform(coeff: dict[int, Pair], n: int, t: RingPoly) -> Pair:
     """(F_R, F_I) with F_R + i·F_I = Σ_k q_k (1 + it)^k (1 − it)^(n−k) = (1 − it)^n Σ_k q_k w^k at
     w = (1 + it)/(1 − it), for ``coeff`` k ↦ q_k = (re, im), polynomials of the ring of ``t``: the
     unit circle in w is the real t-line (w = −1 is t = ∞), the open unit disc Im t > 0 ([HW96] §V.1).
@@ -320,7 +329,7 @@ def cayley_transform(coeff: dict, n: int, t) -> tuple:
 
 # ------------------------------------------------------------------ fields and norms
 
-def primitive_part(P):
+def primitive_part(P: RingPoly) -> RingPoly:
     """P ∈ K[w, z] divided by its content in w, the gcd of its coefficients as a polynomial in w,
     when that content depends on z (for a characteristic polynomial, a factor of det(I − zA) alone).
 
@@ -333,7 +342,7 @@ def primitive_part(P):
     return P.exquo(content) if content.degree(P.ring.gens[1]) > 0 else P
 
 
-def over_coefficient_field(P, K):
+def over_coefficient_field(P: RingPoly, K: Field) -> tuple[RingPoly, Field]:
     """(P, F) with F = ℚ(coefficients of P) ⊆ K (``exact.subfield``): ℚ when every coefficient is
     rational (often so for radical tableaux: Gauss, GLM43), ℚ(√265551) for GLM4S whose entries
     need degree 16.  The axis analysis costs a power of the field's degree (norms to ℚ).
@@ -353,7 +362,7 @@ def over_coefficient_field(P, K):
     return R.from_dict(dict(zip(P.keys(), coeffs, strict=True))), F
 
 
-def norm_to_rationals(p, K) -> sp.Poly:
+def norm_to_rationals(p: RingPoly, K: Field) -> sp.Poly:
     """The norm of p ∈ K[y] down to ℚ[y] as a sympy Poly in y: the resultant in x of the minimal
     polynomial of K's generator and p with that generator replaced by x; its roots contain those
     of p.
