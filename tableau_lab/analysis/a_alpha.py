@@ -46,9 +46,20 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from ..exact.methods import Method
-from ..exact.real_roots import cayley_transform, over_coefficient_field, primitive_part, sign
+from ..exact.real_roots import (
+    box,
+    cayley_transform,
+    coefficients,
+    disc_counts,
+    lower,
+    over_coefficient_field,
+    poly_box,
+    primitive_part,
+    real_root_boxes,
+    sign,
+    upper,
+)
 from .results import Result
-from .roots import box, coefficients, disc_counts, lower, poly_box, real_root_boxes, upper
 from .stability import characteristic_polynomial
 
 __all__ = ["a_alpha", "AAlphaResult"]

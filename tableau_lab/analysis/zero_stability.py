@@ -37,8 +37,8 @@ from sympy.polys.rings import ring
 
 from ..exact.field import field_of, to_dm
 from ..exact.methods import Method
+from ..exact.real_roots import coefficients, complex_text, disc_counts, exact_circle_roots, outside_roots
 from .results import Result
-from .roots import coefficients, complex_text, disc_counts, exact_circle_roots, outside_roots
 
 __all__ = ["zero_stability", "ZeroStabilityResult", "EigenFactor"]
 

@@ -1,7 +1,8 @@
-r"""Signs and roots over a real number field, certified: the exact-field toolbox of the stability
-analyses (``analysis/stability.py``, ``roots.py``, ``a_alpha.py``, ``ssp.py``, ``real_interval.py``,
-``algebraic_stability.py``).  K is ℚ or a real number field ℚ⟨α⟩ (``exact.field.field_of`` of
-real radicals, cos/sin(kπ/n), real roots of polynomials); polynomials are sympy ring elements.
+r"""Signs and roots of polynomials over a real number field, certified: the exact-field toolbox of
+the stability analyses (``analysis/stability.py``, ``zero_stability.py``, ``a_alpha.py``,
+``parasitism.py``, ``ssp.py``, ``real_interval.py``, ``algebraic_stability.py``).  K is ℚ or a
+real number field ℚ⟨α⟩ (``exact.field.field_of`` of real radicals, cos/sin(kπ/n), real roots of
+polynomials); polynomials are sympy ring elements.
 
 *Certified signs* (:func:`sign`).  An element of K is zero or not by its normal form; a non-zero
 element is enclosed in an interval by interval arithmetic (:func:`enclose`, mpmath's
@@ -36,22 +37,61 @@ applies.
 4
 >>> half_plane_counts(t**2 - 2, -2 * t, QQ)         # (t − i)² − 3: roots i ± √3, both above
 (2, 0, 0)
+
+*Where the roots lie relative to the unit circle* (used by zero-stability, A(α) and the
+parasitism analysis).
+
+*Counting* ([HW96] §V.1 and §IV.3 for the Schur–Cohn / Routh–Hurwitz idea).  The Cayley map
+w = (1 + it)/(1 − it) sends the unit circle to the real t-line (w = −1 to t = ∞) and the open
+unit disc to Im t > 0.  For p of degree n over a real field K,
+F(t) = (1 − it)ⁿ p((1 + it)/(1 − it)) = F_R + i F_I has a root at t = ∞ of the multiplicity of
+w = −1 (its degree drops by it), the real roots of gcd(F_R, F_I) are the other roots on the
+circle, the non-real roots of that gcd are pairs w, 1/w̄ (one inside, one outside), and the rest
+are counted above the real line by a Cauchy index (Sturm sequences over K, signs certified):
+:func:`disc_counts` gives (inside, on, outside) with multiplicity, exactly.
+
+*Self-reciprocal factors.*  An irreducible f over a real field with a root ζ on the circle also
+has the root ζ̄ = 1/ζ, so f and its reciprocal wⁿf(1/w) share a root, hence agree up to sign:
+only such factors can have roots on the circle (:func:`self_reciprocal`).
+
+*Certified complex roots* (:func:`outside_roots`).  Approximations x from ``mpmath.polyroots``
+are certified with the inclusion disc |x − ζ| ≤ n·|p(x)/p′(x)| for some root ζ (from
+p′/p = Σⱼ 1/(x − ζⱼ)), evaluated in interval arithmetic; disjoint discs hold distinct roots, and
+the exact count says when all of them are found.
+
+*Certified real roots* (:func:`real_root_boxes`).  Over ℚ, sympy's exact isolation (continued
+fractions); over K, the norm to ℚ[t] is isolated and its roots that are not roots of p are
+discarded by interval evaluation, until as many remain as p has real roots (Sturm over K).
+
+>>> from sympy import QQ
+>>> from sympy.polys.rings import ring
+>>> R, w = ring("w", QQ)
+>>> disc_counts((w - 1) * (w + 1) * (2 * w - 1) * (w - 3), QQ)
+(1, 2, 1)
+>>> [str(d) for d in outside_roots(w**2 + w + 2, QQ, 2)]
+['w ≈ -0.5 - 1.3228756555322953i (|w| = 1.41421356)', 'w ≈ -0.5 + 1.3228756555322953i (|w| = 1.41421356)']
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
 from functools import reduce
 from typing import Any, TypeAlias
 
+import mpmath
 import sympy as sp
+from mpmath.ctx_iv import MPIntervalContext
 from sympy import QQ
 from sympy.polys.rings import ring
 
+from .field import normal_form
 from .subfield import subfield
 
 __all__ = ["enclose", "sign", "sign_at", "rational_between", "last_good_cut", "degree", "cauchy_index",
            "count_real_roots", "half_plane_counts", "all_in_upper_half", "all_roots_right", "cayley_transform",
-           "primitive_part", "over_coefficient_field", "norm_to_rationals"]
+           "primitive_part", "over_coefficient_field", "norm_to_rationals", "coefficients", "disc_counts",
+           "self_reciprocal", "exact_circle_roots", "unit_circle_eigenvalues", "RootDisc", "outside_roots",
+           "real_root_boxes", "box", "poly_box", "lower", "upper", "complex_text"]
 
 _PRECISIONS = (64, 160, 400, 1000, 2500, 6000)      # bits tried by :func:`sign`, in turn
 
@@ -385,3 +425,272 @@ def norm_to_rationals(p: RingPoly, K: Field) -> sp.Poly:
     mod = sum((x ** (len(mod_coeffs) - 1 - i) * QQ.convert(q) for i, q in enumerate(mod_coeffs)), Rxy.zero)
     n = mod.resultant(lift)
     return sp.Poly.from_dict(dict(n.terms()), Y, domain=QQ)
+
+
+# ------------------------------------------------------------------ coefficients
+
+def coefficients(p: RingPoly) -> list[Element]:
+    """The coefficients of a univariate ring element, highest degree first (none for 0).
+
+    >>> R, w = ring("w", QQ)
+    >>> coefficients(2 * w**2 - 1), coefficients(R.zero)
+    ([2, 0, -1], [])
+    """
+    if not p:
+        return []
+    n = p.degree()
+    c = dict(p.terms())
+    zero = p.ring.domain.zero
+    return [c.get((k,), zero) for k in range(n, -1, -1)]
+
+
+# ------------------------------------------------------------------ exact counts
+
+def disc_counts(p: RingPoly, K: Field) -> tuple[int, int, int]:
+    """(inside, on, outside): the roots of the univariate p ≠ 0 over a real field K with |w| < 1,
+    = 1, > 1, with multiplicity, exactly (Cayley map and Cauchy index, module docstring).
+
+    >>> from tableau_lab.exact.field import field_of
+    >>> K = field_of([sp.sqrt(2)])
+    >>> R, w = ring("w", K)
+    >>> disc_counts((w**2 - K.from_sympy(sp.sqrt(2)) * w + 1) * (w - 2), K)    # e^{±iπ/4} and 2
+    (0, 2, 1)
+    """
+    n = p.degree()
+    if n <= 0:
+        return 0, 0, 0
+    Rt = ring("t", K)[0]
+    t = Rt.gens[0]
+    FR, FI = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p.terms()}, n, t)
+    up, real, down = half_plane_counts(FR, FI, K)
+    return up, real + n - (up + real + down), down
+
+
+def self_reciprocal(coeffs: Iterable[Any]) -> bool:
+    """Whether the coefficient list equals its reverse up to sign (wⁿf(1/w) = ±f): only such an
+    irreducible factor can have a root on the unit circle (module docstring).
+
+    >>> self_reciprocal([1, 1, 1]), self_reciprocal([1, 0, -1]), self_reciprocal([1, -3, 2])
+    (True, True, False)
+    """
+    cs = list(coeffs)
+    return bool(cs == cs[::-1] or cs == [-c for c in cs[::-1]])
+
+
+def _on_unit_circle(z: sp.Expr) -> bool:
+    return bool(normal_form(sp.expand(z * sp.conjugate(z))) == 1)
+
+
+def exact_circle_roots(f: sp.Poly) -> list[sp.Expr] | None:
+    """The roots of f on the unit circle by radicals (normal forms), or None when sympy finds
+    fewer roots than the degree (no radicals).
+
+    >>> w = sp.Symbol("w")
+    >>> exact_circle_roots(sp.Poly(w**2 + w + 1, w))          # the primitive cube roots of unity
+    [-1/2 - sqrt(3)*I/2, -1/2 + sqrt(3)*I/2]
+    """
+    roots = sp.roots(f, f.gen)
+    if sum(roots.values()) != f.degree():
+        return None
+    return [z for z in (sp.radsimp(z) for z in roots) if _on_unit_circle(z)]
+
+
+def unit_circle_eigenvalues(V: sp.MatrixBase) -> list[tuple[sp.Expr, int]]:
+    """(ζ, algebraic multiplicity) for the eigenvalues ζ ≠ 1 of V with |ζ| = 1, exactly, without
+    computing the others: the characteristic polynomial is factored over ℚ and only its
+    self-reciprocal factors (rare: ±1, cyclotomic, Salem) are solved by radicals; the rest (BDF's
+    ρ(w)/(w − 1), say, of degree up to 16) cost one factorisation.  V with irrational entries: all
+    eigenvalues, as before.
+
+    >>> unit_circle_eigenvalues(sp.Matrix([[1, 0, 0], [0, 0, -1], [0, 1, 0]]))     # 1 and ±i
+    [(-I, 1), (I, 1)]
+    """
+    w = sp.Symbol("w")
+    if not all(sp.sympify(v).is_Rational for v in V):
+        found = []
+        for zeta, mult in V.eigenvals().items():
+            zeta = sp.nsimplify(zeta) if zeta.is_Rational else sp.radsimp(zeta)
+            if normal_form(zeta - 1) != 0 and _on_unit_circle(zeta):
+                found.append((zeta, mult))
+        return found
+    found = []
+    for f, mult in sp.factor_list(V.charpoly(w).as_expr(), w)[1]:
+        f = sp.Poly(f, w)
+        if not self_reciprocal(f.all_coeffs()):
+            continue                          # no root on the unit circle
+        roots = exact_circle_roots(f)
+        if roots is None:
+            raise ValueError(f"V has eigenvalues on the unit circle that are roots of {f.as_expr()} "
+                             "(no radicals): not supported")
+        found += [(zeta, mult) for zeta in roots if normal_form(zeta - 1) != 0]
+    return sorted(found, key=lambda z: sp.default_sort_key(z[0]))
+
+
+# ------------------------------------------------------------------ interval evaluation
+
+def box(K: Field, c: Element, ctx: Any) -> Interval:
+    """An interval (of ``ctx``) enclosing the element c of the real field K (:func:`enclose`).
+
+    >>> ctx = MPIntervalContext()
+    >>> ctx.prec = 53
+    >>> box(QQ, QQ(1, 3), ctx)
+    mpi('0.33333333333333331', '0.33333333333333337')
+    """
+    if K.is_QQ or K.is_ZZ:
+        c = QQ.convert(c)
+        return ctx.mpf(int(c.numerator)) / ctx.mpf(int(c.denominator))
+    return enclose(K.to_sympy(c), ctx)
+
+
+def poly_box(coeffs: list[Interval], x: Interval, ctx: Any) -> Interval:
+    """Horner's rule in interval arithmetic: p(x) for interval coefficients (highest first) and an
+    interval (real or complex) x ([Moore66] ch. 3: an enclosure of the range).
+
+    >>> ctx = MPIntervalContext()
+    >>> poly_box([ctx.mpf(1), ctx.mpf(0), ctx.mpf(-2)], ctx.mpf([1, 2]), ctx)     # x² − 2 on [1, 2]
+    mpi('-1.0', '2.0')
+    """
+    out = ctx.mpf(0)
+    for c in coeffs:
+        out = out * x + c
+    return out
+
+
+# ------------------------------------------------------------------ certified complex roots
+
+@dataclass(frozen=True)
+class RootDisc:
+    """A root ζ of a polynomial certified by a disc |ζ − center| ≤ radius (:func:`outside_roots`)."""
+
+    center: Any                # the approximation (mpmath mpf or mpc, at least 40 digits)
+    radius: float              # an upper bound of |ζ − center|
+    modulus: tuple[Any, Any]   # (lo, hi): an enclosure of |ζ| (mpmath mpf)
+
+    @property
+    def value(self) -> sp.Expr:
+        """The root to 18 significant digits (as a sympy number)."""
+        c = self.center
+        re, im = (sp.Float(mpmath.nstr(v, 18), 18) for v in (c.real, c.imag))
+        return re + sp.I * im if c.imag else re
+
+    def __str__(self) -> str:
+        return f"w ≈ {complex_text(self.center)} (|w| = {mpmath.nstr(self.modulus[0], 9)})"
+
+
+def complex_text(c: Any) -> str:
+    """x + yi to 18 digits.
+
+    >>> complex_text(mpmath.mpc(0.5, -0.25)), complex_text(mpmath.mpf(2))
+    ('0.5 - 0.25i', '2.0')
+    """
+    with mpmath.workdps(40):
+        re, im = mpmath.nstr(c.real, 18), mpmath.nstr(abs(c.imag), 18)
+    if not c.imag:
+        return str(re)
+    return f"{re} {'-' if c.imag < 0 else '+'} {im}i"
+
+
+def _endpoint(raw: Any) -> Any:
+    """A raw mpmath float (sign, mantissa, exponent, bits) as an mpf, exactly (no rounding to the
+    global precision)."""
+    with mpmath.workprec(max(raw[3], 1) + 10):
+        return mpmath.mpf(raw)
+
+
+def lower(v: Interval) -> Any:
+    """The lower end of an interval of ``MPIntervalContext`` as an exact mpmath mpf (:func:`upper`: the
+    upper end).
+
+    >>> ctx = MPIntervalContext()
+    >>> v = ctx.mpf([1, 2])
+    >>> lower(v), upper(v)
+    (mpf('1.0'), mpf('2.0'))
+    """
+    return _endpoint(v._mpi_[0])
+
+
+def upper(v: Interval) -> Any:
+    """The upper end of an interval as an exact mpmath mpf."""
+    return _endpoint(v._mpi_[1])
+
+
+def _point(ctx: Any, x: Any) -> Interval:
+    """The complex number x (binary floating point, so exact) as a point interval."""
+    return ctx.mpc(ctx.mpf(x.real), ctx.mpf(x.imag))
+
+
+def outside_roots(p: RingPoly, K: Field, count: int) -> tuple[RootDisc, ...]:
+    """The ``count`` roots of the square-free univariate p over a real field K with |w| > 1 (the
+    exact count, from :func:`disc_counts`), each as a certified :class:`RootDisc`, largest first."""
+    if count == 0:
+        return ()
+    cs = coefficients(p)
+    n = len(cs) - 1
+    ders = [c * (n - i) for i, c in enumerate(cs[:-1])]
+    for dps in (40, 80, 160, 320, 640, 1280):
+        with mpmath.workdps(dps):
+            num = [mpmath.mpf(str(sp.N(K.to_sympy(c), dps + 10))) for c in cs]
+            try:
+                approx = mpmath.polyroots(num, maxsteps=100 + 20 * n, extraprec=2 * dps)
+            except mpmath.NoConvergence:
+                continue
+        ctx = MPIntervalContext()
+        ctx.prec = int(dps * 3.33) + 20
+        P, D = [box(K, c, ctx) for c in cs], [box(K, c, ctx) for c in ders]
+        found = []
+        for x in approx:
+            X = _point(ctx, x)            # x keeps the working precision of polyroots
+            dp = abs(poly_box(D, X, ctx))
+            if dp.a <= 0:
+                continue
+            rad = (n * abs(poly_box(P, X, ctx)) / dp).b        # a point interval: the upper end
+            mod = abs(X)
+            lo, hi = lower(mod - rad), upper(mod + rad)
+            if lo > 1:
+                found.append((x, rad, lo, hi))
+        apart = all(lower(abs(_point(ctx, a[0]) - _point(ctx, b[0]))) > upper(a[1] + b[1])
+                    for i, a in enumerate(found) for b in found[i + 1:])
+        if len(found) == count and apart:
+            found.sort(key=lambda f: (-f[2], f[0].imag))
+            return tuple(RootDisc(center=x, radius=float(upper(rad)), modulus=(lo, hi))
+                         for x, rad, lo, hi in found)
+    raise ArithmeticError(f"the {count} roots of {p.as_expr()} outside the unit circle were not certified")
+
+
+# ------------------------------------------------------------------ certified real roots
+
+def real_root_boxes(p: RingPoly, K: Field, bits: int) -> list[tuple[sp.Rational, sp.Rational]]:
+    """Disjoint rational intervals (a, b), b − a ≤ 2^−bits, each holding exactly one real root of
+    the square-free univariate p over a real field K (a = b: an exact rational root), in order:
+    over ℚ sympy's exact isolation, over K the isolated roots of the norm to ℚ that are roots of p.
+
+    >>> from tableau_lab.exact.field import field_of
+    >>> K = field_of([sp.sqrt(2)])
+    >>> R, t = ring("t", K)
+    >>> boxes = real_root_boxes(t**2 - K.from_sympy(sp.sqrt(2)), K, 4)        # ±2^(1/4) = ±1.1892...
+    >>> boxes, all(a < r < b for (a, b), r in zip(boxes, (-2 ** 0.25, 2 ** 0.25), strict=True))
+    ([(-6/5, -7/6), (7/6, 6/5)], True)
+    """
+    if p.degree() <= 0:
+        return []
+    eps = sp.Rational(1, 2 ** bits)
+    if K.is_QQ:
+        poly = sp.Poly.from_dict({m: QQ.convert(c) for m, c in p.terms()}, sp.Symbol("t"), domain=QQ)
+        return [(sp.Rational(a), sp.Rational(b)) for (a, b), _ in poly.intervals(eps=eps)]
+    target = count_real_roots(p, K)
+    norm = norm_to_rationals(p, K)
+    norm = sp.Poly(sp.sqf_part(norm.as_expr()), norm.gen, domain=QQ)
+    cs = coefficients(p)
+    for extra in range(0, 40 * 64, 64):
+        ctx = MPIntervalContext()
+        ctx.prec = bits + extra + 40
+        P = [box(K, c, ctx) for c in cs]
+        kept = []
+        for (a, b), _ in norm.intervals(eps=eps / 2 ** extra):
+            a, b = sp.Rational(a), sp.Rational(b)
+            val = poly_box(P, ctx.mpf([box(QQ, QQ(a.p, a.q), ctx).a, box(QQ, QQ(b.p, b.q), ctx).b]), ctx)
+            if val.a <= 0 <= val.b:
+                kept.append((a, b))
+        if len(kept) == target:
+            return kept
+    raise ArithmeticError(f"the real roots of {p.as_expr()} were not separated")
