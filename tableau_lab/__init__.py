@@ -32,7 +32,7 @@ _LAZY = {
     "verify": "tableau_lab.analysis.verify",
     "order": "tableau_lab.analysis.order",
     "stability": "tableau_lab.analysis.stability",
-    "stability_report": "tableau_lab.analysis.stability",
+    "stability_report": "tableau_lab.analysis.stability_report",
     "g_symplectic": "tableau_lab.analysis.symplectic",
     "parasitism": "tableau_lab.analysis.parasitism",
     "imaginary_stability_interval": "tableau_lab.analysis.front",

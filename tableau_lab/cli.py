@@ -105,7 +105,7 @@ def _modified(args) -> int:
 
 
 def _stability(args) -> int:
-    from .analysis.stability import stability_report
+    from .analysis.stability_report import stability_report
     from .exact.tableau_json import TableauError
 
     def analyse(method, path):

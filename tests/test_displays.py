@@ -114,7 +114,7 @@ def _results() -> list:
     from tableau_lab.analysis.order import order
     from tableau_lab.analysis.parasitism import growth_parameters
     from tableau_lab.analysis.series_structure import structure
-    from tableau_lab.analysis.stability import stability_report
+    from tableau_lab.analysis.stability_report import stability_report
     from tableau_lab.analysis.symmetry import symmetric
     from tableau_lab.analysis.symplectic import g_symplectic, rk_symplectic
     from tableau_lab.analysis.verify import verify

@@ -190,7 +190,7 @@ def test_module_imports_no_matplotlib():
 
 def test_exact_analysis_marks_bdf4_sector():
     # BDF4 is A(α)-stable with α = 73.35° (HW II, Table V.2.3); the plot marks what it is given
-    from tableau_lab.analysis.stability import stability_report
+    from tableau_lab.analysis.stability_report import stability_report
     report = stability_report(load("bdf:4"))
     ax = ip.plot_stability_region("bdf:4", analysis=report)
     (edge,) = [line for line in ax.lines if "sector" in str(line.get_label())]

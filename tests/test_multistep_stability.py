@@ -11,7 +11,7 @@ import pytest
 import sympy as sp
 
 from tableau_lab.analysis.a_alpha import a_alpha
-from tableau_lab.analysis.stability import stability_report
+from tableau_lab.analysis.stability_report import stability_report
 from tableau_lab.analysis.zero_stability import zero_stability
 from tableau_lab.cli import main
 from tableau_lab.exact.library import family

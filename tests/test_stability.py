@@ -10,9 +10,10 @@ import pytest
 import sympy as sp
 
 from tableau_lab.analysis.algebraic_stability import algebraic_stability
-from tableau_lab.analysis.stability import W, Z, all_roots_right, sign, stability, stability_function
+from tableau_lab.analysis.stability import W, Z, stability, stability_function
 from tableau_lab.cli import main
 from tableau_lab.exact.field import field_of
+from tableau_lab.exact.real_roots import all_roots_right, sign
 from tableau_lab.exact.tableau_json import load
 
 LIBRARY = ["adams_bashforth2", "butcher_effective5", "example4_glm", "explicit_euler", "gauss2", "gauss3", "glm43",

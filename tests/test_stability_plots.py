@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 from test_figures import figures  # noqa: F401 - the fixture: figures given to style.save
 
-from tableau_lab.analysis.stability import stability, stability_report
+from tableau_lab.analysis.stability import stability
+from tableau_lab.analysis.stability_report import stability_report
 from tableau_lab.cli import main
 from tableau_lab.exact.library import family
 from tableau_lab.experiments.stability_plots import draw_stability, locus_bounded, window

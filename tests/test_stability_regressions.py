@@ -19,7 +19,8 @@ import sympy as sp
 from tableau_lab.analysis.algebraic_stability import algebraic_stability
 from tableau_lab.analysis.internal_stability import internal_stability
 from tableau_lab.analysis.real_interval import real_stability_interval
-from tableau_lab.analysis.stability import stability, stability_report
+from tableau_lab.analysis.stability import stability
+from tableau_lab.analysis.stability_report import stability_report
 from tableau_lab.budget import time_limit
 from tableau_lab.cli import main
 from tableau_lab.exact.grammar import format_entry, parse_entry

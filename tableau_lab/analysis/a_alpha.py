@@ -46,9 +46,21 @@ from sympy import QQ
 from sympy.polys.rings import ring
 
 from ..exact.methods import Method
+from ..exact.real_roots import (
+    box,
+    cayley_transform,
+    coefficients,
+    disc_counts,
+    lower,
+    over_coefficient_field,
+    poly_box,
+    primitive_part,
+    real_root_boxes,
+    sign,
+    upper,
+)
 from .results import Result
-from .roots import box, coefficients, disc_counts, lower, poly_box, real_root_boxes, upper
-from .stability import _cayley, _over_coefficient_field, _primitive, characteristic_polynomial, sign
+from .stability import characteristic_polynomial
 
 __all__ = ["a_alpha", "AAlphaResult"]
 
@@ -160,8 +172,8 @@ def _locus(p0, p1, K) -> _Locus:
     Rt = ring("t", K)[0]
     t = Rt.gens[0]
     n = max(p0.degree(), p1.degree())
-    Ar, Ai = _cayley({k: (Rt(c), Rt.zero) for (k,), c in p0.terms()}, n, t)
-    Br, Bi = _cayley({k: (Rt(c), Rt.zero) for (k,), c in p1.terms()}, n, t)
+    Ar, Ai = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p0.terms()}, n, t)
+    Br, Bi = cayley_transform({k: (Rt(c), Rt.zero) for (k,), c in p1.terms()}, n, t)
     X, Y = Ar * Br + Ai * Bi, Ai * Br - Ar * Bi
     G = X.gcd(Y) if Y else X.monic()
     return _Locus(K, G, X.exquo(G), Y.exquo(G) if Y else Rt.zero, (Ar, Ai))
@@ -190,58 +202,78 @@ class _Candidate:
     where: str
 
 
-def _candidates(L: _Locus, bits: int) -> list:
-    """Every candidate for the minimum of |arg(−z(t))| at this precision (raises _Undecided)."""
-    K = L.K
-    ctx = MPIntervalContext()
-    ctx.prec = bits + 64
-    t = L.X.ring.gens[0]
-    ev = {}
+class _Boxes:
+    """Interval values of polynomials over K at intervals of t, at ``bits`` + 64 bits; each
+    polynomial's coefficient boxes computed once."""
 
-    def at(p, I):
+    def __init__(self, K, bits: int):
+        self.K = K
+        self.ctx = MPIntervalContext()
+        self.ctx.prec = bits + 64
+        self._coeffs = {}
+
+    def at(self, p, iv):
+        """p(iv) as an interval (0 for the zero polynomial)."""
         key = id(p)
-        if key not in ev:
-            ev[key] = (p, [box(K, c, ctx) for c in coefficients(p)])
-        return poly_box(ev[key][1], I, ctx) if p.degree() >= 0 and p else ctx.mpf(0)
+        if key not in self._coeffs:
+            self._coeffs[key] = (p, [box(self.K, c, self.ctx) for c in coefficients(p)])
+        return poly_box(self._coeffs[key][1], iv, self.ctx) if p.degree() >= 0 and p else self.ctx.mpf(0)
 
-    out = []
+
+def _limits_at_poles(L: _Locus, ev: _Boxes, bits: int) -> list:
+    """The one-sided limits at the real roots of G (z → 0 or z → ∞)."""
+    K, ctx, at = L.K, ev.ctx, ev.at
+    t = L.X.ring.gens[0]
     Xt, Yt, G = L.X, L.Y, L.G
-    if not Xt:
-        return out                                      # the locus lies on the imaginary axis: |arg| = π/2
     a0 = L.A[0].gcd(L.A[1]) if L.A[1] else L.A[0]
-    # one-sided limits at the real roots of G (z → 0 or z → ∞)
+    out = []
     for g, k in (G.sqf_list()[1] if G.degree() > 0 else []):
         other, dg = G.exquo(g ** k), g.diff(t)
         on_axis = g.gcd(Yt) if Yt else g           # there −z → 0 or ∞ along the real axis: |arg| = 0 or π
         for part, exact in ((_without(g, Xt, on_axis), False), (on_axis, True)):
             for a, b in real_root_boxes(part, K, bits):
-                I = _interval(a, b, ctx)
-                so, sd = _sign(at(other, I)), _sign(at(dg, I))
-                kind = "z → 0" if a0.degree() > 0 and _contains_zero(at(a0, I)) else "z → ∞"
+                iv = _interval(a, b, ctx)
+                so, sd = _sign(at(other, iv)), _sign(at(dg, iv))
+                kind = "z → 0" if a0.degree() > 0 and _contains_zero(at(a0, iv)) else "z → ∞"
                 for side, s in (("right", so * sd ** k), ("left", so * (-sd) ** k)):
                     where = f"the limit {kind} of the boundary locus ({side} of θ)"
                     if not exact:
-                        out.append(_Candidate(_abs_arg(s, at(Xt, I), at(Yt, I), ctx), (a + b) / 2, where))
-                    elif s * _sign(at(Xt, I)) > 0:
+                        out.append(_Candidate(_abs_arg(s, at(Xt, iv), at(Yt, iv), ctx), (a + b) / 2, where))
+                    elif s * _sign(at(Xt, iv)) > 0:
                         out.append(_Candidate(sp.S.Zero, (a + b) / 2, where + " along the negative real axis"))
-    # −z real: |arg| = 0 or π exactly
-    if Yt:
-        for a, b in real_root_boxes(_without(_sqf(Yt), G), K, bits):
-            I = _interval(a, b, ctx)
-            if _sign(at(G, I)) * _sign(at(Xt, I)) > 0:
-                out.append(_Candidate(sp.S.Zero, (a + b) / 2, "the boundary locus crosses the negative real axis"))
-        # stationary points of arg(−z)
-        W = Xt * Yt.diff(t) - Xt.diff(t) * Yt
-        if W:
-            for a, b in real_root_boxes(_without(_sqf(W), G, Yt, Xt), K, bits):
-                I = _interval(a, b, ctx)
-                out.append(_Candidate(_abs_arg(_sign(at(G, I)), at(Xt, I), at(Yt, I), ctx), (a + b) / 2,
-                                      "a stationary point of arg z(θ)"))
-    # t → ±∞ (θ = π, w = −1)
+    return out
+
+
+def _axis_crossings_and_stationary_points(L: _Locus, ev: _Boxes, bits: int) -> list:
+    """Where −z is real (|arg| = 0 or π exactly) and the stationary points of arg(−z)."""
+    K, ctx, at = L.K, ev.ctx, ev.at
+    t = L.X.ring.gens[0]
+    Xt, Yt, G = L.X, L.Y, L.G
+    out = []
+    if not Yt:
+        return out
+    for a, b in real_root_boxes(_without(_sqf(Yt), G), K, bits):
+        iv = _interval(a, b, ctx)
+        if _sign(at(G, iv)) * _sign(at(Xt, iv)) > 0:
+            out.append(_Candidate(sp.S.Zero, (a + b) / 2, "the boundary locus crosses the negative real axis"))
+    W = Xt * Yt.diff(t) - Xt.diff(t) * Yt
+    if W:
+        for a, b in real_root_boxes(_without(_sqf(W), G, Yt, Xt), K, bits):
+            iv = _interval(a, b, ctx)
+            out.append(_Candidate(_abs_arg(_sign(at(G, iv)), at(Xt, iv), at(Yt, iv), ctx), (a + b) / 2,
+                                  "a stationary point of arg z(θ)"))
+    return out
+
+
+def _limits_at_infinity(L: _Locus, ev: _Boxes) -> list:
+    """The limits t → ±∞ (θ = π, w = −1)."""
+    K, ctx = L.K, ev.ctx
+    Xt, Yt, G = L.X, L.Y, L.G
     d = max(Xt.degree(), Yt.degree() if Yt else -1)
     cx = Xt.LC if Xt.degree() == d else K.zero
     cy = Yt.LC if Yt and Yt.degree() == d else K.zero
     sG = sign(K, G.LC)
+    out = []
     for s in (sG, sG * (-1) ** (G.degree() + d)):
         if K.is_zero(cx):
             continue                                    # |arg| = π/2 exactly
@@ -251,6 +283,16 @@ def _candidates(L: _Locus, bits: int) -> list:
             continue
         out.append(_Candidate(_abs_arg(s, box(K, cx, ctx), box(K, cy, ctx), ctx), sp.oo, "the limit θ → π"))
     return out
+
+
+def _candidates(L: _Locus, bits: int) -> list:
+    """Every candidate for the minimum of |arg(−z(t))| at this precision (raises _Undecided): the
+    limits at the poles, the crossings of the real axis, the stationary points, the limits at ∞."""
+    if not L.X:
+        return []                                       # the locus lies on the imaginary axis: |arg| = π/2
+    ev = _Boxes(L.K, bits)
+    return (_limits_at_poles(L, ev, bits) + _axis_crossings_and_stationary_points(L, ev, bits)
+            + _limits_at_infinity(L, ev))
 
 
 def _contains_zero(v) -> bool:
@@ -326,10 +368,10 @@ def a_alpha(m: Method, zero=None, polynomial=None) -> AAlphaResult:
             return AAlphaResult(method=m.name, status="not computed", degree=d, reason=f"P has degree {d} in z")
         if zero is not None and not zero.holds:
             return AAlphaResult(method=m.name, status="none", degree=1, reason="the method is not zero-stable")
-    P, K = _over_coefficient_field(*characteristic_polynomial(m))
+    P, K = over_coefficient_field(*characteristic_polynomial(m))
     z = P.ring.gens[1]
     d = P.degree(z)
-    Pp = _primitive(P)
+    Pp = primitive_part(P)
     if d != 1:
         return AAlphaResult(method=m.name, status="not computed", degree=d, reason=f"P has degree {d} in z")
     if Pp.degree(z) != 1:

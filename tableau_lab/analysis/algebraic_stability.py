@@ -37,9 +37,9 @@ import sympy as sp
 from ..exact.field import element, field_of, from_dm, to_dm
 from ..exact.grammar import format_matrix
 from ..exact.methods import Method
+from ..exact.real_roots import sign
 from .results import Result, matrix_latex, matrix_text
-from .stability import sign
-from .symplectic import _residuals_dm
+from .symplectic import g_symplectic_residuals_dm
 
 __all__ = ["algebraic_stability", "AlgebraicStabilityResult", "stability_matrix"]
 
@@ -87,7 +87,7 @@ def stability_matrix(m: Method, G, D) -> sp.ImmutableMatrix:
     """The algebraic-stability matrix M of a GLM (or an RK method as a GLM) for given G, D, exactly."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, G, D])
-    R1, R2, R3 = _residuals_dm(*(to_dm(sp.Matrix(X), K) for X in (g.A, g.U, g.B, g.V, G, D)))
+    R1, R2, R3 = g_symplectic_residuals_dm(*(to_dm(sp.Matrix(X), K) for X in (g.A, g.U, g.B, g.V, G, D)))
     # M = [[DA + AᵀD − BᵀGB, DU − BᵀGV], [(DU − BᵀGV)ᵀ, G − VᵀGV]]: the G-symplectic residuals
     return from_dm(R3.hstack(R2).vstack(R2.transpose().hstack(-R1)))
 

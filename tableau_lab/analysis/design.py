@@ -56,8 +56,8 @@ from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
 
-__all__ = ["solve", "solve_file", "solve_text", "parse_requirements", "Requirement", "DesignResult",
-           "Solution", "DesignError"]
+__all__ = ["solve", "solve_file", "solve_text", "method_from_design", "parse_requirements", "Requirement",
+           "DesignResult", "Solution", "DesignError"]
 
 CLASSICAL_ORDERS = ("order", "identity-start-order")      # imply consistency (the order-1 conditions)
 ORDER_KEYWORDS = CLASSICAL_ORDERS + ("effective-order", "stage-order")     # take a value =P
@@ -290,71 +290,93 @@ class _Problem:
         return [self.sys.frac(x) for x in v]
 
     def _equations(self, r):
+        """The labelled equations of the requirement ``r`` (one builder per requirement name)."""
+        build = self._BUILDERS.get(r.name)
+        if build is None:
+            raise DesignError(f"requirement {r} is not implemented")  # pragma: no cover
+        return build(self, r)
+
+    def _equation(self, r):
+        return [(f"equation {r.text}", self.sys.frac(r.value[0] - r.value[1]))]
+
+    def _symplectic(self, r):
         m, F = self.m, self.sys.F
-        if r.name == "equation":
-            return [(f"equation {r.text}", self.sys.frac(r.value[0] - r.value[1]))]
-        if r.name == "symplectic":
-            if m.kind == "rk":
-                return _symplectic_rk(self._mat(m.A), self._vec(m.b), F)
-            if m.kind == "prk":
-                A, b, Ah, bh = self._mat(m.A), self._vec(m.b), self._mat(m.Ahat), self._vec(m.bhat)
-                return (_symplectic_rk(A, b, F, hat=(bh, Ah))
-                        + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh, strict=False))])
-            raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
-        if r.name == "symmetric":
-            if m.kind == "prk":
-                raise DesignError("symmetric is implemented for RK methods and GLMs, not partitioned methods")
-            from .symmetry import symmetry_conditions
-            try:
-                cands = symmetry_conditions(m)
-            except ValueError as exc:
-                raise DesignError(f"symmetric: {exc}") from None
-            if len(cands) == 1:                    # RK (r = 1): L = 1, plain equations
-                return [(f"symmetric, condition {k + 1}", self.sys.frac(e)) for k, e in enumerate(cands[0][1]) if e != 0]
-            # one branch per involution L: the union of their solutions
-            self.branches = [gb + [(f"symmetric, L = diag({', '.join(str(L[i, i]) for i in range(L.rows))}),"
-                                    f" condition {k + 1}", e) for k, e in enumerate(conds) if e != 0]
-                             for gb in self.branches for L, conds in cands]
-            return []
-        if r.name == "stage-order":
-            if m.kind != "rk":
-                raise DesignError("stage-order is implemented for RK methods (C(q))")
-            A, c = self._mat(m.A), self._vec(m.c)
-            return [(f"C({k}) stage {i + 1}", sum((a * power(F, cj, k - 1) for a, cj in zip(A[i], c, strict=False)), F.zero)
-                     - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
-        if r.name == "order":
-            return self._order(r.value)
-        if r.name == "identity-start-order":
-            return self._order(r.value, free_theta=False)
-        if r.name == "effective-order":
-            if m.kind != "rk":
-                raise DesignError("effective-order applies to RK methods; a GLM's order=P is already relative "
-                                  "to the best starting method")
-            return self._order(r.value, glm=True)
-        if r.name == "parasitism-free":
-            from .parasitism import growth_parameters
-            try:
-                res = growth_parameters(m)
-            except ValueError as exc:
-                raise DesignError(str(exc)) from None
-            out = []
-            for p in res.items:
-                re, im = sp.expand_complex(sp.expand(p.mu)).as_real_imag()
-                out += [(f"parasitism Re μ(ζ = {p.zeta})", self.sys.frac(sp.expand(re))),
-                        (f"parasitism Im μ(ζ = {p.zeta})", self.sys.frac(sp.expand(im)))]
-            return out
-        if r.name == "g-symplectic":
-            A, U, B, V = self._glm()
-            G, D = self.G, self.D
-            out = []
-            for name, M in (("VᵀGV − G", V.T * G * V - G), ("DU − BᵀGV", D * U - B.T * G * V),
-                            ("DA + AᵀD − BᵀGB", D * A + A.T * D - B.T * G * B)):
-                sym = name != "DU − BᵀGV"
-                out += [(f"{name} [{i + 1},{j + 1}]", self.sys.frac(sp.expand(M[i, j])))
-                        for i in range(M.rows) for j in range(i if sym else 0, M.cols)]
-            out.append(("G nonsingular: det(G)·z = 1", self.sys.frac(sp.expand(G.det() * self.z - 1))))
-            return out
-        raise DesignError(f"requirement {r} is not implemented")  # pragma: no cover
+        if m.kind == "rk":
+            return _symplectic_rk(self._mat(m.A), self._vec(m.b), F)
+        if m.kind == "prk":
+            A, b, Ah, bh = self._mat(m.A), self._vec(m.b), self._mat(m.Ahat), self._vec(m.bhat)
+            return (_symplectic_rk(A, b, F, hat=(bh, Ah))
+                    + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh, strict=False))])
+        raise DesignError("symplectic applies to RK and partitioned RK methods; for a GLM use g-symplectic")
+
+    def _symmetric(self, r):
+        m = self.m
+        if m.kind == "prk":
+            raise DesignError("symmetric is implemented for RK methods and GLMs, not partitioned methods")
+        from .symmetry import symmetry_conditions
+        try:
+            cands = symmetry_conditions(m)
+        except ValueError as exc:
+            raise DesignError(f"symmetric: {exc}") from None
+        if len(cands) == 1:                    # RK (r = 1): L = 1, plain equations
+            return [(f"symmetric, condition {k + 1}", self.sys.frac(e)) for k, e in enumerate(cands[0][1]) if e != 0]
+        # one branch per involution L: the union of their solutions
+        self.branches = [gb + [(f"symmetric, L = diag({', '.join(str(L[i, i]) for i in range(L.rows))}),"
+                                f" condition {k + 1}", e) for k, e in enumerate(conds) if e != 0]
+                         for gb in self.branches for L, conds in cands]
+        return []
+
+    def _stage_order(self, r):
+        m, F = self.m, self.sys.F
+        if m.kind != "rk":
+            raise DesignError("stage-order is implemented for RK methods (C(q))")
+        A, c = self._mat(m.A), self._vec(m.c)
+        return [(f"C({k}) stage {i + 1}",
+                 sum((a * power(F, cj, k - 1) for a, cj in zip(A[i], c, strict=False)), F.zero)
+                 - c[i] ** k * self.sys.frac(sp.Rational(1, k))) for k in range(1, r.value + 1) for i in range(m.s)]
+
+    def _effective_order(self, r):
+        if self.m.kind != "rk":
+            raise DesignError("effective-order applies to RK methods; a GLM's order=P is already relative "
+                              "to the best starting method")
+        return self._order(r.value, glm=True)
+
+    def _parasitism_free(self, r):
+        from .parasitism import growth_parameters
+        try:
+            res = growth_parameters(self.m)
+        except ValueError as exc:
+            raise DesignError(str(exc)) from None
+        out = []
+        for p in res.items:
+            re, im = sp.expand_complex(sp.expand(p.mu)).as_real_imag()
+            out += [(f"parasitism Re μ(ζ = {p.zeta})", self.sys.frac(sp.expand(re))),
+                    (f"parasitism Im μ(ζ = {p.zeta})", self.sys.frac(sp.expand(im)))]
+        return out
+
+    def _g_symplectic(self, r):
+        A, U, B, V = self._glm()
+        G, D = self.G, self.D
+        out = []
+        for name, M in (("VᵀGV − G", V.T * G * V - G), ("DU − BᵀGV", D * U - B.T * G * V),
+                        ("DA + AᵀD − BᵀGB", D * A + A.T * D - B.T * G * B)):
+            sym = name != "DU − BᵀGV"
+            out += [(f"{name} [{i + 1},{j + 1}]", self.sys.frac(sp.expand(M[i, j])))
+                    for i in range(M.rows) for j in range(i if sym else 0, M.cols)]
+        out.append(("G nonsingular: det(G)·z = 1", self.sys.frac(sp.expand(G.det() * self.z - 1))))
+        return out
+
+    _BUILDERS = {
+        "equation": _equation,
+        "symplectic": _symplectic,
+        "symmetric": _symmetric,
+        "stage-order": _stage_order,
+        "order": lambda self, r: self._order(r.value),
+        "identity-start-order": lambda self, r: self._order(r.value, free_theta=False),
+        "effective-order": _effective_order,
+        "parasitism-free": _parasitism_free,
+        "g-symplectic": _g_symplectic,
+    }
 
     def _order(self, P, glm=False, free_theta=True):
         m, F = self.m, self.sys.F
@@ -491,19 +513,10 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
         for br in sysm.explicit_parametrisation(comp, list(reversed(prob.params)))[1]:
             conds = _conditions(br.conditions, params)
             covered.append((comp, conds))
-            symvals = {p: br.values[p] for p in prob.params if p in br.values}
-            sol = _solution(m, prob, br, symvals, conds, note)
-            if sol.real and not sol.implicit:
-                try:
-                    meth = _rebuild(m, symvals)
-                    ver = _verify(meth, reqs, symvals)
-                except (MethodError, ValueError) as exc:  # a solution that is no method (e.g. a zero denominator)
-                    rejected.append(Solution(**{**sol.__dict__, "label": f"{sol.label}: {exc}"}))
-                    continue
-                sol = Solution(**{**sol.__dict__, "method": meth, "verified": ver})
-                (solutions if all(ver.values()) else rejected).append(sol)
-            else:
-                rejected.append(sol)
+            sol, verdict = _judged(m, prob, reqs, br, conds, note)
+            (solutions if verdict == "accepted" else rejected).append(sol)
+            if verdict == "no method":
+                continue      # its special cases are not searched
             # the generic formulas exclude the zeros of their branch conditions: solve those too
             if depth < 2:
                 exprs = [g.as_expr() for g in comp]
@@ -511,18 +524,41 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
                     queue += [(sub, depth + 1, f"special case {format_entry(c)} = 0 of: ", comp)
                               for sub in sysm.components([sysm.poly(e) for e in exprs] + [sysm.poly(c)])]
     solutions = _dedupe(solutions)
-    if solutions:
-        status = "solved"
-    elif any(not s.real for s in rejected):
-        status = "no real solution"
-    elif rejected:
-        status = "not in radicals"
-    else:
-        status = "no solution"
-    obstruction = tuple((lab, sysm.expr(p)) for lab, p in (cores[0] if cores and not solutions and not rejected else ()))
+    status = _status(solutions, rejected)
+    core = cores[0] if cores and not solutions and not rejected else ()
+    obstruction = tuple((lab, sysm.expr(p)) for lab, p in core)
     return DesignResult(name=m.name, requirements=reqs, unknowns=tuple(prob.params), status=status,
                         solutions=tuple(solutions), obstruction=obstruction, rejected=tuple(rejected),
                         equations=n_eq, seconds=time.perf_counter() - t0)
+
+
+def _judged(m: Method, prob, reqs, br, conds, note) -> tuple:
+    """(solution, verdict): a branch of the parametrisation as a :class:`Solution`, rebuilt as a
+    method and re-verified when it is real and explicit — "accepted" when every requirement holds,
+    else "rejected"; "no method" for a solution that is no method (a zero denominator, say), with
+    the reason in its label."""
+    symvals = {p: br.values[p] for p in prob.params if p in br.values}
+    sol = _solution(m, prob, br, symvals, conds, note)
+    if not sol.real or sol.implicit:
+        return sol, "rejected"
+    try:
+        meth = _rebuild(m, symvals)
+        ver = _verify(meth, reqs, symvals)
+    except (MethodError, ValueError) as exc:  # a solution that is no method (e.g. a zero denominator)
+        return Solution(**{**sol.__dict__, "label": f"{sol.label}: {exc}"}), "no method"
+    return (Solution(**{**sol.__dict__, "method": meth, "verified": ver}),
+            "accepted" if all(ver.values()) else "rejected")
+
+
+def _status(solutions, rejected) -> str:
+    """The design's outcome in words."""
+    if solutions:
+        return "solved"
+    if any(not s.real for s in rejected):
+        return "no real solution"
+    if rejected:
+        return "not in radicals"
+    return "no solution"
 
 
 def _conditions(conds, params) -> list:
@@ -557,9 +593,18 @@ def _dedupe(sols):
     return out
 
 
-def _design_method(data: dict, source: str):
-    """A method from a design tableau: when c or A holds unknowns, c is dropped (c = A·1 is
-    derived) and its entries become the equations cᵢ = Σⱼ aᵢⱼ."""
+def method_from_design(data: dict, source: str):
+    """(method, extra equations) from the parsed JSON ``data`` of a design tableau read from
+    ``source``: when c or A holds unknowns, c is dropped (c = A·1 is derived) and its entries
+    become the equations cᵢ = Σⱼ aᵢⱼ, labelled for the design report; claims are dropped (they
+    are what the design will establish).  One reader for ``solve_text``, ``solve_file`` and
+    ``family.tableau_family``.
+
+    >>> m, extra = method_from_design({"name": "heun", "kind": "rk", "A": [["0", "0"], ["a", "0"]],
+    ...                                "b": ["1/2", "1/2"], "c": ["0", "1"]}, "<example>")
+    >>> m.c.T, extra
+    (Matrix([[0, a]]), [('c1 = row sum of A', 0), ('c2 = row sum of A', 1 - a)])
+    """
     extra = []
     if data.get("kind") in ("rk", "prk") and "c" in data:
         c = entries(data["c"], source, "c")
@@ -572,12 +617,12 @@ def _design_method(data: dict, source: str):
 
 
 def solve_text(text: str, requirements, source: str = "<tableau>") -> DesignResult:
-    m, extra = _design_method(parse(text, source), source)
+    m, extra = method_from_design(parse(text, source), source)
     return solve(m, requirements, extra, _symbols(extra))
 
 
 def solve_file(path, requirements) -> DesignResult:
-    m, extra = _design_method(read(path), str(path))
+    m, extra = method_from_design(read(path), str(path))
     return solve(m, requirements, extra, _symbols(extra))
 
 

@@ -43,7 +43,7 @@ from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
-__all__ = ["glm_order", "GLMOrderResult", "theta_matrix", "order_conditions", "condition_residuals"]
+__all__ = ["glm_order", "GLMOrderResult", "OrderSolver", "theta_matrix", "order_conditions", "condition_residuals"]
 
 @lru_cache(maxsize=None)
 def theta_matrix(k: int) -> tuple:
@@ -114,7 +114,21 @@ class GLMOrderResult(Result):
                 + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
 
 
-class _Solver:
+class OrderSolver:
+    """The exact data of Butcher's sequential solve of a GLM's order conditions over its field K
+    ([B16] Sec. 53, the module docstring): the matrices A, U, B, V as ``DomainMatrix``, the
+    preconsistency vector u (Vu = u, Uu = 𝟙), the left eigenvector w (wᵀV = wᵀ, wᵀu = 1), a left
+    inverse ``Pinv`` of [I − V; wᵀ] (ξ(t) without principal part), and the tree-by-tree defect
+    Q(t) and the sequential :meth:`run`; :func:`glm_order` and
+    ``method_series.method_series`` (the underlying one-step method) use it.
+
+    >>> from sympy import QQ
+    >>> from tableau_lab.exact.library import family
+    >>> S = OrderSolver(family("bdf:2").as_glm(), QQ)
+    >>> [str(x) for x in S.u], [str(x) for x in S.w]
+    (['1', '1'], ['3/2', '-1/2'])
+    """
+
     def __init__(self, g, K):
         self.K = K
         self.s, self.r = g.s, g.r
@@ -204,7 +218,8 @@ class _Solver:
                         nonzero.add(s_)
                 res = [self.dot_w(Q(t)) for t in Tk]
             if collect is not None:
-                collect.extend((f"order {k}, tree {bracket(t)}", x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x))
+                collect.extend((f"order {k}, tree {bracket(t)}", x)
+                               for t, x in zip(Tk, res, strict=False) if not K.is_zero(x))
                 res = []
             bad = {bracket(t): K.to_sympy(x) for t, x in zip(Tk, res, strict=False) if not K.is_zero(x)}
             if bad:
@@ -260,7 +275,8 @@ def _stage_order(solver, p, xi, eta, theta, free_top) -> int:
     K = solver.K
     q = 0
     for k in range(1, p + 1):
-        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e for e, ci in zip(eta[t], solver.c, strict=False)]
+        gaps = {t: [ci ** k * K.convert(sp.Rational(1, density(t))) - e
+                    for e, ci in zip(eta[t], solver.c, strict=False)]
                 for t in trees_of_order(k)}
         if all(all(K.is_zero(g) for g in d) for d in gaps.values()):
             q = k
@@ -282,10 +298,11 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     the finishing method and the error terms at order p + 1."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, g.c])
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     # θ(τ): the uniform shift that makes the stage abscissae equal to the method's c
-    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, [K.one] * g.s), solver.u, strict=False)] + [K.zero])
-    c0 = [a + b for a, b in zip(solver.mat(solver.A, [K.one] * g.s), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
+    ones = [K.one] * g.s
+    x0 = solve_linear(solver.P, [a - b for a, b in zip(solver.mat(solver.B, ones), solver.u, strict=False)] + [K.zero])
+    c0 = [a + b for a, b in zip(solver.mat(solver.A, ones), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
     shift = solver.c[0] - c0[0] if x0 is not None else K.zero
     p0, xi0, eta0, theta0, errors0 = solver.run(max_order, False, shift)
     bound = m.order_bound if m.kind == "rk" else None
@@ -318,7 +335,7 @@ def order_conditions(m: Method, max_order: int, K, free_theta: bool = True) -> l
     the principal parts θ free (eliminated) or ≡ 0; K holds the method's free parameters.
     All vanish exactly when the method has that order (for the parameter values)."""
     g = m.as_glm()
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     out: list = []
     solver.run(max_order, free_theta, None, collect=out)
     return out
@@ -340,7 +357,7 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
     L_k θ = −wᵀR solvable — and is None otherwise."""
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, g.c])
-    solver = _Solver(g, K)
+    solver = OrderSolver(g, K)
     xi = {None: list(solver.u)}
     eta, etaD, nonzero, out, missing = {}, {}, set(), {}, []
     for k in range(1, upto + 1):
@@ -354,7 +371,8 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
             if any(not K.is_zero(v) for v in x):
                 nonzero.add(t)
             eta[t] = [a + b for a, b in zip(solver.mat(solver.A, etaD[t]), solver.mat(solver.U, x), strict=False)]
-            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, solver.mat(solver.V, x), strict=False))
+            Vx = solver.mat(solver.V, x)
+            out[bracket(t)] = tuple(K.to_sympy(a - b + c) for a, b, c in zip(q, x, Vx, strict=False))
         if missing:
             break
     repairable = None
@@ -362,7 +380,7 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
         k = order(missing[0][0])
         res = [v for _, v in missing]
         L = theta_matrix(k) if k >= 2 else ()
-        repairable = bool(L) and solve_linear(
-            DomainMatrix([[K.convert(x) for x in row] for row in L], (len(L), len(L[0])), K), [-v for v in res]) is not None
+        Ldm = DomainMatrix([[K.convert(x) for x in row] for row in L], (len(L), len(L[0])), K) if L else None
+        repairable = bool(L) and solve_linear(Ldm, [-v for v in res]) is not None
     out.update((bracket(t), K.to_sympy(v)) for t, v in missing)
     return out, repairable

@@ -9,8 +9,9 @@ y′ = λy as Qⱼ(z)δⱼ with the internal stability functions
 (2014); NodePy's ``internal_stability_polynomials``).  They are computed exactly, and their
 largest modulus on the real stability interval [−β, 0] is found exactly where the Qⱼ have
 rational coefficients (NodePy's ``maximum_internal_amplification`` takes the maximum over the
-whole complex stability region instead: a different, numerical quantity): |Qⱼ| attains its maximum on the interval at an end or at a real root of
-Qⱼ′, all exact; the amplification is max over j.
+whole complex stability region instead: a different, numerical quantity): |Qⱼ| attains its
+maximum on the interval at an end or at a real root of Qⱼ′, all exact; the amplification is max
+over j.
 
 >>> from tableau_lab.exact.tableau_json import load
 >>> r = internal_stability(load("rk4"))
@@ -58,7 +59,8 @@ class InternalStabilityResult(Result):
 
     def to_latex(self):
         rows = ", ".join(f"Q_{{{j + 1}}} = {sp.latex(q)}" for j, q in enumerate(self.functions))
-        tail = "" if self.amplification is None else f"; $\\max|Q_j| = {sp.latex(self.amplification)}$ on $[-\\beta, 0]$"
+        tail = ("" if self.amplification is None
+                else f"; $\\max|Q_j| = {sp.latex(self.amplification)}$ on $[-\\beta, 0]$")
         return f"Internal stability functions ${rows}${tail}."
 
 

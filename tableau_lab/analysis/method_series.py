@@ -38,7 +38,7 @@ from ..exact.field import FastField, field_of
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, PartitionedRungeKutta
 from .bseries import BSeries, check_series_order, kept_cuts
-from .glm_order import _Solver
+from .glm_order import OrderSolver
 from .prk_order import weight_function as prk_weights
 from .results import Result
 from .rk_order import weight_function
@@ -136,7 +136,7 @@ def method_series(m: Method, max_order: int) -> MethodSeries:
         return MethodSeries(m.name, "rk", BSeries(F, values, max_order, m.name), {}, (1,), (1,))
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V])
-    S = _Solver(g, K)
+    S = OrderSolver(g, K)
     phi, xi = glm_series(S.A.to_list(), S.U.to_list(), S.B.to_list(), S.u, S.w, S.Pinv, max_order,
                          K.zero, K.one)
     F = FastField(K)

@@ -96,7 +96,8 @@ class ParametricStability(Result):
         out = [f"Free parameters ${', '.join(sp.latex(p) for p in self.parameters)}$; over ${self.field}$:",
                f"\\[ P(w,{self.variable}) = {sp.latex(self.polynomial)} \\]"]
         if self.stability_function is not None:
-            out.append(f"\\[ R(z) = {sp.latex(self.stability_function)}, \\qquad E(y) = {sp.latex(self.e_polynomial)} \\]")
+            out.append(f"\\[ R(z) = {sp.latex(self.stability_function)}, "
+                       f"\\qquad E(y) = {sp.latex(self.e_polynomial)} \\]")
         out.append("Needs numbers: " + ", ".join(self.needs_numbers) + ".")
         return "\n".join(out)
 

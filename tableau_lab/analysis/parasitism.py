@@ -39,9 +39,9 @@ import sympy as sp
 from ..exact.field import field_of, normal_form
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..exact.real_roots import unit_circle_eigenvalues as _unit_circle_eigenvalues
 from .growth import NumericMode, growth_rate
 from .results import Result
-from .roots import unit_circle_eigenvalues as _unit_circle_eigenvalues
 
 __all__ = ["growth_parameters", "parasitism", "ParasitismResult", "Parasitic", "NumericMode", "numeric_modes",
            "growth_rate", "predicted_growth"]

@@ -42,8 +42,9 @@ class RealIntervalResult(Result):
         return f"real-axis interval: [−β, 0] with β = {format_entry(self.beta)}{approx}"
 
     def to_json(self):
-        return {"real_interval": None if self.beta is None else ("oo" if self.beta == sp.oo else str(format_entry(self.beta))),
-                "real_interval_float": None if self.beta is None else float(self.beta), "real_interval_reason": self.reason}
+        exact = None if self.beta is None else ("oo" if self.beta == sp.oo else str(format_entry(self.beta)))
+        return {"real_interval": exact, "real_interval_float": None if self.beta is None else float(self.beta),
+                "real_interval_reason": self.reason}
 
     def to_latex(self):
         if self.beta is None:
@@ -57,7 +58,8 @@ def real_stability_interval(m: Method) -> RealIntervalResult:
     (ℚ-polynomials whose roots include theirs) and each sign at a rational probe is certified in K."""
     if m.kind != "rk":
         return RealIntervalResult(m.name, None, f"computed here for Runge–Kutta methods, not {m.kind}")
-    from .stability import last_good_cut, sign_at, stability_function
+    from ..exact.real_roots import last_good_cut, sign_at
+    from .stability import stability_function
     N, D, K = stability_function(m)
     n = sp.Poly.from_list(N.to_dense() if N else [K.zero], _X, domain=K)      # the ring's coefficients, as they are
     d = sp.Poly.from_list(D.to_dense(), _X, domain=K)

@@ -35,14 +35,14 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import solve_linear
 from ..exact.grammar import format_entry
-from .bseries import BSeries, _new, adjoint, compose, identity, inverse, modified_field
+from .bseries import BSeries, adjoint, compose, identity, inverse, modified_field, series_like
 from .free_trees import free_tree
 from .glm_order import theta_matrix
 from .results import Result
 from .trees import bracket, butcher_product, from_children, symmetry, trees_of_order
 
-__all__ = ["structure", "SeriesStructure", "PSeriesStructure", "symplectic_order", "symmetric_order", "hamiltonian_order",
-           "energy_order", "conjugate_symplectic", "tree_pairs"]
+__all__ = ["structure", "SeriesStructure", "PSeriesStructure", "symplectic_order", "symmetric_order",
+           "hamiltonian_order", "energy_order", "conjugate_symplectic", "tree_pairs"]
 
 
 @lru_cache(maxsize=None)
@@ -130,7 +130,7 @@ def conjugate_symplectic(a: BSeries):
     F, K = a.field, a.field.K
     N = a.max_order
     chi = identity(N)
-    chi = _new(a, {t: F.lift(K.convert_from(chi.field.drop(v), chi.field.K)) for t, v in chi.values.items()},
+    chi = series_like(a, {t: F.lift(K.convert_from(chi.field.drop(v), chi.field.K)) for t, v in chi.values.items()},
                "χ")
     for n in range(2, N + 1):
         psi = _conjugated(a, chi)
@@ -152,7 +152,7 @@ def conjugate_symplectic(a: BSeries):
             vals = dict(chi.values)
             for s, xs in zip(prev, x, strict=False):
                 vals[s] = vals[s] + F.lift(xs) * F.rational(sign)
-            trial = _new(chi, vals, "χ")
+            trial = series_like(chi, vals, "χ")
             if all(F.is_zero(d) for _, d in _symplectic_defects(_conjugated(a, trial).values, n, False)):
                 chi = trial
                 break

@@ -74,7 +74,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     ch. 3; Kraaijevanger 1991 (the radius of absolute monotonicity).
 
     >>> import tableau_lab as tl
-    >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008: 6; Shu–Osher: 1
+    >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008; Shu–Osher
     (6, 1)
     """
     if m.kind != "rk":
@@ -82,7 +82,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")
     from ..exact.field import element, field_of
-    from .stability import last_good_cut, sign, sign_at
+    from ..exact.real_roots import last_good_cut, sign, sign_at
     K = field_of([m.A, m.b])
     s = m.s
     # at r = 0 the conditions are K ≥ 0 (a negative entry: R = 0, whatever the size)

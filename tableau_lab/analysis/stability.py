@@ -58,7 +58,7 @@ w**2 - 2*w*z - 1
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import reduce
 
 import sympy as sp
@@ -70,190 +70,23 @@ from ..exact.field import field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.rationals import simplest_between
-from ..exact.subfield import subfield
+from ..exact.real_roots import (
+    all_in_upper_half,
+    all_roots_right,
+    cayley_transform,
+    count_real_roots,
+    degree,
+    norm_to_rationals,
+    over_coefficient_field,
+    primitive_part,
+    sign,
+)
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
-           "e_polynomial",
-           "sign", "sign_at", "rational_between", "last_good_cut", "all_roots_right", "StabilityReport", "stability_report", "W", "Z", "X", "Y"]
+           "e_polynomial", "W", "Z", "X", "Y"]
 
 W, Z, X, Y = sp.symbols("w z x y")
-
-
-# ------------------------------------------------------------------ certified signs in a real field
-
-def _enclose(e, ctx):
-    """An interval enclosing the real algebraic expression ``e`` (mpmath interval arithmetic):
-    radicals, cos(kπ/n), sin(kπ/n), real roots of polynomials."""
-    if e.is_Rational:
-        return ctx.mpf(int(e.p)) / ctx.mpf(int(e.q))
-    if e.is_Add or e.is_Mul:
-        parts = [_enclose(a, ctx) for a in e.args]
-        return reduce((lambda a, b: a + b) if e.is_Add else (lambda a, b: a * b), parts)
-    if e.is_Pow and e.exp.is_Rational:
-        base = _enclose(e.base, ctx)
-        if e.exp.is_Integer:
-            n = int(e.exp)
-            return base ** n if n >= 0 else 1 / base ** (-n)
-        if e.exp == sp.S.Half:
-            return ctx.sqrt(base)
-        return ctx.exp(ctx.log(base) * ctx.mpf(int(e.exp.p)) / ctx.mpf(int(e.exp.q)))
-    if isinstance(e, (sp.cos, sp.sin)) and sp.expand(e.args[0] / sp.pi).is_Rational:
-        q = sp.expand(e.args[0] / sp.pi)
-        angle = ctx.pi * ctx.mpf(int(q.p)) / ctx.mpf(int(q.q))
-        return ctx.cos(angle) if isinstance(e, sp.cos) else ctx.sin(angle)
-    if isinstance(e, sp.RootOf) and e.is_real:
-        dx = sp.Rational(1, 2 ** (ctx.prec + 8))
-        mid = e.eval_rational(dx=dx, dy=dx)          # certified: |mid − e| < dx (Sturm bisection)
-        lo, hi = _enclose(mid - dx, ctx), _enclose(mid + dx, ctx)
-        return ctx.mpf([lo.a, hi.b])
-    raise ValueError(f"no certified enclosure for {e}")
-
-
-def sign(K, a) -> int:
-    """The sign of an element of a real field K (ℚ or ℚ⟨α⟩ of real radicals): exact zero test, then
-    interval arithmetic at rising precision until the enclosure excludes 0 (certified).
-
-    >>> K = field_of([sp.sqrt(2)])
-    >>> sign(K, K.from_sympy(sp.sqrt(2) - sp.Rational(1414213562373095, 10**15)))
-    1
-    """
-    if K.is_zero(a):
-        return 0
-    if K.is_QQ or K.is_ZZ:
-        return 1 if a > 0 else -1
-    if not K.is_Algebraic:
-        raise ValueError(f"signs need numeric entries, not elements of {K}")
-    from mpmath.ctx_iv import MPIntervalContext
-    e, ctx = K.to_sympy(a), MPIntervalContext()
-    for prec in (64, 160, 400, 1000, 2500, 6000):
-        ctx.prec = prec
-        box = _enclose(e, ctx)
-        if box.a > 0:
-            return 1
-        if box.b < 0:
-            return -1
-    raise ArithmeticError(f"sign of {e} not decided at {prec} bits")
-
-
-def sign_at(p, x, K) -> int:
-    """The certified sign of the univariate sympy Poly ``p`` over K at the rational ``x``
-    (Horner in K, then :func:`sign`)."""
-    xk, acc = K.convert(sp.Rational(x)), K.zero
-    for c in p.rep.to_list():
-        acc = acc * xk + c
-    return sign(K, acc)
-
-
-def rational_between(a, b) -> sp.Rational:
-    """A rational strictly between the real algebraic numbers a < b (compared exactly)."""
-    q = (sp.Rational(sp.N(a, 60)) + sp.Rational(sp.N(b, 60))) / 2
-    if not (a < q < b):
-        raise ArithmeticError(f"no rational separated between {a} and {b}")
-    return q
-
-
-def last_good_cut(start, cuts, fails, step: int):
-    """Walking from ``start`` across ``cuts`` (exact real numbers, sorted in the walking direction,
-    ``step`` = +1 rightwards, −1 leftwards), test each open interval between them at a rational
-    point: the cut (or ``start``) where the first failing interval begins, with the probe's
-    ``fails`` value, or (None, None) when no interval fails.  The conditions keep their sign
-    between cuts, so one probe decides an interval."""
-    prev = start
-    for x in list(cuts) + [None]:
-        if x is None:
-            probe = sp.Rational(sp.N(prev, 30)) + step
-        else:
-            probe = rational_between(prev, x) if step > 0 else rational_between(x, prev)
-        why = fails(probe)
-        if why:
-            return prev, why
-        prev = x
-    return None, None
-
-
-# ------------------------------------------------------------------ Sturm sequences over K
-
-def _deg(p) -> int:
-    return -1 if not p else p.degree()
-
-
-def _cauchy_index(p0, p1, K) -> int:
-    """Ind_{−∞}^{+∞} p1/p0 for univariate p0 ≠ 0, p1 over K (generalised Sturm chain)."""
-    if not p0:
-        return 0
-    chain = [p0, p1]
-    while chain[-1]:
-        chain.append(-chain[-2].rem(chain[-1]))
-    chain.pop()
-
-    def changes(at_minus):
-        signs = [sign(K, p.LC) * (-1 if at_minus and p.degree() % 2 else 1) for p in chain]
-        signs = [s for s in signs if s]
-        return sum(1 for a, b in zip(signs, signs[1:], strict=False) if a != b)
-    return changes(True) - changes(False)
-
-
-def _real_roots(p, K) -> int:
-    """The number of real roots of a univariate p over K, with multiplicity."""
-    if _deg(p) <= 0:
-        return 0
-    _, factors = p.sqf_list()
-    return sum(m * _cauchy_index(f, f.diff(f.ring.gens[0]), K) for f, m in factors)
-
-
-def _upper_count(fr, fi, K) -> int:
-    """N₊, the number of roots with Im t > 0 of fr + i·fi (univariate over K, fr and fi coprime, so
-    no real root): arg f grows by π(N₊ − N₋) along the real line, which is −π·Ind(fi/fr) when
-    deg fi ≤ deg fr."""
-    n = max(_deg(fr), _deg(fi))
-    if n <= 0:
-        return 0
-    if _deg(fi) > _deg(fr):         # i·f has the same roots; now the ends of fi/fr are at 0, not ∞
-        fr, fi = -fi, fr
-    return (n - _cauchy_index(fr, fi, K)) // 2
-
-
-def _half_plane_counts(fr, fi, K) -> tuple[int, int, int]:
-    """(N₊, N₀, N₋): the roots of fr + i·fi (univariate over K, not both zero) with Im t > 0, real,
-    Im t < 0, with multiplicity.  The common factor h = gcd(fr, fi) holds the real roots and the
-    conjugate pairs t, t̄ (one above, one below)."""
-    h = fr.gcd(fi)
-    real = _real_roots(h, K)
-    pairs = (max(_deg(h), 0) - real) // 2
-    if _deg(h) > 0:
-        fr, fi = (f.exquo(h) if f else f for f in (fr, fi))
-    up = _upper_count(fr, fi, K)
-    return up + pairs, real, max(_deg(fr), _deg(fi), 0) - up + pairs
-
-
-def _all_in_upper_half(fr, fi, K) -> bool:
-    """Whether every root of fr + i·fi (univariate over K) has Im t > 0."""
-    n = max(_deg(fr), _deg(fi))
-    if n <= 0:
-        return True
-    if _deg(fr.gcd(fi)) > 0:        # a real root, or a conjugate pair t, t̄ (one of them below)
-        return False
-    return _upper_count(fr, fi, K) == n
-
-
-def all_roots_right(p, K) -> bool:
-    """Every root of the univariate p over K has Re z > 0 (Routh–Hurwitz, as a Cauchy index of
-    p(−it) = fr + i·fi: Re z > 0 is Im t > 0).
-
-    >>> R, z = ring("z", QQ)
-    >>> all_roots_right(1 - z/2 + z**2/12, QQ), all_roots_right(1 + z, QQ), all_roots_right(R.one, QQ)
-    (True, False, True)
-    """
-    fr, fi = p.ring.zero, p.ring.zero
-    t = p.ring.gens[0]
-    for (k,), c in p.terms():
-        term = t ** k * c                  # (−i)^k: 1, −i, −1, i
-        if k % 2 == 0:
-            fr += term if k % 4 == 0 else -term
-        else:
-            fi += -term if k % 4 == 1 else term
-    return _all_in_upper_half(fr, fi, K)
 
 
 # ------------------------------------------------------------------ the polynomials
@@ -307,19 +140,6 @@ def characteristic_polynomial(m: Method, parametric: bool = False):
     return DomainMatrix(rows, (s + r, s + r), R).det(), K
 
 
-def _over_coefficient_field(P, K):
-    """(P, F) with F = ℚ(coefficients of P) ⊆ K (``exact.subfield``): ℚ when every coefficient is
-    rational (often so for radical tableaux: Gauss, GLM43), ℚ(√265551) for GLM4S whose entries
-    need degree 16.  The axis analysis costs a power of the field's degree (norms to ℚ)."""
-    if K.is_QQ:
-        return P, K
-    F, coeffs = subfield(K, list(P.values()))
-    if F is K:
-        return P, K
-    R = ring(",".join(map(str, P.ring.symbols)), F)[0]
-    return R.from_dict(dict(zip(P.keys(), coeffs, strict=False))), F
-
-
 def stability_function(m: Method):
     """(N, D, K) of an RK method: N = det(I − zA + z𝟙bᵀ), D = det(I − zA), ring elements of K[z].
 
@@ -350,14 +170,10 @@ def stability_function(m: Method):
 
 # ------------------------------------------------------------------ the axis analysis
 
-def _cmul(a, b):
-    return (a[0] * b[0] - a[1] * b[1], a[0] * b[1] + a[1] * b[0])
-
-
-def _i_power(c, l, yl, zero):
-    """c·(i·y)^l as a (real, imaginary) pair: i^l = 1, i, −1, −i."""
-    term = yl * c
-    return [(term, zero), (zero, term), (-term, zero), (zero, -term)][l % 4]
+def _i_power(c, n, yn, zero):
+    """c·(i·y)^n as a (real, imaginary) pair, given yn = y^n: i^n = 1, i, −1, −i."""
+    term = yn * c
+    return [(term, zero), (zero, term), (-term, zero), (zero, -term)][n % 4]
 
 
 @dataclass
@@ -372,30 +188,6 @@ class _Axis:
     at_minus_one: tuple
 
 
-def _cayley(coeff: dict, n: int, t) -> tuple:
-    """(F_R, F_I) with F_R + i·F_I = Σ_k q_k (1 + it)^k (1 − it)^(n−k) = (1 − it)^n Σ_k q_k w^k at
-    w = (1 + it)/(1 − it), for ``coeff`` k ↦ q_k = (re, im), polynomials of the ring of ``t``: the
-    unit circle in w is the real t-line (w = −1 is t = ∞), the open unit disc Im t > 0."""
-    R = t.ring
-    FR, FI = R.zero, R.zero
-    for k, q in coeff.items():
-        phi = (R.one, R.zero)
-        for _ in range(k):
-            phi = _cmul(phi, (R.one, t))
-        for _ in range(n - k):
-            phi = _cmul(phi, (R.one, -t))
-        term = _cmul(q, phi)
-        FR, FI = FR + term[0], FI + term[1]
-    return FR, FI
-
-
-def _primitive(P):
-    """P divided by the gcd of its coefficients in w (a factor of det(I − zA) alone)."""
-    w = P.ring.gens[0]
-    content = reduce(lambda a, b: a.gcd(b), [P.coeff_wrt(w, k) for k in range(P.degree(w) + 1)])
-    return P.exquo(content) if content.degree(P.ring.gens[1]) > 0 else P
-
-
 def _axis(P, K, imaginary: bool) -> _Axis:
     Rty = ring("t,y", K)[0]
     t, y = Rty.gens
@@ -403,11 +195,11 @@ def _axis(P, K, imaginary: bool) -> _Axis:
     w = P.ring.gens[0]
     r = P.degree(w)
     coeff = {}                       # k -> Q_k(y) = coefficient of w^k at z = iy (or x = y)
-    for (k, l), c in P.terms():
-        part = _i_power(c, l, y ** l, zero) if imaginary else (y ** l * c, zero)
+    for (k, n), c in P.terms():          # c·w^k·z^n
+        part = _i_power(c, n, y ** n, zero) if imaginary else (y ** n * c, zero)
         old = coeff.get(k, (zero, zero))
         coeff[k] = (old[0] + part[0], old[1] + part[1])
-    FR, FI = _cayley(coeff, r, t)
+    FR, FI = cayley_transform(coeff, r, t)
     m1 = (zero, zero)
     for k, q in coeff.items():
         m1 = (m1[0] + (-1) ** k * q[0], m1[1] + (-1) ** k * q[1])
@@ -529,21 +321,6 @@ def _critical_polynomials(ax: _Axis) -> list:
     return out
 
 
-def _norm(p, K):
-    """The norm of p ∈ K[y] down to ℚ[y] (its roots contain those of p), as a sympy Poly."""
-    if K.is_QQ:
-        return sp.Poly.from_dict({m: QQ.convert(c) for m, c in p.terms()}, Y, domain=QQ)
-    Rxy, x, y = ring("x,y", QQ)
-    lift = Rxy.zero
-    for (k,), c in p.terms():
-        coeffs = c.to_list()
-        lift += sum((x ** (len(coeffs) - 1 - i) * QQ.convert(q) for i, q in enumerate(coeffs)), Rxy.zero) * y ** k
-    mod_coeffs = K.mod.to_list()
-    mod = sum((x ** (len(mod_coeffs) - 1 - i) * QQ.convert(q) for i, q in enumerate(mod_coeffs)), Rxy.zero)
-    n = mod.resultant(lift)
-    return sp.Poly.from_dict({m: c for m, c in n.terms()}, Y, domain=QQ)
-
-
 def _positive_roots(C: sp.Poly) -> list:
     """Disjoint rational isolating intervals (a, b), 0 ≤ a < b or a = b, of the positive roots of C."""
     low = min(m[0] for m in C.monoms())
@@ -569,15 +346,15 @@ def _sample(ax: _Axis, y0) -> tuple[bool, bool]:
     y = ax.FR.ring.gens[1]
     c = K.convert(QQ(y0.numerator, y0.denominator))
     fr, fi = ax.FR.evaluate(y, c), ax.FI.evaluate(y, c)
-    n = max(_deg(fr), _deg(fi))
+    n = max(degree(fr), degree(fi))
     h = fr.gcd(fi)
-    real = _real_roots(h, K)
+    real = count_real_roots(h, K)
     on = (ax.r - n) + real                      # w = −1 (t = ∞) and the real t
-    if real < _deg(h) and _deg(h) > 0:          # a pair w, 1/w̄: one is outside
+    if real < degree(h) and degree(h) > 0:          # a pair w, 1/w̄: one is outside
         return on == ax.r, False
-    if _deg(h) > 0:
+    if degree(h) > 0:
         fr, fi = (f.exquo(h) if f else f for f in (fr, fi))
-    return on == ax.r, _all_in_upper_half(fr, fi, K)
+    return on == ax.r, all_in_upper_half(fr, fi, K)
 
 
 def _root_value(C: sp.Poly, a, b):
@@ -650,8 +427,8 @@ def _endpoint_roots(P, Ystar, imaginary) -> tuple:
         yv = mpmath.mpf(str(Ystar.evalf(45)))
         zv = mpmath.mpc(0, yv) if imaginary else yv
         coeffs = [mpmath.mpc(0)] * (P.degree(P.ring.gens[0]) + 1 - low)
-        for (k, l), c in P.terms():
-            coeffs[-1 - (k - low)] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** l
+        for (k, n), c in P.terms():      # c·w^k·z^n
+            coeffs[-1 - (k - low)] += mpmath.mpf(str(sp.N(K.to_sympy(c), 45))) * zv ** n
         roots = _numeric_roots(mpmath, coeffs)
     groups = [[mpmath.mpc(0), low]] if low else []
     for v in roots:
@@ -736,10 +513,12 @@ class StabilityResult(Result):
                                                            f"|{a}| < {_text(val)} ≈ {float(val):.15g}")
             lines.append(f"    every root {name}: {where}")
         lines.append(f"  reported interval ({self.interval_kind}"
-                     f"{', the method is (G-)symplectic' if self.symplectic else ''}): {_text(self.imaginary_interval)}")
+                     f"{', the method is (G-)symplectic' if self.symplectic else ''}): "
+                     f"{_text(self.imaginary_interval)}")
         if self.endpoint_roots:
             lines.append(f"  roots at the end {self._axis_letter} = Y*: " + ", ".join(
-                f"w = {e.root} (|w| = {e.modulus:.15g}{', multiplicity %d' % e.multiplicity if e.multiplicity > 1 else ''})"
+                f"w = {e.root} (|w| = {e.modulus:.15g}"
+                f"{f', multiplicity {e.multiplicity}' if e.multiplicity > 1 else ''})"
                 for e in self.endpoint_roots))
         return "\n".join(lines)
 
@@ -791,7 +570,7 @@ def _radii(ax: _Axis):
     """(Y₌, Y≤, critical values, samples) from the exact axis analysis."""
     crit = _critical_polynomials(ax)
     if crit:
-        C = reduce(lambda a, b: a * b, [_norm(p, ax.K) for p in crit])
+        C = reduce(lambda a, b: a * b, [norm_to_rationals(p, ax.K) for p in crit])
         C = sp.Poly(sp.sqf_part(C.as_expr()), Y, domain=QQ)
         ivs = _positive_roots(C)
     else:
@@ -828,8 +607,8 @@ def e_polynomial(N, D, K):
 
     def on_axis(p):
         re, im = Ry.zero, Ry.zero
-        for (l,), c in p.terms():
-            part = _i_power(c, l, y ** l, Ry.zero)
+        for (n,), c in p.terms():
+            part = _i_power(c, n, y ** n, Ry.zero)
             re, im = re + part[0], im + part[1]
         return re * re + im * im
     return on_axis(D) - on_axis(N)
@@ -844,7 +623,7 @@ def _a_stability_rk(N, D, K):
     if not E:
         return True, "E(y) ≡ 0 (|R(iy)| = 1) and the poles of R lie in Re z > 0", E
     _, factors = E.sqf_list()
-    odd = [f for f, m in factors if m % 2 and _real_roots(f, K)]
+    odd = [f for f, m in factors if m % 2 and count_real_roots(f, K)]
     if odd or sign(K, E.LC) < 0:
         return False, "E(y) < 0 for some real y: |R(iy)| > 1 there", E
     return True, "E(y) ≥ 0 for all real y and the poles of R lie in Re z > 0", E
@@ -888,9 +667,9 @@ def stability(m: Method, gsym=None) -> StabilityResult:
     >>> tl.stability(tl.load("radau_iia:2")).a_stable
     True
     """
-    P, K = _over_coefficient_field(*characteristic_polynomial(m))
+    P, K = over_coefficient_field(*characteristic_polynomial(m))
     imaginary = m.kind != "prk"
-    Pp = _primitive(P)
+    Pp = primitive_part(P)
     Yeq, Yle, critical, samples = _radii(_axis(Pp, K, imaginary))
     symplectic = _is_symplectic(m, gsym)
     rk = {}
@@ -901,94 +680,10 @@ def stability(m: Method, gsym=None) -> StabilityResult:
     elif m.kind == "glm":
         a_stable, reason = _a_stability_glm(Pp, K, Yle)
     else:
-        a_stable, reason = None, "A-stability is for y' = λy; a partitioned method is analysed on the harmonic oscillator"
+        a_stable = None
+        reason = "A-stability is for y' = λy; a partitioned method is analysed on the harmonic oscillator"
     Ystar = Yeq if symplectic else Yle
     return StabilityResult(method=m.name, kind=m.kind, variable="z" if imaginary else "x", polynomial=P.as_expr(),
                            r=P.degree(P.ring.gens[0]), unit_radius=Yeq, bounded_radius=Yle, symplectic=symplectic,
                            critical=critical, samples=samples, endpoint_roots=_endpoint_roots(P, Ystar, imaginary),
                            a_stable=a_stable, a_reason=reason, **rk)
-
-
-# ------------------------------------------------------------------ everything the CLI prints
-
-@dataclass(frozen=True)
-class StabilityReport(Result):
-    """Linear stability, zero-stability and A(α) (GLMs), algebraic stability and parasitism (GLMs)
-    of one method together."""
-
-    method: str
-    linear: StabilityResult
-    algebraic: Result
-    parasitism: Result | None = field(default=None)
-    zero: Result | None = field(default=None)          # zero_stability.ZeroStabilityResult (GLMs)
-    sector: Result | None = field(default=None)        # a_alpha.AAlphaResult (GLMs)
-    real: Result | None = field(default=None)          # real_interval.RealIntervalResult (RK)
-    ssp: Result | None = field(default=None)           # ssp.SSPResult (RK)
-    internal: Result | None = field(default=None)      # internal_stability.InternalStabilityResult (RK)
-
-    def _parts(self):
-        return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.internal,
-                            self.parasitism) if p is not None]
-
-    def __str__(self):
-        return "\n".join(str(p) for p in self._parts())
-
-    def to_json(self):
-        out = dict(self.linear.to_json())
-        out["zero_stable"] = self.zero.holds if self.zero is not None else None
-        out["zero_stability"] = self.zero.to_json() if self.zero is not None else None
-        out["a_alpha"] = self.sector.to_json() if self.sector is not None else None
-        for part in (self.real, self.ssp, self.internal):
-            if part is not None:
-                out.update(part.to_json())
-        alg = self.algebraic.to_json()
-        out["algebraically_stable"] = alg["algebraically_stable"]
-        out["algebraic_stability"] = alg
-        out["parasitism"] = self.parasitism.to_json()["parasitism"] if self.parasitism is not None else []
-        return out
-
-    def to_latex(self):
-        return "\n".join(p.to_latex() for p in self._parts())
-
-
-def stability_report(m: Method) -> StabilityReport:
-    """Everything ``tableau-lab stability`` prints (``tl.stability_report``): linear stability
-    (:func:`stability`), algebraic stability and, for RK methods, the real-axis interval, the SSP
-    coefficient and the internal stability functions; for GLMs zero-stability, the A(α) angle and
-    the parasitic growth parameters ([HW96] §IV.3, §IV.12; [BHHN14] Sec. 4).  A method with free
-    parameters gets what holds over their field
-    (:func:`~tableau_lab.analysis.parametric_stability.parametric_stability`).
-
-    >>> import tableau_lab as tl
-    >>> r = tl.stability_report(tl.load("ssprk:3"))
-    >>> r.linear.bounded_radius, r.ssp.R
-    (sqrt(3), 1)
-    """
-    from .a_alpha import a_alpha
-    from .algebraic_stability import algebraic_stability
-    from .parasitism import growth_parameters
-    from .symplectic import g_symplectic
-    from .zero_stability import zero_stability
-    if m.parameters:
-        from .parametric_stability import parametric_stability
-        return parametric_stability(m)
-    gsym = g_symplectic(m) if m.kind != "prk" else None
-    lin = stability(m, gsym)
-    alg = algebraic_stability(m, a_stable=lin.a_stable, gsym=gsym)
-    if m.kind == "rk":
-        from .internal_stability import internal_stability
-        from .real_interval import real_stability_interval
-        from .ssp import ssp_coefficient
-        return StabilityReport(method=m.name, linear=lin, algebraic=alg, real=real_stability_interval(m),
-                               ssp=ssp_coefficient(m), internal=internal_stability(m))
-    if m.kind != "glm":
-        return StabilityReport(method=m.name, linear=lin, algebraic=alg)
-    zero = zero_stability(m)
-    try:
-        par = growth_parameters(m)
-    except ValueError:
-        if zero.holds:
-            raise
-        par = None           # a defective eigenvalue on the circle: no growth parameters, and no stability
-    return StabilityReport(method=m.name, linear=lin, algebraic=alg, parasitism=par, zero=zero,
-                           sector=a_alpha(m, zero=zero, polynomial=lin.polynomial))

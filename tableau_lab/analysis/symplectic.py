@@ -32,7 +32,8 @@ from ..exact.grammar import format_matrix
 from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from .results import Result, matrix_latex, matrix_text
 
-__all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "RKSymplecticResult", "GSymplecticResult"]
+__all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "g_symplectic_residuals_dm", "RKSymplecticResult",
+           "GSymplecticResult"]
 
 
 # --------------------------------------------------------------------------- RK
@@ -104,8 +105,18 @@ def rk_symplectic(m: Method) -> RKSymplecticResult:
 
 # --------------------------------------------------------------------------- GLM
 
-def _residuals_dm(A, U, B, V, G, D):
-    """The three G-symplectic residuals as DomainMatrices (all over one field)."""
+def g_symplectic_residuals_dm(A, U, B, V, G, D):
+    """The three G-symplectic residuals VᵀGV − G, DU − BᵀGV and DA + AᵀD − BᵀGB of the GLM
+    (A, U, B, V) for given G, D, all ``DomainMatrix`` over one field: the method is G-symplectic
+    with (G, D) exactly when all three vanish ([BHHN14] Butcher, Habib, Hill & Norton, SIAM J.
+    Numer. Anal. 52 (2014), Def. 1; :func:`g_symplectic_residuals` for a method object).
+
+    >>> from sympy import QQ
+    >>> from sympy.polys.matrices import DomainMatrix
+    >>> half, one = DomainMatrix([[QQ(1, 2)]], (1, 1), QQ), DomainMatrix([[QQ(1)]], (1, 1), QQ)
+    >>> [R.is_zero_matrix for R in g_symplectic_residuals_dm(half, one, one, one, one, one)]  # midpoint, G = D = 1
+    [True, True, True]
+    """
     Vt, Bt = V.transpose(), B.transpose()
     BtG = Bt * G
     return (Vt * G * V - G, D * U - BtG * V, D * A + A.transpose() * D - BtG * B)
@@ -125,7 +136,7 @@ def g_symplectic_residuals(m: Method, G, D) -> dict:
     G, D = sp.Matrix(G), sp.Matrix(D)
     K = field_of([g.A, g.U, g.B, g.V, G, D])
     dms = [to_dm(X, K) for X in (g.A, g.U, g.B, g.V, G, D)]
-    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(*dms), strict=False)}
+    return {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, g_symplectic_residuals_dm(*dms), strict=False)}
 
 
 @dataclass(frozen=True)
@@ -231,7 +242,7 @@ def _nonsingular_member(family, K):
     for lam in product(range(r + 1), repeat=d):
         if not any(lam):
             continue
-        coeffs = [K.convert(l) for l in lam]
+        coeffs = [K.convert(x) for x in lam]
         G = sum((F[0] * c for F, c in zip(family, coeffs, strict=False)), family[0][0] * K.zero)
         if not K.is_zero(G.det()):
             D = sum((F[1] * c for F, c in zip(family, coeffs, strict=False)), family[0][1] * K.zero)
@@ -275,7 +286,7 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     columns = []
     for G, D in units:
         col = []
-        for R in _residuals_dm(A, U, B, V, G, D):
+        for R in g_symplectic_residuals_dm(A, U, B, V, G, D):
             col.extend(x for row in R.to_list() for x in row)
         columns.append(col)
     n, neq = len(units), len(columns[0])
@@ -297,7 +308,8 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     else:
         G, D = _normalise(*member, K)
         reason, holds = "", True
-    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, _residuals_dm(A, U, B, V, G, D), strict=False)}
+    residuals = g_symplectic_residuals_dm(A, U, B, V, G, D)
+    res = {name: from_dm(R) for name, R in zip(RESIDUAL_NAMES, residuals, strict=False)}
     Gs = from_dm(G)
     return GSymplecticResult(holds=holds, G=Gs, D=from_dm(D), residuals=res, reason=reason,
                              definite=_definite(Gs) if holds else None, **common)
@@ -315,6 +327,7 @@ def _g_symplectic_conjugate(m) -> GSymplecticResult:
             "The only solution is G = 0, D = 0: D = g·diag(b) is forced and g·M = 0 needs g = 0, as M ≠ 0 "
             "(VᵀMV ≠ 0, V the nodes' Vandermonde matrix)."), **common)
     G, D = sp.ImmutableMatrix([[1]]), sp.ImmutableMatrix(sp.diag(*m.b))
-    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, ((1, 1), (s, 1), (s, s)), strict=False)}
+    shapes = ((1, 1), (s, 1), (s, s))
+    zero = {name: sp.ImmutableMatrix(sp.zeros(*shape)) for name, shape in zip(RESIDUAL_NAMES, shapes, strict=False)}
     return GSymplecticResult(holds=True, G=G, D=D, residuals=zero, reason="", definite=True, dimension=1, rank=s,
                              basis=((G, D),), **common)

@@ -233,7 +233,7 @@ def plot_stability_region(method, ax=None, window=None, n: int | None = None, an
     >>> [float(v) for v in ax.get_xlim()], "stability region" in ax.get_title()
     ([-5.0, 15.0], True)
     >>> plt.close(ax.figure)
-    >>> from tableau_lab.analysis.stability import stability_report
+    >>> from tableau_lab.analysis.stability_report import stability_report
     >>> from tableau_lab.exact.tableau_json import load
     >>> ax = plot_stability_region("rk4", analysis=stability_report(load("rk4")))
     >>> print(*[t.get_text() for t in ax.get_legend().get_texts()], sep="\\n")

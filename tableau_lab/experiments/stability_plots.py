@@ -13,7 +13,7 @@ every bounded piece of the stability region and every bounded instability island
 Re z > 0, BDF4's lobe) lies inside it whole — together with the real interval [−β, 0], ±iY*
 and the origin.  Whether the locus is bounded is decided exactly: a root z of P(e^{iθ}, z) runs
 to infinity only where the leading coefficient L(w) of P in z vanishes on |w| = 1
-(:func:`~tableau_lab.analysis.roots.disc_counts`).  An unbounded locus (Gauss: the imaginary
+(:func:`~tableau_lab.exact.real_roots.disc_counts`).  An unbounded locus (Gauss: the imaginary
 axis) is enclosed where |L(e^{iθ})| ≥ ``UNBOUNDED_CUT`` · max |L| (away from the escape
 directions) and |z| ≤ ``UNBOUNDED_SCALE`` times the median |z| there: a view of the part near the
 origin, as no window holds an unbounded curve.  The A(α) sector is drawn when it was computed.  A user's window
@@ -89,11 +89,11 @@ def root_moduli(C: np.ndarray, values) -> np.ndarray:
 def locus_bounded(polynomial, variable: str = "z") -> bool:
     """Whether the boundary locus {z : P(w, z) = 0, |w| = 1} is bounded, exactly: a root z runs to
     infinity only where the leading coefficient L(w) of P in z vanishes on the unit circle
-    (counted exactly, :func:`~tableau_lab.analysis.roots.disc_counts`)."""
+    (counted exactly, :func:`~tableau_lab.exact.real_roots.disc_counts`)."""
     from sympy.polys.rings import ring
 
-    from ..analysis.roots import disc_counts
     from ..exact.field import field_of
+    from ..exact.real_roots import disc_counts
     P = sp.Poly(sp.sympify(polynomial), sp.Symbol(variable))
     if P.degree() <= 0:
         return True
