@@ -44,7 +44,7 @@ Order $p = 2$ of a\*b\_\[c\].
 <BLANKLINE>
 $$\Phi(t) = 1/\gamma(t)$$
 """
-from .model import Code, Document, Formula, Lead, Math, Paragraph, Plain, Renderer, Strong, Table, Text, Typeset
+from .model import Break, Code, Document, Formula, Lead, Math, Paragraph, Plain, Renderer, Strong, Table, Text, Typeset
 
-__all__ = ["Code", "Document", "Formula", "Lead", "Math", "Paragraph", "Plain", "Renderer", "Strong", "Table",
+__all__ = ["Break", "Code", "Document", "Formula", "Lead", "Math", "Paragraph", "Plain", "Renderer", "Strong", "Table",
            "Text", "Typeset"]

@@ -1,7 +1,8 @@
 r"""The LaTeX format: the typeset face of a document in LaTeX text mode (what ``to_latex`` gives
 and the reports embed): plain text made literal as it is placed (:func:`latex_text`), inline
-math in ``$…$``, display math in ``\[ … \]``, tables as ``tabular``; blocks one a line, a result
-shown inside another set off by a blank line.  The heading is the report's business: not shown.
+math in ``$…$``, display math in ``\[ … \]``, tables as ``tabular``; blocks one a line (one
+paragraph), a :class:`~.model.Break` and a result shown inside another set off by a blank
+line.  The heading is the report's business: not shown.
 A document that is one formula (``math``) is that formula, without delimiters.
 
 >>> from tableau_lab.render.model import Document, Paragraph, Table, Math, Code
@@ -17,7 +18,7 @@ A document that is one formula (``math``) is that formula, without delimiters.
 from __future__ import annotations
 
 from ..exact.render import latex_text
-from .model import Document, Formula, Paragraph, Renderer, Table
+from .model import Break, Document, Formula, Paragraph, Renderer, Table
 
 __all__ = ["LatexRenderer", "render"]
 
@@ -30,14 +31,17 @@ class LatexRenderer(Renderer):
         if doc.math:
             (formula,) = blocks
             return formula.latex
-        out, prev = [], None
+        out, prev, parted = [], None, False
         for b in blocks:
+            if isinstance(b, Break):
+                parted = prev is not None
+                continue
             if prev is not None:
-                out.append("\n\n" if isinstance(b, Document) or isinstance(prev, Document) else "\n")
+                out.append("\n\n" if parted or isinstance(b, Document) or isinstance(prev, Document) else "\n")
             if isinstance(b, Paragraph) and isinstance(prev, Table):
                 out.append("\\par ")                   # text after a tabular is a new paragraph
             out.append(self.block(b))
-            prev = b
+            prev, parted = b, False
         return "".join(out)
 
     def nested(self, doc: Document) -> str:

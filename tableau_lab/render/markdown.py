@@ -23,7 +23,7 @@ from __future__ import annotations
 import re
 
 from ..exact.render import markdown_literal
-from .model import Document, Formula, Renderer, Table
+from .model import Break, Document, Formula, Paragraph, Renderer, Table
 
 __all__ = ["MarkdownRenderer", "render", "display_math", "display_body", "gathered", "code_span"]
 
@@ -68,7 +68,13 @@ class MarkdownRenderer(Renderer):
         blocks = self.shown(doc.blocks)
         if doc.math:
             return "\n\n".join(_one_line(b.latex) for b in blocks)
-        return "\n\n".join(s for s in (self.block(b).strip() for b in blocks) if s)
+        out, prev = [], None
+        for b in blocks:
+            text = self.block(b).strip()
+            if text:                   # consecutive paragraphs are one: a line break
+                out += ["\n" if isinstance(b, Paragraph) and isinstance(prev, Paragraph) else "\n\n", text]
+            prev = None if isinstance(b, Break) else b if text else prev
+        return "".join(out[1:])
 
     def nested(self, doc: Document) -> str:
         return self.body(doc)

@@ -2,7 +2,7 @@
 faces, and :class:`Renderer`, the walk every format shares.
 
 Inline parts: :class:`Text`, :class:`Math`, :class:`Code`, :class:`Strong`, :class:`Lead`.
-Blocks: :class:`Paragraph`, :class:`Formula`, :class:`Table`, a nested :class:`Document`, and
+Blocks: :class:`Paragraph`, :class:`Formula`, :class:`Table`, :class:`Break`, a nested :class:`Document`, and
 the face filters :class:`Plain` and :class:`Typeset`.  A plain ``str`` among the parts of a
 paragraph is :class:`Text`.
 
@@ -14,8 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Union
 
-__all__ = ["Text", "Math", "Code", "Strong", "Lead", "Paragraph", "Formula", "Table", "Plain", "Typeset", "Document",
-           "Renderer", "Part", "Block"]
+__all__ = ["Text", "Math", "Code", "Strong", "Lead", "Paragraph", "Formula", "Table", "Break", "Plain", "Typeset",
+           "Document", "Renderer", "Part", "Block"]
 
 
 # ------------------------------------------------------------------ inline parts
@@ -99,6 +99,12 @@ class Table:
         return [_parts((c,)) if isinstance(c, (str, Text, Math, Code, Strong, Lead)) else _parts(c) for c in row]
 
 
+@dataclass(frozen=True)
+class Break:
+    """A paragraph break.  Consecutive blocks without one run on as one paragraph (sentences,
+    display formulas, a table), as in LaTeX; a result shown inside another stands apart anyway."""
+
+
 @dataclass(frozen=True, init=False)
 class Plain:
     """Blocks of the plain face only (the text format)."""
@@ -127,7 +133,7 @@ class Document:
     math: bool = False
 
 
-Block = Union[Paragraph, Formula, Table, Plain, Typeset, Document]
+Block = Union[Paragraph, Formula, Table, Break, Plain, Typeset, Document]
 
 
 # ------------------------------------------------------------------ the walk
@@ -162,6 +168,8 @@ class Renderer:
             return self.table(b)
         if isinstance(b, Document):
             return self.nested(b)
+        if isinstance(b, Break):
+            return ""
         raise TypeError(f"not a block of the document model: {b!r}")
 
     def inline(self, parts, **context) -> str:

@@ -13,7 +13,7 @@ gauss:3  6
 """
 from __future__ import annotations
 
-from .model import Document, Formula, Renderer, Table
+from .model import Break, Document, Formula, Renderer, Table
 
 __all__ = ["TextRenderer", "render"]
 
@@ -24,7 +24,7 @@ class TextRenderer(Renderer):
     def render(self, doc: Document) -> str:
         lines = [] if doc.heading is None else [doc.heading]
         lines += [self.block(b) for b in self.shown(doc.blocks)
-                  if not (isinstance(b, Formula) and b.text is None)]
+                  if not (isinstance(b, Formula) and b.text is None or isinstance(b, Break))]
         return "\n".join(lines)
 
     def nested(self, doc: Document) -> str:
