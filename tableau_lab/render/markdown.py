@@ -80,8 +80,7 @@ class MarkdownRenderer(Renderer):
         return self.body(doc)
 
     def text(self, p, before: str, table: bool = False) -> str:
-        out = markdown_literal(p.text, lines=not table, line_start=not before or before.endswith("\n"))
-        return out
+        return markdown_literal(p.text, line_start=not before or before.endswith("\n"))   # a newline shown: \n
 
     def math(self, p, before: str, table: bool = False) -> str:
         body = p.latex.strip()
