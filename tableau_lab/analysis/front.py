@@ -170,7 +170,10 @@ def _canonical_pairs(H, q, p):
     return as_tuple(q), as_tuple(p)
 
 
-def modified_hamiltonian(method: Method, H, n: int, q=None, p=None, h=sp.Symbol("h")) -> MethodHamiltonian:
+STEP = sp.Symbol("h")      # the step size symbol of H̃'s expression (immutable: a safe default argument)
+
+
+def modified_hamiltonian(method: Method, H, n: int, q=None, p=None, h=STEP) -> MethodHamiltonian:
     r"""The modified Hamiltonian H̃ = H + h H̃₂ + h² H̃₃ + … of ``method`` for the Hamiltonian ``H``
     (a sympy expression in q, p — or q1, p1, … — or in the symbols ``q``, ``p`` given), with the
     free trees of order ≤ ``n`` (terms up to h^(n−1)): the exact first integral of the method's
