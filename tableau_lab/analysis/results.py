@@ -1,17 +1,14 @@
-r"""Result objects shared by the analyses: each prints itself, serialises to JSON
-(exact values as strings in the tableau grammar) and renders to LaTeX.
+r"""Result objects shared by the analyses: each holds its data, serialises it to JSON (exact
+values as strings in the tableau grammar) and builds one document, ``display()``, that the
+rendering layer (:mod:`tableau_lab.render`) writes as text (``str``), LaTeX (``to_latex``) and,
+in a notebook (Jupyter with MathJax), Markdown (``_repr_markdown_``: the heading in bold over the
+typeset face) and display math (``_repr_latex_``: only when the typeset face is formulas and
+nothing else, so that a frontend preferring LaTeX loses no sentence).
 
-In a notebook (Jupyter with MathJax) a result shows itself through its ``to_latex`` — the
-LaTeX made for the PDF reports, prose with ``$…$``, ``\[…\]`` and ``tabular`` — translated:
-
-* ``_repr_markdown_``: the first line of ``str(result)`` in bold, then ``to_latex`` with its
-  display math as ``$$…$$``, inline math as ``$…$``, tables as Markdown tables and the few
-  text-mode commands it uses (``\par``, ``\paragraph``, ``\textbf``, ``\text``, …) as
-  Markdown.  JupyterLab and Notebook prefer Markdown to LaTeX, so this is what they show.
-* ``_repr_latex_``: display math only (``$$…$$``: MathJax typesets the whole output as math),
-  offered only when the result is all math — a class whose ``to_latex`` is a formula sets
-  ``latex_math``, and a result whose LaTeX is display blocks only qualifies too; with any prose
-  it is None, so that a frontend preferring LaTeX (nbconvert to PDF) loses no sentence.
+A result not yet moved onto the layer (the stability family, this round) writes ``__str__`` and
+``to_latex`` itself; its notebook displays are its LaTeX translated (:func:`latex_markdown`:
+display math as ``$$…$$``, inline math as ``$…$``, tables as Markdown tables, the few text-mode
+commands it uses as Markdown; a class whose ``to_latex`` is a formula sets ``latex_math``).
 
 A result made of others (``_parts``) shows them one after the other.
 
