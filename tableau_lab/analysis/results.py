@@ -27,7 +27,7 @@ import dataclasses
 import re
 
 from ..exact.render import markdown_literal, matrix_latex, matrix_text
-from ..render import json as json_format, latex as latex_format, markdown as markdown_format, text as text_format
+from ..render.displayed import Displayed
 from ..render.markdown import code_span, display_body, gathered
 from ..render.model import Document
 
@@ -143,13 +143,13 @@ def _compared(r) -> tuple:
     return tuple(sorted(vars(r).items()))
 
 
-class Result:
+class Result(Displayed):
     """Base of the analyses' results.  A result moved onto the rendering layer implements
     ``display()`` (its :class:`~tableau_lab.render.model.Document`, built from its data) and
     ``to_json`` (its data); ``str``, ``to_latex``, ``dumps`` and the notebook displays are then
-    the renderers of :mod:`tableau_lab.render`.  A result not yet moved (``display()`` None)
-    implements ``__str__`` and ``to_latex`` itself, and its notebook displays are its LaTeX
-    translated (:func:`latex_markdown`)."""
+    the renderers' (:class:`~tableau_lab.render.displayed.Displayed`).  A result not yet moved
+    (``display()`` None) implements ``__str__`` and ``to_latex`` itself, and its notebook
+    displays are its LaTeX translated (:func:`latex_markdown`)."""
 
     latex_math = False     # not yet moved: True when to_latex() is one formula (math mode, no delimiters)
     int_field = None       # the field that int(result) gives ("order" for the order analyses), or None
@@ -180,22 +180,6 @@ class Result:
         """What the result shows, in every format (None: a result not yet moved onto the layer)."""
         return None
 
-    def __str__(self) -> str:
-        doc = self.display()
-        return object.__repr__(self) if doc is None else text_format.render(doc)
-
-    def to_json(self) -> dict:  # pragma: no cover - overridden
-        raise NotImplementedError
-
-    def dumps(self) -> str:
-        return json_format.render(self.to_json())
-
-    def to_latex(self) -> str:
-        doc = self.display()
-        if doc is None:  # pragma: no cover - a result not yet moved overrides to_latex
-            raise NotImplementedError
-        return latex_format.render(doc)
-
     def _parts(self) -> list | None:
         """The results this one is made of, shown one after the other; None: a single result."""
         return None
@@ -206,9 +190,8 @@ class Result:
         if parts:
             bodies = [p._display_math() for p in parts]
             return None if None in bodies else gathered(bodies)
-        doc = self.display()
-        if doc is not None:
-            math = markdown_format.display_math(doc)
+        if self.display() is not None:
+            math = super()._repr_latex_()
             return None if math is None else math[2:-2]
         if self.latex_math:
             return display_body(self.to_latex().strip())
@@ -221,13 +204,13 @@ class Result:
         return None if math is None else f"$${math}$$"
 
     def _repr_markdown_(self) -> str:
-        """Jupyter: the heading in bold over the typeset face (:mod:`tableau_lab.render.markdown`)."""
+        """Jupyter: the heading in bold over the typeset face; the parts of a combined result one
+        after the other; a result not yet moved: the first line of its text over its LaTeX translated."""
         parts = self._parts()
         if parts:
             return "\n\n".join(p._repr_markdown_() for p in parts)
-        doc = self.display()
-        if doc is not None:
-            return markdown_format.render(doc)
+        if self.display() is not None:
+            return super()._repr_markdown_()
         head = str(self).split("\n", 1)[0].strip()
         body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
         return ((f"**{markdown_literal(head)}**\n\n" if head else "") + body).strip()

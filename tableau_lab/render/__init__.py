@@ -8,8 +8,8 @@ values as strings in the tableau grammar).  A new output format is one new file:
 The design:
 
 * A result builds its document from its data with ONE method, ``display()``; its ``__str__``,
-  ``to_latex``, ``_repr_markdown_`` and ``_repr_latex_`` (:mod:`tableau_lab.analysis.results`)
-  are thin calls to the renderers.
+  ``to_latex``, ``dumps``, ``_repr_markdown_`` and ``_repr_latex_`` are the renderers' (the
+  mixin :class:`.displayed.Displayed`, base of :class:`tableau_lab.analysis.results.Result`).
 * The document is made of escaped *parts*: :class:`.model.Text` (plain text — a method's name, a
   message — made literal by each renderer as it places the part: ``latex_text``, CommonMark
   escapes), :class:`.model.Math` (a formula written by the program from exact values, in LaTeX
