@@ -3,7 +3,7 @@ model of tableau_lab.render: what a new format costs (tests/test_render.py rende
 kind with it).  Text is escaped as each part is placed (html.escape), never afterwards."""
 from html import escape
 
-from tableau_lab.render.model import Document, Formula, Renderer, Table
+from tableau_lab.render.model import Code, Document, Formula, Math, Paragraph, Renderer, Strong, Table, Text
 
 
 class HtmlRenderer(Renderer):
@@ -16,22 +16,20 @@ class HtmlRenderer(Renderer):
     def nested(self, doc: Document) -> str:
         return "<section>" + self.render(Document(None, doc.blocks, doc.math)) + "</section>"
 
-    def paragraph(self, b) -> str:
+    def paragraph(self, b: Paragraph) -> str:
         return f"<p>{self.inline(b.parts)}</p>"
 
-    def text(self, p, before: str) -> str:
+    def text(self, p: Text, before: str, table: bool) -> str:
         return escape(p.text)
 
-    def math(self, p, before: str) -> str:
+    def math(self, p: Math, before: str, table: bool) -> str:
         return rf"\({escape(p.latex)}\)"
 
-    def code(self, p, before: str) -> str:
+    def code(self, p: Code, before: str, table: bool) -> str:
         return f"<code>{escape(p.text)}</code>"
 
-    def strong(self, p, before: str) -> str:
-        return f"<b>{self.inline(p.parts)}</b>"
-
-    lead = strong
+    def strong(self, p: Strong, before: str, table: bool) -> str:
+        return f"<b>{self.inline(p.parts, table)}</b>"
 
     def formula(self, b: Formula) -> str:
         return rf"<div>\[{escape(b.latex)}\]</div>"

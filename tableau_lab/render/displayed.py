@@ -20,6 +20,8 @@ None
 """
 from __future__ import annotations
 
+from typing import Any
+
 from . import json as json_format, latex as latex_format, markdown as markdown_format, text as text_format
 from .model import Document
 
@@ -33,7 +35,7 @@ class Displayed:
     def display(self) -> Document:  # pragma: no cover - implemented by each class
         raise NotImplementedError
 
-    def to_json(self) -> dict:  # pragma: no cover - implemented by each class
+    def to_json(self) -> dict[str, Any]:  # pragma: no cover - implemented by each class
         raise NotImplementedError
 
     def __str__(self) -> str:

@@ -11,6 +11,6 @@ import json
 __all__ = ["render"]
 
 
-def render(data: dict) -> str:
+def render(data: dict[str, object]) -> str:
     """``data`` as one line of JSON, non-ASCII kept."""
     return json.dumps(data, ensure_ascii=False)

@@ -18,7 +18,7 @@ A document that is one formula (``math``) is that formula, without delimiters.
 from __future__ import annotations
 
 from ..exact.render import latex_text
-from .model import Break, Document, Formula, Paragraph, Renderer, Table
+from .model import Break, Cell, Code, Document, Formula, Lead, Math, Paragraph, Renderer, Strong, Table, Text
 
 __all__ = ["LatexRenderer", "render"]
 
@@ -30,6 +30,7 @@ class LatexRenderer(Renderer):
         blocks = self.shown(doc.blocks)
         if doc.math:
             (formula,) = blocks
+            assert isinstance(formula, Formula), formula
             return formula.latex
         out, prev, parted = [], None, False
         for b in blocks:
@@ -48,27 +49,27 @@ class LatexRenderer(Renderer):
         body = self.render(Document(None, doc.blocks, doc.math))
         return f"\\[ {body} \\]" if doc.math else body
 
-    def text(self, p, before: str) -> str:
+    def text(self, p: Text, before: str, table: bool) -> str:
         return latex_text(p.text)
 
-    def math(self, p, before: str) -> str:
+    def math(self, p: Math, before: str, table: bool) -> str:
         return f"${p.latex}$"
 
-    def code(self, p, before: str) -> str:
+    def code(self, p: Code, before: str, table: bool) -> str:
         return f"\\texttt{{{latex_text(p.text)}}}"
 
-    def strong(self, p, before: str) -> str:
-        return f"\\textbf{{{self.inline(p.parts)}}}"
+    def strong(self, p: Strong, before: str, table: bool) -> str:
+        return f"\\textbf{{{self.inline(p.parts, table)}}}"
 
-    def lead(self, p, before: str) -> str:
-        return f"\\paragraph{{{self.inline(p.parts)}}}"
+    def lead(self, p: Lead, before: str, table: bool) -> str:
+        return f"\\paragraph{{{self.inline(p.parts, table)}}}"
 
     def formula(self, b: Formula) -> str:
         return f"\\[ {b.latex} \\]"
 
     def table(self, b: Table) -> str:
-        def row(r):
-            return " & ".join(self.inline(c) for c in b.cells(r))
+        def row(r: tuple[Cell, ...]) -> str:
+            return " & ".join(self.inline(c, True) for c in b.cells(r))
         return (f"\\begin{{tabular}}{{{b.columns or 'l' * len(b.header)}}}\n{row(b.header)} \\\\ \\hline\n"
                 + "".join(f"{row(r)} \\\\\n" for r in b.rows) + "\\end{tabular}")
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import re
 
 from ..exact.render import markdown_literal
-from .model import Break, Document, Formula, Paragraph, Renderer, Table
+from .model import Block, Break, Cell, Code, Document, Formula, Math, Paragraph, Renderer, Strong, Table, Text
 
 __all__ = ["MarkdownRenderer", "render", "display_math", "display_body", "gathered", "code_span"]
 
@@ -67,8 +67,9 @@ class MarkdownRenderer(Renderer):
     def body(self, doc: Document) -> str:
         blocks = self.shown(doc.blocks)
         if doc.math:
-            return "\n\n".join(_one_line(b.latex) for b in blocks)
-        out, prev = [], None
+            return "\n\n".join(_one_line(b.latex) for b in blocks if isinstance(b, Formula))
+        out: list[str] = []
+        prev: Block | None = None
         for b in blocks:
             text = self.block(b).strip()
             if text:                   # consecutive paragraphs are one: a line break
@@ -79,27 +80,25 @@ class MarkdownRenderer(Renderer):
     def nested(self, doc: Document) -> str:
         return self.body(doc)
 
-    def text(self, p, before: str, table: bool = False) -> str:
+    def text(self, p: Text, before: str, table: bool) -> str:
         return markdown_literal(p.text, line_start=not before or before.endswith("\n"))   # a newline shown: \n
 
-    def math(self, p, before: str, table: bool = False) -> str:
+    def math(self, p: Math, before: str, table: bool) -> str:
         body = p.latex.strip()
         return "$" + (body.replace("|", r"\vert ") if table else body) + "$"
 
-    def code(self, p, before: str, table: bool = False) -> str:
+    def code(self, p: Code, before: str, table: bool) -> str:
         return code_span(p.text)
 
-    def strong(self, p, before: str, table: bool = False) -> str:
-        return "**" + self.inline(p.parts, table=table) + "**"
-
-    lead = strong
+    def strong(self, p: Strong, before: str, table: bool) -> str:
+        return "**" + self.inline(p.parts, table) + "**"
 
     def formula(self, b: Formula) -> str:
         return _one_line(b.latex)
 
     def table(self, b: Table) -> str:
-        def row(r):
-            return "| " + " | ".join(self.inline(c, table=True).strip() for c in b.cells(r)) + " |"
+        def row(r: tuple[Cell, ...]) -> str:
+            return "| " + " | ".join(self.inline(c, True).strip() for c in b.cells(r)) + " |"
         return "\n".join([row(b.header), "|" + " --- |" * len(b.header)] + [row(r) for r in b.rows])
 
 
@@ -117,7 +116,7 @@ def display_math(doc: Document) -> str | None:
 
 
 def _formulas(doc: Document) -> list[str] | None:
-    out = []
+    out: list[str] = []
     for b in MarkdownRenderer().shown(doc.blocks):
         if isinstance(b, Formula):
             out.append(display_body(b.latex.strip()))

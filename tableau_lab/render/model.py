@@ -11,6 +11,7 @@ paragraph is :class:`Text`.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Union
 
@@ -42,25 +43,25 @@ class Code:
     text: str
 
 
-def _parts(parts) -> tuple:
+def _parts(parts: Iterable[str | Part]) -> tuple[Part, ...]:
     return tuple(Text(p) if isinstance(p, str) else p for p in parts)
 
 
 @dataclass(frozen=True, init=False)
 class Strong:
     """Inline parts in bold (text: as they are)."""
-    parts: tuple
+    parts: tuple[Part, ...]
 
-    def __init__(self, *parts):
+    def __init__(self, *parts: str | Part) -> None:
         object.__setattr__(self, "parts", _parts(parts))
 
 
 @dataclass(frozen=True, init=False)
 class Lead:
     """A run-in heading that opens a paragraph (LaTeX ``\\paragraph``, Markdown bold)."""
-    parts: tuple
+    parts: tuple[Part, ...]
 
-    def __init__(self, *parts):
+    def __init__(self, *parts: str | Part) -> None:
         object.__setattr__(self, "parts", _parts(parts))
 
 
@@ -71,10 +72,10 @@ Part = Union[Text, Math, Code, Strong, Lead]
 
 @dataclass(frozen=True, init=False)
 class Paragraph:
-    """A run of inline parts (``str`` items are :class:`Text`); text may hold line breaks."""
-    parts: tuple
+    """A run of inline parts (``str`` items are :class:`Text`)."""
+    parts: tuple[Part, ...]
 
-    def __init__(self, *parts):
+    def __init__(self, *parts: str | Part) -> None:
         object.__setattr__(self, "parts", _parts(parts))
 
 
@@ -90,11 +91,11 @@ class Formula:
 class Table:
     """A table: ``header`` a tuple of cells, ``rows`` tuples of cells, a cell a tuple of inline
     parts (or one part, or a ``str``: :class:`Text`); ``columns`` the LaTeX column spec."""
-    header: tuple
-    rows: tuple
+    header: tuple[Cell, ...]
+    rows: tuple[tuple[Cell, ...], ...]
     columns: str = ""
 
-    def cells(self, row) -> list[tuple]:
+    def cells(self, row: tuple[Cell, ...]) -> list[tuple[Part, ...]]:
         """The cells of ``row`` each as a tuple of parts."""
         return [_parts((c,)) if isinstance(c, (str, Text, Math, Code, Strong, Lead)) else _parts(c) for c in row]
 
@@ -108,18 +109,18 @@ class Break:
 @dataclass(frozen=True, init=False)
 class Plain:
     """Blocks of the plain face only (the text format)."""
-    blocks: tuple
+    blocks: tuple[Block, ...]
 
-    def __init__(self, *blocks):
+    def __init__(self, *blocks: Block) -> None:
         object.__setattr__(self, "blocks", tuple(blocks))
 
 
 @dataclass(frozen=True, init=False)
 class Typeset:
     """Blocks of the typeset face only (LaTeX, Markdown, any typesetting format)."""
-    blocks: tuple
+    blocks: tuple[Block, ...]
 
-    def __init__(self, *blocks):
+    def __init__(self, *blocks: Block) -> None:
         object.__setattr__(self, "blocks", tuple(blocks))
 
 
@@ -129,27 +130,30 @@ class Document:
     ``math``: the typeset face is one formula and nothing else (LaTeX gives it without
     delimiters, as the reports embed it; a notebook shows it as display math)."""
     heading: str | None
-    blocks: tuple = field(default=())
+    blocks: tuple[Block, ...] = field(default=())
     math: bool = False
 
 
 Block = Union[Paragraph, Formula, Table, Break, Plain, Typeset, Document]
+Cell = Union[str, Part, tuple[Union[str, Part], ...]]
 
 
 # ------------------------------------------------------------------ the walk
 
 class Renderer:
     """One output format: ``face`` ("plain" or "typeset") picks the blocks it shows, the methods
-    write each node; :meth:`render` walks a document.  A new format overrides the node methods."""
+    write each node; :meth:`render` walks a document.  A new format writes :meth:`render` and
+    the node methods (``before``: what the run of parts has written so far; ``table``: inside a
+    table cell)."""
 
     face = "typeset"
 
     def render(self, doc: Document) -> str:  # pragma: no cover - overridden
         raise NotImplementedError
 
-    def shown(self, blocks) -> list:
+    def shown(self, blocks: Sequence[Block]) -> list[Block]:
         """The blocks of this renderer's face, :class:`Plain`/:class:`Typeset` unwrapped."""
-        out = []
+        out: list[Block] = []
         for b in blocks:
             if isinstance(b, (Plain, Typeset)):
                 if isinstance(b, Plain) == (self.face == "plain"):
@@ -158,8 +162,8 @@ class Renderer:
                 out.append(b)
         return out
 
-    def block(self, b) -> str:
-        """One block, dispatched on its kind."""
+    def block(self, b: Block) -> str:
+        """One block (not a face filter), dispatched on its kind."""
         if isinstance(b, Paragraph):
             return self.paragraph(b)
         if isinstance(b, Formula):
@@ -172,23 +176,50 @@ class Renderer:
             return ""
         raise TypeError(f"not a block of the document model: {b!r}")
 
-    def inline(self, parts, **context) -> str:
-        """Inline parts, dispatched on their kind (``context`` passed to each: e.g. a table cell)."""
-        out = []
+    def inline(self, parts: Iterable[Part], table: bool = False) -> str:
+        """Inline parts, dispatched on their kind (``table``: they fill a table cell)."""
+        out: list[str] = []
         for p in parts:
-            kind = type(p).__name__.lower()
-            out.append(getattr(self, kind)(p, "".join(out), **context))
+            before = "".join(out)
+            if isinstance(p, Text):
+                out.append(self.text(p, before, table))
+            elif isinstance(p, Math):
+                out.append(self.math(p, before, table))
+            elif isinstance(p, Code):
+                out.append(self.code(p, before, table))
+            elif isinstance(p, Strong):
+                out.append(self.strong(p, before, table))
+            elif isinstance(p, Lead):
+                out.append(self.lead(p, before, table))
+            else:
+                raise TypeError(f"not an inline part of the document model: {p!r}")
         return "".join(out)
 
     def paragraph(self, b: Paragraph) -> str:
         return self.inline(b.parts)
+
+    def nested(self, doc: Document) -> str:
+        """A result shown inside another: its blocks of this face (not its heading)."""
+        return self.render(Document(None, doc.blocks, doc.math))
+
+    def text(self, p: Text, before: str, table: bool) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def math(self, p: Math, before: str, table: bool) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def code(self, p: Code, before: str, table: bool) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def strong(self, p: Strong, before: str, table: bool) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def lead(self, p: Lead, before: str, table: bool) -> str:
+        """A run-in heading: bold unless the format has its own."""
+        return self.strong(Strong(*p.parts), before, table)
 
     def formula(self, b: Formula) -> str:  # pragma: no cover - overridden
         raise NotImplementedError
 
     def table(self, b: Table) -> str:  # pragma: no cover - overridden
         raise NotImplementedError
-
-    def nested(self, doc: Document) -> str:
-        """A result shown inside another: its blocks of this face (not its heading)."""
-        return self.render(Document(None, doc.blocks, doc.math))

@@ -13,7 +13,7 @@ gauss:3  6
 """
 from __future__ import annotations
 
-from .model import Break, Document, Formula, Renderer, Table
+from .model import Break, Code, Document, Formula, Math, Renderer, Strong, Table, Text
 
 __all__ = ["TextRenderer", "render"]
 
@@ -30,28 +30,26 @@ class TextRenderer(Renderer):
     def nested(self, doc: Document) -> str:
         return self.render(doc)          # in text a result inside another shows itself whole
 
-    def text(self, p, before: str) -> str:
+    def text(self, p: Text, before: str, table: bool) -> str:
         return p.text
 
-    def math(self, p, before: str) -> str:
+    def math(self, p: Math, before: str, table: bool) -> str:
         return p.latex if p.text is None else p.text
 
-    def code(self, p, before: str) -> str:
+    def code(self, p: Code, before: str, table: bool) -> str:
         return p.text
 
-    def strong(self, p, before: str) -> str:
-        return self.inline(p.parts)
-
-    lead = strong
+    def strong(self, p: Strong, before: str, table: bool) -> str:
+        return self.inline(p.parts, table)
 
     def formula(self, b: Formula) -> str:
         return b.latex if b.text is None else b.text
 
     def table(self, b: Table) -> str:
-        rows = [[self.inline(c) for c in b.cells(r)] for r in (b.header, *b.rows)]
+        rows = [[self.inline(c, True) for c in b.cells(r)] for r in (b.header, *b.rows)]
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
 
-        def line(row):
+        def line(row: list[str]) -> str:
             return "  ".join(x.ljust(w) for x, w in zip(row, widths, strict=True)).rstrip()
         return "\n".join([line(rows[0]), line(["-" * w for w in widths])] + [line(r) for r in rows[1:]])
 
