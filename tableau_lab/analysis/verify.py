@@ -67,7 +67,7 @@ class VerifyResult(Result):
         zero: with free parameters, the order p + 1 holds exactly where all of these vanish."""
         if self.order is None:
             return {}
-        return dict(self.order.residuals if self.kind == "rk" else self.order.errors)
+        return dict(self.order.residuals if isinstance(self.order, RKOrderResult) else self.order.errors)
 
     @property
     def next_order_never(self) -> bool:
@@ -78,6 +78,7 @@ class VerifyResult(Result):
     def _parameter_order(self) -> str:
         """The order statement for a tableau with free parameters."""
         o, names = self.order, ", ".join(map(str, self.parameters))
+        assert o is not None, "called with an order"
         capped = getattr(o, "capped", False)          # PRK results have no cap flag: errors are empty then
         line = f"  for all values of {names}: order {'at least ' if capped else ''}{o.order}"
         conds = self.next_order
@@ -102,12 +103,12 @@ class VerifyResult(Result):
 
     def _lines(self) -> list[str]:
         """The text lines after the symplecticity analyses: order, parasitism, claims."""
-        parts = []
+        parts: list[str] = []
         if self.order is not None:
             o = self.order
-            if self.kind == "prk":
+            if isinstance(o, PRKOrderResult):
                 parts.append(f"order: {o.order} (bicoloured trees)")
-            elif self.kind == "rk":
+            elif isinstance(o, RKOrderResult):
                 parts.append(f"order: classical {o.order}, effective {o.effective_order}, stage order {o.stage_order}; "
                              f"B({o.B}), C({o.C}), D({o.D})")
                 if o.consistency:

@@ -32,18 +32,25 @@ class Displayed:
     """Mixin: ``str``, ``to_latex``, ``dumps``, ``_repr_markdown_`` and ``_repr_latex_`` as the
     renderers of ``self.display()`` (and ``self.to_json()``)."""
 
-    def display(self) -> Document:  # pragma: no cover - implemented by each class
+    def display(self) -> Document | None:  # pragma: no cover - implemented by each class
+        """The document shown (None: the subclass writes its faces itself)."""
         raise NotImplementedError
+
+    def _document(self) -> Document:
+        doc = self.display()
+        if doc is None:
+            raise TypeError(f"a {type(self).__name__} has no display(): it writes its own faces")
+        return doc
 
     def to_json(self) -> dict[str, Any]:  # pragma: no cover - implemented by each class
         raise NotImplementedError
 
     def __str__(self) -> str:
-        return text_format.render(self.display())
+        return text_format.render(self._document())
 
     def to_latex(self) -> str:
         """LaTeX text mode (a formula, math mode, when the display is one formula)."""
-        return latex_format.render(self.display())
+        return latex_format.render(self._document())
 
     def dumps(self) -> str:
         """The data as one line of JSON."""
@@ -51,8 +58,8 @@ class Displayed:
 
     def _repr_markdown_(self) -> str:
         """Jupyter: the heading in bold over the typeset face."""
-        return markdown_format.render(self.display())
+        return markdown_format.render(self._document())
 
     def _repr_latex_(self) -> str | None:
         """Jupyter: display math only, or None when the display has prose (the Markdown is shown)."""
-        return markdown_format.display_math(self.display())
+        return markdown_format.display_math(self._document())
