@@ -3,7 +3,7 @@ module left out:
 
 * no import cycle — every ``import`` counts, also one inside a function (the strongly connected
   components of the import graph are single modules);
-* no floor reaching up — base (top-level helpers) < exact < analysis < numeric < experiments <
+* no floor reaching up — base (top-level helpers) < exact < render < analysis < numeric < experiments <
   faces; a module imports only from its own floor and those below;
 * no private name (leading underscore) imported across modules, by ``from m import _x`` or by
   ``m._x`` on an imported module;
@@ -21,8 +21,10 @@ PKG = Path(__file__).parent.parent / "tableau_lab"
 DOC = Path(__file__).parent.parent / "docs" / "architecture.md"
 
 #: the floors, lowest first; a module belongs to the floor of its subpackage, or is named here
-FLOORS = ("base", "exact", "analysis", "numeric", "experiments", "faces")
-SUBPACKAGE_FLOOR = {"exact": "exact", "analysis": "analysis", "numeric": "numeric", "experiments": "experiments",
+#: render (tableau_lab/render/: the document model and one renderer per format) sits on the exact core
+#: and under the analyses, whose results build documents from their data and leave the formats to it
+FLOORS = ("base", "exact", "render", "analysis", "numeric", "experiments", "faces")
+SUBPACKAGE_FLOOR = {"exact": "exact", "render": "render", "analysis": "analysis", "numeric": "numeric", "experiments": "experiments",
                     "proofs": "faces"}
 TOP_LEVEL_FLOOR = {
     # the package itself: __version__ and the lazy table of public names; it imports nothing

@@ -21,8 +21,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..exact.library import FAMILIES, library_names, library_path
-from ..exact.render import markdown_literal
 from ..exact.tableau_json import TableauError, load, read
+from ..render import markdown as markdown_format
+from ..render.model import Document, Paragraph, Plain, Table
 from .order import order
 from .results import Result
 
@@ -63,6 +64,10 @@ class MethodRow:
     family: bool = False
 
 
+_FOOTNOTE = ("(order: claimed by the file and checked by `tableau-lab verify`; * computed; "
+             "families: the published formula; load a family as name:N, e.g. gauss:3)")
+
+
 @dataclass(frozen=True)
 class MethodList(Result):
     """The rows of :func:`list_methods`; ``rows[name]`` finds one (a family by its bare name)."""
@@ -96,28 +101,15 @@ class MethodList(Result):
         files = sum(not r.family for r in self.rows)
         return f"The method library: {files} shipped tableaux, {len(self.rows) - files} families"
 
-    def __str__(self):
-        head = ("name", "kind", "size", "order", "source")
-        cells = self._cells()
-        widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
-        line = lambda row: "  ".join(x.ljust(w) for x, w in zip(row, widths, strict=False)).rstrip()  # noqa: E731
-        return "\n".join([self.title, "", line(head), line(["-" * w for w in widths])] + [line(c) for c in cells]
-                         + ["(order: claimed by the file and checked by `tableau-lab verify`; * computed; "
-                            "families: the published formula; load a family as name:N, e.g. gauss:3)"])
-
-    def _repr_markdown_(self):
-        return self.markdown()
+    def display(self) -> Document:
+        """The title, the table (name, kind, size, order, source) and, in text, what the columns mean."""
+        return Document(self.title, (Plain(Paragraph("")), Table(("name", "kind", "size", "order", "source"),
+                                                                 tuple(self._cells())),
+                                     Plain(Paragraph(_FOOTNOTE))))
 
     def markdown(self) -> str:
         """The table in Markdown (``tableau-lab list --markdown``; a notebook shows it)."""
-        rows = [f"**{markdown_literal(self.title)}**", "", "| name | kind | size | order | source |", "|---|---|---|---|---|"]
-        rows += ["| " + " | ".join(markdown_literal(x) for x in c) + " |" for c in self._cells()]
-        return "\n".join(rows)
-
-    def to_latex(self):
-        from ..exact.render import latex_text
-        body = " \\\\\n".join(" & ".join(latex_text(x) for x in c[:4]) for c in self._cells())
-        return "\\begin{tabular}{llll}\nname & kind & size & order \\\\ \\hline\n" + body + "\n\\end{tabular}"
+        return markdown_format.render(self.display())
 
     def to_json(self):
         return {"methods": [{"name": r.name, "kind": r.kind, "size": r.size, "order": r.order,

@@ -51,8 +51,8 @@ from ..exact.field import is_zero, normal_form, power
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
-from ..exact.render import latex_text
 from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
+from ..render.model import Break, Document, Lead, Math, Paragraph, Plain, Typeset
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
 
@@ -155,7 +155,7 @@ class DesignResult(Result):
     equations: int = 0
     seconds: float = 0.0
 
-    def __str__(self):
+    def _text(self) -> str:
         req = ", ".join(map(str, self.requirements))
         lines = [f"{self.name}: solve for {', '.join(map(str, self.unknowns))} with {req}",
                  f"status: {self.status} ({self.equations} equations, {self.seconds:.2f} s)"]
@@ -182,13 +182,16 @@ class DesignResult(Result):
                 "obstruction": [{"condition": lab, "equation": f"{format_entry(e)} = 0"} for lab, e in self.obstruction],
                 "rejected": [s.to_json() for s in self.rejected], "seconds": round(self.seconds, 3)}
 
-    def to_latex(self):
-        parts = [f"\\paragraph{{{latex_text(self.name)}}} Requirements: {latex_text(', '.join(map(str, self.requirements)))}; "
-                 f"status: {latex_text(self.status)}."]
+    def display(self) -> Document:
+        """Text: the system, status, solutions and obstruction; typeset: the requirements, the status
+        and each solution's values."""
+        head, *lines = self._text().split("\n")
+        out = [Paragraph(Lead(self.name), f" Requirements: {', '.join(map(str, self.requirements))}; "
+                         f"status: {self.status}.")]
         for i, sol in enumerate(self.solutions, 1):
             eqs = ", ".join(f"{sp.latex(k)} = {sp.latex(v)}" for k, v in sol.parameters.items())
-            parts.append(f"Solution {i} ({sol.label}): \\( {eqs} \\).")
-        return "\n\n".join(parts)
+            out += [Break(), Paragraph(f"Solution {i} ({sol.label}): ", Math(eqs), ".")]
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(*out)))
 
 
 def _inline(M):
@@ -650,7 +653,7 @@ class RepairResult(Result):
     tried: int = 0
     skipped: tuple = ()        # entries whose generic replacement leaves no preconsistent method
 
-    def __str__(self):
+    def _text(self) -> str:
         lines = [f"{self.name}: repair"]
         if self.tried:
             lines.append(f"located: of {self.tried} entries tried one at a time, the requirements become solvable "
@@ -692,8 +695,11 @@ class RepairResult(Result):
                                for e, (a, b) in self.changes(k).items()} for k in range(1, len(self.design.solutions) + 1)]
         return out
 
-    def to_latex(self):
-        return "" if self.design is None else self.design.to_latex()
+    def display(self) -> Document:
+        """Text: the located entries and each repair; typeset: the design's display."""
+        head, *lines = self._text().split("\n")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)),
+                               Typeset(*([] if self.design is None else [self.design.display()]))))
 
 
 _ENTRY = re.compile(r"^\s*([A-Za-z]+)\s*\[\s*([0-9]{1,6})\s*(?:,|\]\s*\[)\s*([0-9]{1,6})\s*\]\s*$"

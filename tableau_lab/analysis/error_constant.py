@@ -38,6 +38,7 @@ import sympy as sp
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, MethodError
 from ..exact.multistep import as_lmm
+from ..render.model import Document, Math, Paragraph, Typeset
 from .results import Result
 
 __all__ = ["error_constant", "ErrorConstantResult", "lmm_constants"]
@@ -88,21 +89,21 @@ class ErrorConstantResult(Result):
         return (f"order {self.order}, error constant C{q} = {format_entry(self.C)} "
                 f"(α{str(self.k).translate(_SUB)} = 1{norm})")
 
-    def __str__(self):
-        return f"{self.method}: {self.line}"
+    def display(self) -> Document:
+        q = self.order + 1
+        norm = () if self.normalised is None else (
+            ", ", Math(f"C_{{{q}}}/\\sigma(1) = {sp.latex(self.normalised)}"), " with ",
+            Math(f"\\sigma(1) = {sp.latex(self.sigma1)}"))
+        return Document(f"{self.method}: {self.line}", (Typeset(Paragraph(
+            "Linear multistep method of order ", Math(str(self.order)), ": error constant ",
+            Math(f"C_{{{q}}} = {sp.latex(self.C)}"), " (normalised ", Math(f"\\alpha_{{{self.k}}} = 1"), ")",
+            *norm, ".")),))
 
     def to_json(self):
         s = lambda x: None if x is None else str(format_entry(x))  # noqa: E731
         return {"order": self.order, "error_constant": s(self.C), "error_constant_normalisation": "alpha_k = 1",
                 "error_constant_over_sigma1": s(self.normalised), "sigma1": s(self.sigma1),
                 "alpha": [s(a) for a in self.alpha], "beta": [s(b) for b in self.beta]}
-
-    def to_latex(self):
-        q = self.order + 1
-        norm = ("" if self.normalised is None else
-                f", $C_{{{q}}}/\\sigma(1) = {sp.latex(self.normalised)}$ with $\\sigma(1) = {sp.latex(self.sigma1)}$")
-        return (f"Linear multistep method of order ${self.order}$: error constant "
-                f"$C_{{{q}}} = {sp.latex(self.C)}$ (normalised $\\alpha_{{{self.k}}} = 1$){norm}.")
 
 
 def error_constant(m: Method) -> ErrorConstantResult:

@@ -22,6 +22,7 @@ import sympy as sp
 from ..errors import InputError
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..render.model import Document, Formula, Typeset
 from .bseries import modified_field
 from .method_series import method_series
 from .modified_hamiltonian import ModifiedHamiltonian, modified_hamiltonian as hamiltonian_series
@@ -81,7 +82,6 @@ class StabilityFunction(Result):
     """R(z) = P(z)/Q(z) of an RK method, P = det(I − zA + z𝟙bᵀ), Q = det(I − zA), exact (sympy
     expressions in ``z``); callable: ``R(z0)`` is R at z0."""
 
-    latex_math = True
     method: str
     numerator: sp.Expr
     denominator: sp.Expr
@@ -94,17 +94,16 @@ class StabilityFunction(Result):
     def __call__(self, z):
         return self.expression.subs(Z, z)
 
-    def __str__(self):
+    def display(self) -> Document:
         P, Q = (str(format_entry(x)) for x in (self.numerator, self.denominator))
-        return f"R(z) = {P}" if self.denominator == 1 else f"R(z) = ({P})/({Q})"
+        Pt, Qt = sp.latex(self.numerator), sp.latex(self.denominator)
+        if self.denominator == 1:
+            return Document(f"R(z) = {P}", (Typeset(Formula(f"R(z) = {Pt}")),), math=True)
+        return Document(f"R(z) = ({P})/({Q})", (Typeset(Formula(rf"R(z) = \frac{{{Pt}}}{{{Qt}}}")),), math=True)
 
     def to_json(self):
         return {"method": self.method, "numerator": str(format_entry(self.numerator)),
                 "denominator": str(format_entry(self.denominator))}
-
-    def to_latex(self):
-        P, Q = sp.latex(self.numerator), sp.latex(self.denominator)
-        return f"R(z) = {P}" if self.denominator == 1 else rf"R(z) = \frac{{{P}}}{{{Q}}}"
 
 
 def stability_function(method: Method) -> StabilityFunction:
@@ -134,7 +133,6 @@ class MethodHamiltonian(Result):
     ``order`` < ``max_order`` when no modified energy exists beyond (the method is not
     symplectic or conjugate-symplectic there)."""
 
-    latex_math = True
     method: str
     H: sp.Expr
     expression: sp.Expr
@@ -146,17 +144,15 @@ class MethodHamiltonian(Result):
         """The free-tree order to which the modified energy exists (≤ ``max_order``)."""
         return self.series.order
 
-    def __str__(self):
+    def display(self) -> Document:
         note = "" if self.order == self.max_order else (
             f" (no modified energy beyond order {self.order}: the conditions fail at order {self.order + 1})")
-        return f"{self.method}: H̃ = {self.expression}, free trees to order {self.order}{note}"
+        return Document(f"{self.method}: H̃ = {self.expression}, free trees to order {self.order}{note}",
+                        (Typeset(Formula(r"\tilde H = " + sp.latex(self.expression))),), math=True)
 
     def to_json(self):
         return {"method": self.method, "H": str(self.H), "expression": str(self.expression),
                 "max_order": self.max_order, "order": self.order, "series": self.series.to_json()}
-
-    def to_latex(self):
-        return r"\tilde H = " + sp.latex(self.expression)
 
 
 def _canonical_pairs(H, q, p):
@@ -174,7 +170,10 @@ def _canonical_pairs(H, q, p):
     return as_tuple(q), as_tuple(p)
 
 
-def modified_hamiltonian(method: Method, H, n: int, q=None, p=None, h=sp.Symbol("h")) -> MethodHamiltonian:
+STEP = sp.Symbol("h")      # the step size symbol of H̃'s expression (immutable: a safe default argument)
+
+
+def modified_hamiltonian(method: Method, H, n: int, q=None, p=None, h=STEP) -> MethodHamiltonian:
     r"""The modified Hamiltonian H̃ = H + h H̃₂ + h² H̃₃ + … of ``method`` for the Hamiltonian ``H``
     (a sympy expression in q, p — or q1, p1, … — or in the symbols ``q``, ``p`` given), with the
     free trees of order ≤ ``n`` (terms up to h^(n−1)): the exact first integral of the method's

@@ -39,6 +39,7 @@ from sympy.polys.matrices import DomainMatrix
 from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, preconsistency
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
@@ -80,7 +81,7 @@ class GLMOrderResult(Result):
         sympy form of an entry in a large field need not convert back), else ``starting``."""
         return self._exact or self.starting
 
-    def __str__(self):
+    def _text(self) -> str:
         cap = " (at least: cap reached)" if self.capped else ""
         lines = [f"{self.method}: order {self.order}{cap} with a suitable starting method; "
                  f"{self.order_identity_start} with θ ≡ 0; stage order {self.stage_order}"]
@@ -105,13 +106,16 @@ class GLMOrderResult(Result):
             "error_terms_identity_start": {t: s(x) for t, x in self.errors_identity_start.items()},
         }
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """Text: the orders, the starting method, the error terms; typeset: the order and ξ(t)."""
+        head, *lines = self._text().split("\n")
         rows = [f"{bracket_tex(t)} & " + " & ".join(sp.latex(x) for x in xi) + r" \\"
                 for t, xi in self.starting.items()]
         r = len(self.u)
-        return ("Order " + str(self.order) + " relative to the starting method\n"
-                + r"\[ \begin{array}{c|" + "c" * r + "} t & " + " & ".join(f"\\xi_{{{i + 1}}}(t)" for i in range(r))
-                + r" \\ \hline " + "\n".join(rows) + r" \end{array} \]")
+        array = (r"\begin{array}{c|" + "c" * r + "} t & " + " & ".join(f"\\xi_{{{i + 1}}}(t)" for i in range(r))
+                 + r" \\ \hline " + "\n".join(rows) + r" \end{array}")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(
+            Paragraph(f"Order {self.order} relative to the starting method"), Formula(array))))
 
 
 class OrderSolver:

@@ -37,6 +37,7 @@ import sympy as sp
 from ..exact.field import FastField, field_of
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, PartitionedRungeKutta
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import BSeries, check_series_order, kept_cuts
 from .glm_order import OrderSolver
 from .prk_order import weight_function as prk_weights
@@ -53,7 +54,6 @@ class MethodSeries(Result):
     """Φ (the method's B-series, for a GLM that of its underlying one-step method) and, for a GLM,
     the starting method ξ_i(t) with wᵀξ(t) = 0 (empty for a Runge–Kutta method)."""
 
-    latex_math = True           # to_latex: the (t, Φ(t)) array, a formula
     method: str
     kind: str
     phi: BSeries
@@ -61,7 +61,7 @@ class MethodSeries(Result):
     u: tuple
     w: tuple
 
-    def __str__(self):
+    def _text(self) -> str:
         head = (f"{self.method}: B-series of the underlying one-step method" if self.kind == "glm"
                 else f"{self.method}: B-series")
         lines = [head + f" to order {self.phi.max_order}"]
@@ -76,9 +76,12 @@ class MethodSeries(Result):
                 "phi": self.phi.to_json(), "u": [s(x) for x in self.u], "w": [s(x) for x in self.w],
                 "starting_method": {bracket(t): [s(x) for x in xi] for t, xi in self.starting.items()}}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """Text: Φ(t) (and ξ(t)) tree by tree; typeset: one formula, the (t, Φ(t)) array."""
+        head, *lines = self._text().split("\n")
         rows = [f"{self.phi.kind.tex(t)} & {sp.latex(v)}" + r" \\" for t, v in self.phi.items()]
-        return r"\begin{array}{c|c} t & \Phi(t) \\ \hline " + "\n".join(rows) + r" \end{array}"
+        array = r"\begin{array}{c|c} t & \Phi(t) \\ \hline " + "\n".join(rows) + r" \end{array}"
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(Formula(array))), math=True)
 
 
 def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:

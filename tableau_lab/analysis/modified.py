@@ -26,6 +26,7 @@ from ..budget import MODIFIED_ORDER, computing
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.render import LATEX, TEXT, exact_sum
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import BSeries, modified_field, modifying_field
 from .method_series import method_series
 from .results import Result
@@ -41,7 +42,6 @@ class ModifiedEquation(Result):
     """The field f̃ (``kind`` "modified") or the modifying field (``kind`` "modifying") of a method,
     as h-power, tree, coefficient b(t)/σ(t)."""
 
-    latex_math = True           # to_latex: the field's series, a formula
     method: str
     kind: str
     max_order: int
@@ -85,7 +85,12 @@ class ModifiedEquation(Result):
         total = [sp.expand(x) for x in total]
         return total[0] if scalar else tuple(total)
 
-    def __str__(self):
+    def display(self) -> Document:
+        """The series by powers of h: text lines ỹ′ = … + h( … ) + …; typeset one formula f̃ = …."""
+        head, *lines = self._lines()
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(Formula(self._latex()))), math=True)
+
+    def _lines(self) -> list[str]:
         what = "modified equation" if self.kind == "modified" else "modifying integrator (the field to integrate)"
         lhs = "ỹ′ =" if self.kind == "modified" else "y′ ="
         lines = [f"{self.method}: {what}, trees to order {self.max_order}"]
@@ -99,7 +104,7 @@ class ModifiedEquation(Result):
         lines.append(f"  {lhs} {by_power.pop(0, '0')}")
         for n, body in sorted(by_power.items()):
             lines.append(f"     + {('h' if n == 1 else 'h^' + str(n)).ljust(4)}( {body} )")
-        return "\n".join(lines)
+        return lines
 
     def _by_power(self, notation) -> dict:
         """power of h -> the sum of its terms b(t)/σ(t) F(t), printed in ``notation``."""
@@ -118,7 +123,7 @@ class ModifiedEquation(Result):
                           for t, v in self.field.items() if v != 0],
                 "series": self.field.to_json()}
 
-    def to_latex(self):
+    def _latex(self) -> str:
         by_power = self._by_power(LATEX)
         parts = [body if n == 0 else rf"{'h' if n == 1 else f'h^{{{n}}}'}\left({body}\right)"
                  for n, body in sorted(by_power.items())]

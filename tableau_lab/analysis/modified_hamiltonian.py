@@ -37,6 +37,7 @@ from sympy.polys.matrices import DomainMatrix
 from ..exact.field import solve_linear
 from ..exact.grammar import format_entry
 from ..exact.render import LATEX, TEXT, exact_sum
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import BSeries
 from .free_trees import free_tree, rootings
 from .results import Result
@@ -68,7 +69,6 @@ class ModifiedHamiltonian(Result):
     system became inconsistent at order + 1 (no modified energy beyond); ``free`` counts the
     undetermined directions met (0 when the invariant is unique)."""
 
-    latex_math = True           # to_latex: H̃ as a series, a formula
     label: str
     max_order: int
     order: int
@@ -94,13 +94,14 @@ class ModifiedHamiltonian(Result):
                 total += term * (h ** (n - 1) if h is not None else 1)
         return total
 
-    def __str__(self):
-        lines = [f"{self.label}: modified energy H̃ = H + …, free trees to order {self.order}"
-                 + (f" (the conditions fail at order {self.order + 1})" if self.order < self.max_order else "")]
-        for n in range(2, self.order + 1):
-            if self.terms(n):
-                lines.append(f"  h^{n - 1}: {self.sum(n, TEXT)}")
-        return "\n".join(lines)
+    def display(self) -> Document:
+        """H̃ = H + h(…) + …: text one line per power of h, typeset one formula."""
+        head = (f"{self.label}: modified energy H̃ = H + …, free trees to order {self.order}"
+                + (f" (the conditions fail at order {self.order + 1})" if self.order < self.max_order else ""))
+        lines = [Paragraph(f"  h^{n - 1}: {self.sum(n, TEXT)}") for n in range(2, self.order + 1) if self.terms(n)]
+        parts = [f"h^{{{n - 1}}}\\left({self.sum(n, LATEX)}\\right)" for n in range(2, self.order + 1) if self.terms(n)]
+        tex = r"\tilde H = H + " + " + ".join(parts) if parts else r"\tilde H = H"
+        return Document(head, (Plain(*lines), Typeset(Formula(tex))), math=True)
 
     def sum(self, n: int, notation=TEXT, number=None, **rows) -> str:
         """The h^(n−1) term Σ β(π) H(π) printed in ``notation`` (TEXT or LATEX; ``number``: the
@@ -112,10 +113,6 @@ class ModifiedHamiltonian(Result):
     def to_json(self):
         return {"label": self.label, "max_order": self.max_order, "order": self.order, "free": self.free,
                 "beta": {self.kind.bracket(k): str(format_entry(v)) for k, v in self.beta.items() if v != 0}}
-
-    def to_latex(self):
-        parts = [f"h^{{{n - 1}}}\\left({self.sum(n, LATEX)}\\right)" for n in range(2, self.order + 1) if self.terms(n)]
-        return r"\tilde H = H + " + " + ".join(parts) if parts else r"\tilde H = H"
 
 
 def modified_hamiltonian(b: BSeries) -> ModifiedHamiltonian:

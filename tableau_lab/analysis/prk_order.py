@@ -18,6 +18,7 @@ import sympy as sp
 from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
+from ..render.model import Document, Paragraph, Plain, Typeset
 from .results import Result
 from .tree_kinds import BICOLOURED, bicoloured_trees
 
@@ -42,7 +43,7 @@ class PRKOrderResult(Result):
     errors: dict          # label -> Φ(t) − 1/γ(t) at order p + 1 (nonzero ones)
     max_order: int
 
-    def __str__(self):
+    def _text(self) -> str:
         out = f"{self.method}: order {self.order} (bicoloured trees; ● first partition, ○ second)"
         if self.errors:
             out += f"\n  error terms at order {self.order + 1}: " + "; ".join(
@@ -52,8 +53,10 @@ class PRKOrderResult(Result):
     def to_json(self):
         return {"order": self.order, "error_terms": {k: str(format_entry(v)) for k, v in self.errors.items()}}
 
-    def to_latex(self):
-        return f"The partitioned method has order {self.order}."
+    def display(self) -> Document:
+        head, *lines = self._text().split("\n")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)),
+                               Typeset(Paragraph(f"The partitioned method has order {self.order}."))))
 
 
 def weight_function(m: PartitionedRungeKutta, K):

@@ -1,17 +1,14 @@
-r"""Result objects shared by the analyses: each prints itself, serialises to JSON
-(exact values as strings in the tableau grammar) and renders to LaTeX.
+r"""Result objects shared by the analyses: each holds its data, serialises it to JSON (exact
+values as strings in the tableau grammar) and builds one document, ``display()``, that the
+rendering layer (:mod:`tableau_lab.render`) writes as text (``str``), LaTeX (``to_latex``) and,
+in a notebook (Jupyter with MathJax), Markdown (``_repr_markdown_``: the heading in bold over the
+typeset face) and display math (``_repr_latex_``: only when the typeset face is formulas and
+nothing else, so that a frontend preferring LaTeX loses no sentence).
 
-In a notebook (Jupyter with MathJax) a result shows itself through its ``to_latex`` — the
-LaTeX made for the PDF reports, prose with ``$…$``, ``\[…\]`` and ``tabular`` — translated:
-
-* ``_repr_markdown_``: the first line of ``str(result)`` in bold, then ``to_latex`` with its
-  display math as ``$$…$$``, inline math as ``$…$``, tables as Markdown tables and the few
-  text-mode commands it uses (``\par``, ``\paragraph``, ``\textbf``, ``\text``, …) as
-  Markdown.  JupyterLab and Notebook prefer Markdown to LaTeX, so this is what they show.
-* ``_repr_latex_``: display math only (``$$…$$``: MathJax typesets the whole output as math),
-  offered only when the result is all math — a class whose ``to_latex`` is a formula sets
-  ``latex_math``, and a result whose LaTeX is display blocks only qualifies too; with any prose
-  it is None, so that a frontend preferring LaTeX (nbconvert to PDF) loses no sentence.
+A result not yet moved onto the layer (the stability family, this round) writes ``__str__`` and
+``to_latex`` itself; its notebook displays are its LaTeX translated (:func:`latex_markdown`:
+display math as ``$$…$$``, inline math as ``$…$``, tables as Markdown tables, the few text-mode
+commands it uses as Markdown; a class whose ``to_latex`` is a formula sets ``latex_math``).
 
 A result made of others (``_parts``) shows them one after the other.
 
@@ -27,28 +24,14 @@ $$\Phi(t) \ne 1/\gamma(t)$$
 from __future__ import annotations
 
 import dataclasses
-import json
 import re
 
-import sympy as sp
-
-from ..exact.grammar import format_matrix
-from ..exact.render import markdown_literal
+from ..exact.render import markdown_literal, matrix_latex, matrix_text
+from ..render.displayed import Displayed
+from ..render.markdown import code_span, display_body, gathered
+from ..render.model import Document
 
 __all__ = ["Result", "Combined", "matrix_text", "matrix_latex", "latex_markdown", "markdown_text"]
-
-
-def matrix_text(M, indent: str = "    ") -> str:
-    """A small exact matrix as aligned text rows."""
-    rows = format_matrix(sp.Matrix(M))
-    if rows and not isinstance(rows[0], list):
-        rows = [[x] for x in rows]
-    width = max((len(x) for r in rows for x in r), default=1)
-    return "\n".join(indent + "[ " + "  ".join(x.rjust(width) for x in r) + " ]" for r in rows)
-
-
-def matrix_latex(M) -> str:
-    return sp.latex(sp.Matrix(M), mat_delim="(", mat_str="matrix")
 
 
 # ------------------------------------------------------------------ LaTeX fragments to Markdown
@@ -73,13 +56,6 @@ _NAMED = {"textbackslash": "\\", "textasciitilde": "~", "textasciicircum": "^"}
 _MARKUP = {"paragraph": "**", "textbf": "**", "emph": "*", "textit": "*", "text": ""}
 
 
-def _code_span(text: str) -> str:
-    """``text`` as a CommonMark code span (literal: no escapes, no HTML; MathJax skips <code>):
-    the fence one backtick longer than any run of backticks in it."""
-    fence = "`" * (max((len(r) for r in re.findall("`+", text)), default=0) + 1)
-    pad = " " if text.startswith("`") or text.endswith("`") or not text.strip() else ""
-    return f"{fence}{pad}{text}{pad}{fence}"
-
 
 def _untex(text: str) -> str:
     """LaTeX text mode's escapes (``\\_``, ``\\textbackslash{}``, …) as the characters they stand for."""
@@ -103,7 +79,7 @@ def markdown_text(text: str, line_start: bool = True) -> str:
         if m["par"] is not None:
             out.append("\n\n")
         elif m["cmd"] == "texttt":
-            out.append(_code_span(_untex(m["arg"])))
+            out.append(code_span(_untex(m["arg"])))
         elif m["cmd"]:
             out.append(_MARKUP[m["cmd"]] + markdown_text(m["arg"], False) + _MARKUP[m["cmd"]])
         elif m["nbsp"]:
@@ -124,17 +100,6 @@ def _table(body: str) -> str:
     return "\n".join([lines[0], "|" + " --- |" * len(rows[0])] + lines[1:])
 
 
-def _display(math: str) -> str:
-    """A formula as one display block: rows (``\\\\`` outside any environment) go into
-    ``aligned``, which MathJax accepts inside ``$$``, where ``align*`` is not allowed; a row
-    that begins with ``[`` (a tree such as ``[\\tau]``) is kept from being read as the
-    ``\\\\[dimen]`` argument of the line break before it (a MathJax and LaTeX error)."""
-    math = re.sub(r"\\\\(\s*)\[", r"\\\\{}\1[", math)
-    flat = math
-    while (shorter := re.sub(r"\\begin\{([^{}]*)\}(?:(?!\\begin\{).)*?\\end\{\1\}", "", flat, flags=re.S)) != flat:
-        flat = shorter
-    return rf"\begin{{aligned}}{math}\end{{aligned}}" if "\\\\" in flat else math
-
 
 def latex_markdown(tex: str, table: bool = False) -> str:
     """The LaTeX of a result (text mode with math, as ``to_latex`` makes it for the reports) as
@@ -146,7 +111,7 @@ def latex_markdown(tex: str, table: bool = False) -> str:
         inline_before = mo["i1"] is not None or mo["i2"] is not None
         display, inline = _display_body(mo), (mo["i1"] if mo["i1"] is not None else mo["i2"])
         if display is not None:                  # on one line: no Markdown reads a row as a list item
-            out.append("\n\n$$" + re.sub(r"\s*\n\s*", " ", _display(display.strip())) + "$$\n\n")
+            out.append("\n\n$$" + re.sub(r"\s*\n\s*", " ", display_body(display.strip())) + "$$\n\n")
         elif mo["t"] is not None:
             out.append(f"\n\n{_table(mo['t'])}\n\n")
         else:
@@ -164,7 +129,7 @@ def _display_blocks(tex: str) -> list[str] | None:
         body = _display_body(mo)
         if body is None or tex[pos:mo.start()].strip():
             return None
-        blocks.append(_display(body.strip()))
+        blocks.append(display_body(body.strip()))
         pos = mo.end()
     return blocks if blocks and not tex[pos:].strip() else None
 
@@ -178,11 +143,15 @@ def _compared(r) -> tuple:
     return tuple(sorted(vars(r).items()))
 
 
-class Result:
-    """Base: subclasses implement ``to_json`` (a dict), ``__str__`` and ``to_latex``; notebooks
-    get ``_repr_markdown_`` and, for results that are all math, ``_repr_latex_`` from these."""
+class Result(Displayed):
+    """Base of the analyses' results.  A result moved onto the rendering layer implements
+    ``display()`` (its :class:`~tableau_lab.render.model.Document`, built from its data) and
+    ``to_json`` (its data); ``str``, ``to_latex``, ``dumps`` and the notebook displays are then
+    the renderers' (:class:`~tableau_lab.render.displayed.Displayed`).  A result not yet moved
+    (``display()`` None) implements ``__str__`` and ``to_latex`` itself, and its notebook
+    displays are its LaTeX translated (:func:`latex_markdown`)."""
 
-    latex_math = False     # True: to_latex() is one formula (math mode, no delimiters), not text
+    latex_math = False     # not yet moved: True when to_latex() is one formula (math mode, no delimiters)
     int_field = None       # the field that int(result) gives ("order" for the order analyses), or None
 
     def __int__(self) -> int:
@@ -207,14 +176,9 @@ class Result:
     def __hash__(self):
         return hash(int(self)) if self.int_field is not None else object.__hash__(self)
 
-    def to_json(self) -> dict:  # pragma: no cover - overridden
-        raise NotImplementedError
-
-    def dumps(self) -> str:
-        return json.dumps(self.to_json(), ensure_ascii=False)
-
-    def to_latex(self) -> str:  # pragma: no cover - overridden
-        raise NotImplementedError
+    def display(self) -> Document | None:
+        """What the result shows, in every format (None: a result not yet moved onto the layer)."""
+        return None
 
     def _parts(self) -> list | None:
         """The results this one is made of, shown one after the other; None: a single result."""
@@ -225,11 +189,14 @@ class Result:
         parts = self._parts()
         if parts:
             bodies = [p._display_math() for p in parts]
-            return None if None in bodies else _gathered(bodies)
+            return None if None in bodies else gathered(bodies)
+        if self.display() is not None:
+            math = super()._repr_latex_()
+            return None if math is None else math[2:-2]
         if self.latex_math:
-            return _display(self.to_latex().strip())
+            return display_body(self.to_latex().strip())
         blocks = _display_blocks(self.to_latex())
-        return None if blocks is None else _gathered(blocks)
+        return None if blocks is None else gathered(blocks)
 
     def _repr_latex_(self) -> str | None:
         """Jupyter: display math only, or None (then the Markdown is shown)."""
@@ -237,18 +204,16 @@ class Result:
         return None if math is None else f"$${math}$$"
 
     def _repr_markdown_(self) -> str:
-        """Jupyter: the first line of ``str(self)`` in bold over the LaTeX as Markdown."""
+        """Jupyter: the heading in bold over the typeset face; the parts of a combined result one
+        after the other; a result not yet moved: the first line of its text over its LaTeX translated."""
         parts = self._parts()
         if parts:
             return "\n\n".join(p._repr_markdown_() for p in parts)
+        if self.display() is not None:
+            return super()._repr_markdown_()
         head = str(self).split("\n", 1)[0].strip()
         body = latex_markdown(f"$${self.to_latex()}$$" if self.latex_math else self.to_latex())
         return ((f"**{markdown_literal(head)}**\n\n" if head else "") + body).strip()
-
-
-def _gathered(bodies: list[str]) -> str:
-    """Several display formulas as one, centred one below the other."""
-    return bodies[0] if len(bodies) == 1 else r"\begin{gathered}" + r" \\ ".join(bodies) + r"\end{gathered}"
 
 
 class Combined(Result):

@@ -33,6 +33,7 @@ from ..exact.conjugate import ANY
 from ..exact.field import FastField, element, field_of, normal_form, power, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
+from ..render.model import Document, Math, Paragraph, Plain, Table, Typeset
 from .results import Result
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
@@ -113,7 +114,7 @@ class RKOrderResult(Result):
         generic = " (for generic parameter values)" if sp.sympify(r).free_symbols else ""
         return f"order-1 condition Σbᵢ = 1 fails{generic}: Σbᵢ − 1 = {format_entry(r)}"
 
-    def __str__(self):
+    def _text(self) -> str:
         cap = " (at least: cap reached)" if self.capped else ""
         head = f"{self.method}: classical order {self.order}{cap}"
         if self.effective_order is not None:
@@ -160,19 +161,21 @@ class RKOrderResult(Result):
             out["finishing_method"] = eff["finishing_method"]
         return out
 
-    def to_latex(self):
-        rows = "\n".join(f"${tex}$ & ${sp.latex(phi)}$ & ${sp.latex(g)}$ \\\\"
-                         for (b, tex, phi, g), (t, _) in zip(self.weights, self._phi, strict=False)
-                         if tree_order(t) <= LATEX_MAX_ORDER)
+    def display(self) -> Document:
+        """Text: the orders, error coefficients and norms; typeset: the orders and the table of the
+        elementary weights Φ(t) against 1/γ(t) for the trees to order LATEX_MAX_ORDER."""
+        head, *lines = self._text().split("\n")
+        rows = tuple((Math(tex), Math(sp.latex(phi)), Math(sp.latex(g)))
+                     for (b, tex, phi, g), (t, _) in zip(self.weights, self._phi, strict=False)
+                     if tree_order(t) <= LATEX_MAX_ORDER)
         hidden = sum(1 for t, _ in self._phi if tree_order(t) > LATEX_MAX_ORDER)
-        note = (f"\n\\par Trees of order $>{LATEX_MAX_ORDER}$: {hidden} more conditions, "
-                "checked exactly, not listed." if hidden else "")
         eff = ("" if self.effective_order is None else f", effective order {self.effective_order}")
-        return (f"Classical order {self.order}{eff}; stage order {self.stage_order}; simplifying assumptions "
-                f"$B({self.B})$, $C({self.C})$, $D({self.D})$.\n"
-                "\\begin{tabular}{lll}\n$t$ & $\\Phi(t)$ & $1/\\gamma(t)$ \\\\ \\hline\n" + rows
-                + "\n\\end{tabular}" + note)
-
+        note = [Paragraph("Trees of order ", Math(f">{LATEX_MAX_ORDER}"),
+                          f": {hidden} more conditions, checked exactly, not listed.")] if hidden else []
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(
+            Paragraph(f"Classical order {self.order}{eff}; stage order {self.stage_order}; simplifying assumptions ",
+                      Math(f"B({self.B})"), ", ", Math(f"C({self.C})"), ", ", Math(f"D({self.D})"), "."),
+            Table((Math("t"), Math(r"\Phi(t)"), Math(r"1/\gamma(t)")), rows, "lll"), *note)))
 
 def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     """The largest p, q, r (capped at 2s+1, s+1, s+1) with B(p), C(q), D(r)."""

@@ -35,6 +35,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import solve_linear
 from ..exact.grammar import format_entry
+from ..render.model import Document, Math, Paragraph, Plain, Table, Typeset
 from .bseries import BSeries, adjoint, compose, identity, inverse, modified_field, series_like
 from .free_trees import free_tree
 from .glm_order import theta_matrix
@@ -181,7 +182,7 @@ class SeriesStructure(Result):
     def _says(self, n):
         return f"to order ≥ {n} (budget)" if n >= self.max_order else f"to order {n}"
 
-    def __str__(self):
+    def _text(self) -> str:
         lines = [f"{self.label}: B-series to order {self.max_order} (method order {self.order})",
                  f"  symplectic            {self._says(self.symplectic)}",
                  f"  conjugate-symplectic  {self._says(self.conjugate_symplectic)}",
@@ -204,13 +205,16 @@ class SeriesStructure(Result):
                 {"u": bracket(w[0]), "v": bracket(w[1]), "defect": str(format_entry(w[2]))},
                 "conjugating_map": self.conjugacy.to_json() if self.conjugacy is not None else None}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """Text: each property's order; typeset: the table of them (≥: the budget was reached)."""
+        head, *lines = self._text().split("\n")
+
         def cell(n):
-            return rf"$\geq {n}$" if n >= self.max_order else f"${n}$"
-        return (r"\begin{tabular}{lc} property & to order \\ \hline "
-                f"symplectic & {cell(self.symplectic)} \\\\ conjugate-symplectic & {cell(self.conjugate_symplectic)} \\\\ "
-                f"symmetric & {cell(self.symmetric)} \\\\ energy-preserving & {cell(self.energy_preserving)} \\\\ "
-                r"\end{tabular}")
+            return Math(rf"\geq {n}" if n >= self.max_order else f"{n}")
+        rows = (("symplectic", cell(self.symplectic)), ("conjugate-symplectic", cell(self.conjugate_symplectic)),
+                ("symmetric", cell(self.symmetric)), ("energy-preserving", cell(self.energy_preserving)))
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)),
+                               Typeset(Table(("property", "to order"), rows, "lc"))))
 
 
 @dataclass(frozen=True)
@@ -226,7 +230,7 @@ class PSeriesStructure(Result):
 
     NOT_APPLIED = ("symplectic", "conjugate-symplectic", "symmetric", "energy-preserving")
 
-    def __str__(self):
+    def _text(self) -> str:
         got = (f"to order ≥ {self.energy} (budget)" if self.energy >= self.max_order
                else f"to order {self.energy} (the conditions fail at order {self.energy + 1})")
         return "\n".join([f"{self.label}: P-series to order {self.max_order} (method order {self.order})",
@@ -238,10 +242,12 @@ class PSeriesStructure(Result):
         return {"method": self.label, "max_order": self.max_order, "order": self.order, "series": "P-series",
                 "modified_energy": self.energy, "not_checked": list(self.NOT_APPLIED)}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        head, *lines = self._text().split("\n")
         n = rf"\geq {self.energy}" if self.energy >= self.max_order else str(self.energy)
-        return (f"As a P-series (order {self.order}) its modified field has a modified energy to order ${n}$; "
-                f"the B-series checks ({', '.join(self.NOT_APPLIED)}) do not apply.")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(Paragraph(
+            f"As a P-series (order {self.order}) its modified field has a modified energy to order ", Math(n),
+            f"; the B-series checks ({', '.join(self.NOT_APPLIED)}) do not apply."))))
 
 
 def _pseries_structure(a: BSeries, field: BSeries | None) -> PSeriesStructure:

@@ -25,7 +25,9 @@ import sympy as sp
 
 from ..exact.field import is_zero
 from ..exact.methods import Method, glm_parts
-from .results import Result, matrix_latex, matrix_text
+from ..exact.render import matrix_latex, matrix_text
+from ..render.model import Document, Math, Paragraph, Plain, Typeset
+from .results import Result
 
 __all__ = ["symmetric", "SymmetryResult", "symmetry_conditions"]
 
@@ -37,18 +39,19 @@ class SymmetryResult(Result):
     L: sp.Matrix | None
     note: str = ""
 
-    def __str__(self):
-        if self.holds:
-            return "symmetric: yes" + ("" if self.L is None or self.L.rows == 1 else f", L =\n{matrix_text(self.L)}")
-        return "symmetric: no" + (f" ({self.note})" if self.note else "")
+    def display(self) -> Document:
+        if not self.holds:
+            return Document("symmetric: no" + (f" ({self.note})" if self.note else ""),
+                            (Typeset(Paragraph("The method is not symmetric.")),))
+        shown = self.L is not None and self.L.rows > 1
+        with_l = () if self.L is None else (" with ", Math(f"L = {matrix_latex(self.L)}"))
+        return Document("symmetric: yes" + (", L =" if shown else ""),
+                        (Plain(*([Paragraph(matrix_text(self.L))] if shown else [])),
+                         Typeset(Paragraph("The method is symmetric", *with_l, "."))))
 
     def to_json(self):
         return {"holds": self.holds, "L": None if self.L is None else [[str(x) for x in self.L.row(i)]
                                                                         for i in range(self.L.rows)], "note": self.note}
-
-    def to_latex(self):
-        return ("The method is symmetric" + (f" with $L = {matrix_latex(self.L)}$" if self.L is not None else "") + "."
-                if self.holds else "The method is not symmetric.")
 
 
 def symmetry_conditions(m: Method) -> list[tuple[sp.Matrix, list]]:

@@ -30,7 +30,9 @@ from sympy.polys.matrices import DomainMatrix
 from ..exact.field import field_of, from_dm, nullspace, to_dm
 from ..exact.grammar import format_matrix
 from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
-from .results import Result, matrix_latex, matrix_text
+from ..exact.render import matrix_latex, matrix_text
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
+from .results import Result
 
 __all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "g_symplectic_residuals_dm", "RKSymplecticResult",
            "GSymplecticResult"]
@@ -50,7 +52,15 @@ class RKSymplecticResult(Result):
     holds_separable: bool = True    # M = 0 alone: enough for H = T(p) + U(q)
     congruent: bool = False         # M shown as VᵀMV (V the nodes' Vandermonde matrix; exact.conjugate)
 
-    def __str__(self):
+    def display(self) -> Document:
+        cond = (r"M = \operatorname{diag}(b)A + A^{\mathsf T}\operatorname{diag}(b) - bb^{\mathsf T}"
+                if self.kind == "rk" else r"M_{ij} = b_i\hat a_{ij} + \hat b_j a_{ji} - b_i\hat b_j")
+        head, *lines = self._text().split("\n")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(
+            Formula(f"{cond} = {matrix_latex(self.M)}"),
+            Paragraph(f"The method is {'symplectic' if self.holds else 'not symplectic'}."))))
+
+    def _text(self) -> str:
         if self.kind == "rk":
             head = f"symplectic (RK): {'yes' if self.holds else 'no'}  [M = diag(b)A + Aᵀdiag(b) − bbᵀ]"
         else:
@@ -67,12 +77,6 @@ class RKSymplecticResult(Result):
         if self.kind == "prk":
             out.update(weights_equal=self.weights_equal, holds_separable=self.holds_separable)
         return out
-
-    def to_latex(self):
-        cond = (r"M = \operatorname{diag}(b)A + A^{\mathsf T}\operatorname{diag}(b) - bb^{\mathsf T}"
-                if self.kind == "rk" else r"M_{ij} = b_i\hat a_{ij} + \hat b_j a_{ji} - b_i\hat b_j")
-        verdict = "symplectic" if self.holds else "not symplectic"
-        return f"\\[ {cond} = {matrix_latex(self.M)} \\]\nThe method is {verdict}."
 
 
 def rk_symplectic(m: Method) -> RKSymplecticResult:
@@ -159,7 +163,17 @@ class GSymplecticResult(Result):
     parameters: tuple = ()             # free parameters: verdict is generic in them
     definite: bool | None = None       # G (representative) positive or negative definite
 
-    def __str__(self):
+    def display(self) -> Document:
+        head, *lines = self._text().split("\n")
+        out = [Paragraph(f"Solution family of dimension {self.dimension}.")]
+        if self.G is not None:
+            out.append(Formula(f"G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)}"))
+            out += [Formula(f"{tex} = {matrix_latex(R)}")
+                    for R, tex in zip(self.residuals.values(), RESIDUAL_LATEX, strict=False)]
+        out.append(Paragraph("The method is " + ("G-symplectic." if self.holds else "not G-symplectic. " + self.reason)))
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(*out)))
+
+    def _text(self) -> str:
         lines = [f"G-symplectic: {'yes' if self.holds else 'no'}"
                  f"  (solution family of dimension {self.dimension}; linear system: {self.equations} equations,"
                  f" {self.unknowns} unknowns, rank {self.rank})"]
@@ -189,15 +203,6 @@ class GSymplecticResult(Result):
             "reason": self.reason,
             "parameters": [str(p) for p in self.parameters],
         }
-
-    def to_latex(self):
-        out = [f"Solution family of dimension {self.dimension}."]
-        if self.G is not None:
-            out.append(f"\\[ G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)} \\]")
-            for (name, R), tex in zip(self.residuals.items(), RESIDUAL_LATEX, strict=False):
-                out.append(f"\\[ {tex} = {matrix_latex(R)} \\]")
-        out.append("The method is " + ("G-symplectic." if self.holds else "not G-symplectic. " + self.reason))
-        return "\n".join(out)
 
 
 def _unknown_basis(r, s, K):

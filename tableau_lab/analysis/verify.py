@@ -15,6 +15,7 @@ import sympy as sp
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.multistep import as_lmm
+from ..render.model import Document, Paragraph, Plain, Typeset
 from .error_constant import ErrorConstantResult, error_constant
 from .glm_order import GLMOrderResult
 from .order import order as order_of
@@ -66,7 +67,7 @@ class VerifyResult(Result):
         zero: with free parameters, the order p + 1 holds exactly where all of these vanish."""
         if self.order is None:
             return {}
-        return dict(self.order.residuals if self.kind == "rk" else self.order.errors)
+        return dict(self.order.residuals if isinstance(self.order, RKOrderResult) else self.order.errors)
 
     @property
     def next_order_never(self) -> bool:
@@ -77,6 +78,7 @@ class VerifyResult(Result):
     def _parameter_order(self) -> str:
         """The order statement for a tableau with free parameters."""
         o, names = self.order, ", ".join(map(str, self.parameters))
+        assert o is not None, "called with an order"
         capped = getattr(o, "capped", False)          # PRK results have no cap flag: errors are empty then
         line = f"  for all values of {names}: order {'at least ' if capped else ''}{o.order}"
         conds = self.next_order
@@ -89,22 +91,24 @@ class VerifyResult(Result):
         return line + (f"; order {o.order + 1} exactly where "
                        + ", ".join(f"{k}: {format_entry(v)} = 0" for k, v in conds.items()))
 
-    def __str__(self):
+    def display(self) -> Document:
+        """Text: the kind, each analysis, the claims; typeset: the symplecticity analyses."""
         kinds = {"rk": "Runge-Kutta", "prk": "partitioned Runge-Kutta", "glm": "general linear method"}
         head = (f"{self.name}: {kinds[self.kind]}, s = {self.stages} stage{'s' * (self.stages != 1)}, "
                 f"r = {self.values} value{'s' * (self.values != 1)}")
         if self.parameters:
             head += ", parameters " + ", ".join(map(str, self.parameters))
-        parts = [head]
-        if self.rk_symplectic is not None:
-            parts.append(str(self.rk_symplectic))
-        if self.g_symplectic is not None:
-            parts.append(str(self.g_symplectic))
+        symplectic = [r.display() for r in (self.rk_symplectic, self.g_symplectic) if r is not None]
+        return Document(head, (Plain(*symplectic, *(Paragraph(x) for x in self._lines())), Typeset(*symplectic)))
+
+    def _lines(self) -> list[str]:
+        """The text lines after the symplecticity analyses: order, parasitism, claims."""
+        parts: list[str] = []
         if self.order is not None:
             o = self.order
-            if self.kind == "prk":
+            if isinstance(o, PRKOrderResult):
                 parts.append(f"order: {o.order} (bicoloured trees)")
-            elif self.kind == "rk":
+            elif isinstance(o, RKOrderResult):
                 parts.append(f"order: classical {o.order}, effective {o.effective_order}, stage order {o.stage_order}; "
                              f"B({o.B}), C({o.C}), D({o.D})")
                 if o.consistency:
@@ -123,7 +127,7 @@ class VerifyResult(Result):
         if self.claims:
             marks = [f"{k} = {_show(self.claims[k])} ({self._verdict(k)})" for k in self.claims]
             parts.append("claims: " + "; ".join(marks))
-        return "\n".join(parts)
+        return parts
 
     def _verdict(self, k) -> str:
         if k in self.unchecked:
@@ -163,14 +167,6 @@ class VerifyResult(Result):
                 "next_order_conditions": {k: str(format_entry(v)) for k, v in self.next_order.items()},
                 "next_order_never": self.next_order_never}
         return out
-
-    def to_latex(self):
-        parts = []
-        if self.rk_symplectic is not None:
-            parts.append(self.rk_symplectic.to_latex())
-        if self.g_symplectic is not None:
-            parts.append(self.g_symplectic.to_latex())
-        return "\n\n".join(parts)
 
 
 def _show(v):

@@ -36,9 +36,10 @@ from typing import NamedTuple
 
 import sympy as sp
 
-from .grammar import format_entry
+from .grammar import format_entry, format_matrix
 
-__all__ = ["Notation", "TEXT", "LATEX", "signed_term", "exact_sum", "is_sum", "markdown_literal", "latex_text"]
+__all__ = ["Notation", "TEXT", "LATEX", "signed_term", "exact_sum", "is_sum", "matrix_text", "matrix_latex",
+           "markdown_literal", "latex_text"]
 
 
 class Notation(NamedTuple):
@@ -115,6 +116,25 @@ def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = 
     if cut:
         out.append(f" + {more}")
     return "".join(out)
+
+
+def matrix_text(M, indent: str = "    ") -> str:
+    """A small exact matrix as aligned text rows, entries in the tableau grammar.
+
+    >>> print(matrix_text([[1, sp.Rational(-1, 2)], [sp.sqrt(3), 0]]))
+        [       1     -1/2 ]
+        [ sqrt(3)        0 ]
+    """
+    rows = format_matrix(sp.Matrix(M))
+    if rows and not isinstance(rows[0], list):
+        rows = [[x] for x in rows]
+    width = max((len(x) for r in rows for x in r), default=1)
+    return "\n".join(indent + "[ " + "  ".join(x.rjust(width) for x in r) + " ]" for r in rows)
+
+
+def matrix_latex(M) -> str:
+    r"""A small exact matrix in LaTeX math, ``\begin{pmatrix}``-like: ``\left(\begin{matrix}…``."""
+    return sp.latex(sp.Matrix(M), mat_delim="(", mat_str="matrix")
 
 
 # ------------------------------------------------------------------ plain text, literally

@@ -40,7 +40,6 @@ from ..analysis.results import Result
 from ..analysis.trees import trees_of_order
 from ..exact.grammar import format_entry
 from ..exact.rationals import by_height, height
-from ..exact.render import latex_text
 from ..files import atomic_write_text
 from ..numeric.objectives import (
     YMAX,
@@ -51,6 +50,7 @@ from ..numeric.objectives import (
     real_interval,
     series_defects,
 )
+from ..render.model import Document, Paragraph, Plain, Typeset
 
 __all__ = ["design", "search", "SearchResult", "Candidate", "OBJECTIVES", "CONSTRAINTS", "PENALTY", "SearchError",
            "check_constraints", "is_checkpoint"]
@@ -132,7 +132,7 @@ class SearchResult(Result):
         parts = [f"{'maximise' if OBJECTIVES[o][0] > 0 else 'minimise'} {o}" for o in self.objectives]
         return " and ".join(parts) if len(parts) == 1 else "the Pareto front of " + " and ".join(parts)
 
-    def __str__(self):
+    def _text(self) -> str:
         lines = [f"{self.family}: {self._goal()} over {', '.join(map(str, self.free))}"
                  + (f" subject to {', '.join(self.constraints)}" if self.constraints else "")
                  + f" ({self.evaluations} evaluations)"]
@@ -168,8 +168,11 @@ class SearchResult(Result):
                                 "box_bound": [{"parameter": str(s), "face": f} for s, f in c.box_bound]}
                                for c in self.candidates]}
 
-    def to_latex(self):
-        return f"{latex_text(self.family)}: {len(self.candidates)} candidates."
+    def display(self) -> Document:
+        """Text: the goal and each candidate; typeset: the number of candidates."""
+        head, *lines = self._text().split("\n")
+        return Document(head, (Plain(*(Paragraph(x) for x in lines)),
+                               Typeset(Paragraph(self.family, f": {len(self.candidates)} candidates."))))
 
 
 def _show(v) -> str:

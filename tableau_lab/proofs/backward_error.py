@@ -46,7 +46,8 @@ def modified_section(m: Method, C, facts: dict) -> str:
     lhs = r"(\tilde f, \tilde g) &= (f, g)" if kind.coloured else r"\tilde f &= f"
     out.append(f"The numerical solution of {what} is, formally, the exact flow of the modified equation "
                r"(Hairer, Lubich \& Wanner, \emph{Geometric Numerical Integration}, IX"
-               + ("; the terms headed $f$ belong to $\\tilde f$, those headed $g$ to $\\tilde g$" if kind.coloured else "")
+               + ("; the terms headed $f$ belong to $\\tilde f$, those headed $g$ to $\\tilde g$"
+                  if kind.coloured else "")
                + "):")
     out.append(rf"\begin{{align*}} {lhs} + h^{{{k - 1}}}\bigl({body}\bigr) + O(h^{{{k}}}) \end{{align*}}")
     if kind.coloured:
@@ -71,7 +72,8 @@ def modified_section(m: Method, C, facts: dict) -> str:
                 hb = mh.sum(n, LATEX, C.tex, **_ROWS)
                 out.append(r"It conserves a modified energy (an H-series over free trees; "
                            r"$H(t) = H^{(m)}(F(t_1), \dots, F(t_m))$ for $t = [t_1 \dots t_m]$):")
-                out.append(rf"\begin{{align*}} \tilde H &= H + h^{{{n - 1}}}\bigl({hb}\bigr) + O(h^{{{n}}}) \end{{align*}}")
+                out.append(rf"\begin{{align*}} \tilde H &= H + h^{{{n - 1}}}\bigl({hb}\bigr) "
+                           rf"+ O(h^{{{n}}}) \end{{align*}}")
                 break
     out.append(C.flush())
     return "\n".join(out)

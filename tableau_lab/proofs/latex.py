@@ -304,7 +304,8 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
            r"\[ \eta(t) = A\,(\eta D)(t) + U\,\xi(t), \qquad R(t) := B\,(\eta D)(t) + V\,\xi(t) - (\xi E)(t) = 0, \]",
            r"where $(\xi E)(t) = \xi(\emptyset)/\gamma(t) + \sum_s c(t, s)\,\xi(s) + \xi(t)$ is the composition "
            r"of $\xi$ with the exact flow (the sum over the trunks $s \ne \emptyset, t$ left by the cuts of $t$, "
-           r"$c(t, s)$ the sum over those cuts of $\prod 1/\gamma$ of the pieces cut off). The first (stage) condition defines $\eta(t)$; the table gives the computed starting method "
+           r"$c(t, s)$ the sum over those cuts of $\prod 1/\gamma$ of the pieces cut off). "
+           r"The first (stage) condition defines $\eta(t)$; the table gives the computed starting method "
            r"$\xi(t)$ and the residual $R(t)$ of the second (output) condition, a vector of "
            rf"{r} entries, evaluated exactly with that $\xi$. For $|t| = {p + 1}$ it gives $w^{{\mathsf T}}R(t)$, "
            rf"with $w = {vec(o.w)}$ the left eigenvector of $V$ for the eigenvalue 1 ($w^{{\mathsf T}}u = 1$): "
@@ -313,7 +314,8 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
     body = [f"${bracket_tex(t)}$ & " + " & ".join(f"${C.tex(x)}$" for x in o.starting[t]) + f" & ${vec(v)}$" + r" \\"
             for t, v in values.items() if orders[t] <= p]
     late = [(t, v) for t, v in values.items() if orders[t] == p + 1]
-    body.append(r"\midrule " + rf"$|t| = {p + 1}$ & \multicolumn{{{r}}}{{c}}{{(not needed)}} & $w^{{\mathsf T}}R(t)$ \\")
+    body.append(r"\midrule "
+                + rf"$|t| = {p + 1}$ & \multicolumn{{{r}}}{{c}}{{(not needed)}} & $w^{{\mathsf T}}R(t)$ \\")
     body += [f"${bracket_tex(t)}$ & \\multicolumn{{{r}}}{{c}}{{}} & ${C.tex(v)}$" + r" \\" for t, v in late]
     out.append(r"{\small\begin{longtable}{l" + "c" * r + r"c} \toprule $t$ & "
                + " & ".join(f"$\\xi_{{{i + 1}}}(t)$" for i in range(r)) + r" & $R(t)$ \\ \midrule \endhead"
@@ -326,7 +328,8 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
             rf"\textbf{{Not every $R(t)$ with $|t| \le {p}$ is zero}}: the starting method above does not "
             rf"give order {p}. ")
     if failing:
-        text += (rf"At $|t| = {p + 1}$, $w^{{\mathsf T}}R(t) \ne 0$ for " + ", ".join(f"${bracket_tex(t)}$" for t in failing)
+        text += (rf"At $|t| = {p + 1}$, $w^{{\mathsf T}}R(t) \ne 0$ for "
+                 + ", ".join(f"${bracket_tex(t)}$" for t in failing)
                  + rf". Changing the principal parts $\theta(s) = w^{{\mathsf T}}\xi(s)$, $|s| = {p}$ "
                  r"($\xi(s) \mapsto \xi(s) + \theta(s)u$, which changes no condition of lower order) adds "
                  rf"$L_{{{p + 1}}}\theta$ to these values, and the linear system $L_{{{p + 1}}}\theta = "
@@ -429,7 +432,8 @@ def _body(m: Method, figures, C: _Constants, stability: bool = False) -> tuple[s
     facts: dict = {"name": m.name, "kind": m.kind}
     parts = [r"\subsection*{Source}", r"{\sloppy " + _escape(m.source or "—") + r"\par}"]
     if m.claims:
-        parts.append(r"Claims (checked below): " + _escape(", ".join(f"{k} = {str(v).lower()}" for k, v in m.claims)) + ".")
+        claims = ", ".join(f"{k} = {str(v).lower()}" for k, v in m.claims)
+        parts.append(r"Claims (checked below): " + _escape(claims) + ".")
     parts += [r"\subsection*{Tableau}", _tableau(m, C), C.flush()]
     if m.kind in ("rk", "prk"):
         rs = rk_symplectic(m)
