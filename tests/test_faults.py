@@ -51,7 +51,7 @@ def lab(tmp_path_factory):
     env = {**os.environ, "TABLEAU_LAB_CACHE": str(root / "cache"), "TABLEAU_LAB_KERNEL": "auto",
            "TABLEAU_LAB_SPECIALISE": "0", "PYTHONUNBUFFERED": "1"}
     scene = _scene(root)
-    for k in range(2):                               # the first compiles, the second is timed
+    for _ in range(2):                               # the first compiles, the second is timed
         t = time.monotonic()
         done = subprocess.run(_run_cmd(scene, root / "warm"), env=env, check=False, capture_output=True, text=True,
                               timeout=300)
@@ -253,7 +253,8 @@ def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch, 
     monkeypatch.setattr(files, "_fill", fill)
     with pytest.raises(KeyboardInterrupt):
         S.run_scene(compiled["scene"], out_root=out, progress=False)
-    assert len(calls) == 2 + 2 * len(formats()) and _check_scene_set(_check_folder(out / "faults"))  # data, meta, 2 plots
+    # data, meta, 2 plots
+    assert len(calls) == 2 + 2 * len(formats()) and _check_scene_set(_check_folder(out / "faults"))
     assert {f.name for f in (out / "faults").iterdir()} == set(before)
     before = {f.name: f.read_bytes() for f in (out / "faults").iterdir()}
     calls.clear()

@@ -110,7 +110,8 @@ class MethodList(Result):
 
     def markdown(self) -> str:
         """The table in Markdown (``tableau-lab list --markdown``; a notebook shows it)."""
-        rows = [f"**{markdown_literal(self.title)}**", "", "| name | kind | size | order | source |", "|---|---|---|---|---|"]
+        rows = [f"**{markdown_literal(self.title)}**", "",
+                "| name | kind | size | order | source |", "|---|---|---|---|---|"]
         rows += ["| " + " | ".join(markdown_literal(x) for x in c) + " |" for c in self._cells()]
         return "\n".join(rows)
 
