@@ -29,7 +29,8 @@ from tableau_lab.exact.tableau_json import load  # noqa: E402
 from tableau_lab.experiments.modified_energy import modified_energy_run, plot_modified_energy  # noqa: E402
 
 COMMAND = "python benchmarks/modified_energy.py --write docs/backward_error.md"
-METHODS = [("implicit_midpoint", 5), ("stormer_verlet", 5), ("gauss2", 7), ("glm43", 6)]        # file, order of H̃'s largest trees
+# file, order of H̃'s largest trees
+METHODS = [("implicit_midpoint", 5), ("stormer_verlet", 5), ("gauss2", 7), ("glm43", 6)]
 PROBLEMS = [("pendulum", {}, "pendulum, H = p²/2 − cos q, q₀ = 2.3, p₀ = 0"),
             ("kepler", {"delta": 0}, "Kepler, e = 0.6 (registry 'kepler' with delta = 0: unperturbed)")]
 EXTRA = [(3, None), (2, 7), (3, 7)]                                      # GLM43: (terms, start_order)
@@ -146,7 +147,10 @@ def page(runs, extra, figures, steps, total, target):
           "| problem | H̃ corrections | starting method | max \\|H̃ − H̃₀\\| | ratio | max parasitic component |",
           "|---|---|---|---|---|---|"]
     base = {p: runs[("glm43", p)] for p, _, _ in PROBLEMS}
-    for r in sorted(list(base.values()) + extra, key=lambda r: (r.problem != "pendulum", len(r.powers), r.start_order or 0)):
+
+    def key(r):
+        return r.problem != "pendulum", len(r.powers), r.start_order or 0
+    for r in sorted(list(base.values()) + extra, key=key):
         start = "exported (order 4)" if r.start_order is None else f"S to order {r.start_order}"
         L.append(f"| {r.problem} | {', '.join(f'h^{k}' for k in r.powers)} | {start} | {fmt(r.max_Ht)} | "
                  f"{r.ratio:.3g} | {fmt(r.parasitic)} |")

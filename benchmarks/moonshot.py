@@ -132,12 +132,14 @@ def table(pool, rows, seconds, starts, iterations) -> str:
              f"docs/design.md` ({seconds:.0f} s on this machine); not certified.*", "",
              f"{len(pool)} of {starts} random starts projected onto the order-4 (θ ≡ 0) conditions; on those, "
              f"Y* ≥ {Y_GOAL:g} at {int(np.sum(ys >= Y_GOAL))}, and the largest Y* with every a_ii ≥ 0 is "
-             f"{max((v['Y*'] for v in nonneg), default=float('nan')):.4f}. The order-1 and order-2 residuals are at most "
-             f"{low:.1e} at 20 random members (they hold identically); the Jacobian of the order-3 and order-4 residuals "
+             f"{max((v['Y*'] for v in nonneg), default=float('nan')):.4f}. "
+             "The order-1 and order-2 residuals are at most "
+             f"{low:.1e} at 20 random members (they hold identically); "
+             "the Jacobian of the order-3 and order-4 residuals "
              f"has rank {', '.join(str(rank(x)) for x, _ in rows.values())} at the members below.", "",
              "| member | Y* | X* (real) | error norm | diag(A) | d₁ | max \\|μ\\| |", "|---|---|---|---|---|---|---|",
              "| GLM43 (`glm43.json`) " + fmt(g43)]
-    for goal, (x, v) in rows.items():
+    for goal, (_, v) in rows.items():
         lines.append(f"| {goal} " + fmt(v))
     lines += ["", "Points (h₁…h₄, q₁…q₄):", ""]
     lines += [f"- {goal}: `{', '.join(f'{float(c)!r}' for c in x)}`" for goal, (x, _) in rows.items()]

@@ -127,9 +127,11 @@ def main(argv=None) -> int:
                       "parasitism_free": True}
             title = f"G-symplectic, parasitism-free DIRK GLM, s = 6, symmetric output rows (d1 = {d1}, d2 = {d2})"
             c_nodes = sp.ImmutableMatrix([[sp.radsimp(sp.expand(sum(m.A.row(i))))] for i in range(m.A.rows)])
-            save(replace(m, c=c_nodes, name=f"{args.name}: {title}", claims=tuple(sorted(claims.items())), source=SOURCE,
+            save(replace(m, c=c_nodes, name=f"{args.name}: {title}", claims=tuple(sorted(claims.items())),
+                         source=SOURCE,
                          notes=(f"benchmarks/moonshot_member.py -- {d1s} {d2s} {cs}: rows 2-3 = λ·c with c on the "
-                                "μ-cone; λ² a root of the order-3 condition (θ ≡ 0), a quadratic in λ².",)), args.save)
+                                "μ-cone; λ² a root of the order-3 condition (θ ≡ 0), a quadratic in λ².",)),
+                 args.save)
             print(f"saved {args.save}")
         return 0
     sys.exit("no real λ with a nonnegative diagonal")
