@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_blocks import cli  # noqa: E402
+from doc_blocks import cli
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT / "reports" / "bench"

@@ -14,12 +14,12 @@ import tempfile
 
 os.environ.setdefault("TABLEAU_LAB_CACHE", tempfile.mkdtemp(prefix="tableau_lab_cold_"))
 
-import sympy as sp  # noqa: E402
+import sympy as sp
 
-from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.numeric.codegen import compile_problem  # noqa: E402
-from tableau_lab.numeric.export import to_numeric  # noqa: E402
-from tableau_lab.numeric.integrate import integrate  # noqa: E402
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.numeric.codegen import compile_problem
+from tableau_lab.numeric.export import to_numeric
+from tableau_lab.numeric.integrate import integrate
 
 METHODS = os.path.join(os.path.dirname(__file__), "..", "methods")
 STRIDE = 4

@@ -13,9 +13,9 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_blocks import cli  # noqa: E402
+from doc_blocks import cli
 
-from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS, cheapest  # noqa: E402,F401
+from tableau_lab.experiments.workprecision import LEVELS as THRESHOLDS, cheapest
 
 ROOT = Path(__file__).resolve().parents[1]
 WP = ROOT / "reports" / "workprecision" / "wp_kepler"

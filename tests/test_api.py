@@ -66,7 +66,7 @@ def test_import_is_lazy_and_names_are_listed():
 
 
 def test_report_is_one_object_after_its_package_is_imported():
-    import tableau_lab.proofs.latex  # noqa: F401  (a subpackage import sets an attribute of tableau_lab)
+    import tableau_lab.proofs.latex  # a subpackage import sets an attribute of tableau_lab
     assert tl.report is tableau_lab.proofs.latex.report
     assert tl.report(tl.load("implicit_midpoint")).startswith("\\documentclass")
     assert tl.load("implicit_midpoint").report() == tl.report(tl.load("implicit_midpoint"))
@@ -264,7 +264,7 @@ def test_readme_python_block_runs():
     failing = [ln for ln in lines if "did you mean" in ln]
     assert len(failing) == 1
     env = {}
-    exec("\n".join(ln for ln in lines if ln not in failing), env)          # noqa: S102 - our own README
+    exec("\n".join(ln for ln in lines if ln not in failing), env)          # our own README
     assert int(env["m"].order()) == 6 and env["d"].status == "solved"
     # the values the block's comments quote
     rk4 = env["rk4"]
@@ -278,7 +278,7 @@ def test_readme_python_block_runs():
     c = tl.load("bdf:4").error_constant()                 # BDF4: C₅ = -12/125 (tests/test_error_constant.py)
     assert (str(c.C), str(c.normalised)) == ("-12/125", "-1/5") and "C₅ = -12/125" in block and "-1/5" in block
     with pytest.raises(TableauError, match="did you mean rk4"):
-        exec(failing[0].split("#")[0], env)                                # noqa: S102
+        exec(failing[0].split("#")[0], env)
 
 
 def test_load_nodepy_multistep():
