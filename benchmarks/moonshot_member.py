@@ -46,7 +46,9 @@ def structure(d1, d2, c, lam) -> GeneralLinearMethod:
     B = sp.Matrix([[d1, d2, d3, d3, d2, d1], [lam * c1, lam * c2, lam * c3, -lam * c3, -lam * c2, -lam * c1],
                    [0, lam * c4, lam * c5, -lam * c5, -lam * c4, 0]])
     A, U = dirk_stages(B, G, V, sp.zeros)
-    simplify = lambda e: sp.radsimp(sp.expand(e))  # noqa: E731
+
+    def simplify(e):
+        return sp.radsimp(sp.expand(e))
     return GeneralLinearMethod(A=sp.ImmutableMatrix(A.applyfunc(simplify)), U=sp.ImmutableMatrix(U.applyfunc(simplify)),
                                B=sp.ImmutableMatrix(B), V=V, name="six-stage member")
 

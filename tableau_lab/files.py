@@ -305,7 +305,7 @@ def is_temp(name: str) -> bool:
 def remove_stale_temps(folder) -> list:
     """Remove the temporary files in ``folder`` left by processes that are gone (killed while
     writing); returns the names removed.  Temporary files of live processes are kept."""
-    removed = []
+    removed: list[str] = []
     try:
         names = os.listdir(folder)
     except OSError:
@@ -600,7 +600,7 @@ def deferred_interrupt(note: str = "finishing writing the results; Ctrl-C again 
             or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
         yield
         return
-    pending = []
+    pending: list[int] = []
 
     def hold(signum, frame):
         if pending:

@@ -60,8 +60,8 @@ def _escaped(c: str) -> str:
     return f"\\u{ord(c):04x}"
 
 
-def printable(text: str) -> str:
-    """``text`` with lone surrogates and control characters escaped as ``\\uXXXX`` (safe to print)."""
+def printable(text: object) -> str:
+    """``str(text)`` with lone surrogates and control characters escaped as ``\\uXXXX`` (safe to print)."""
     return _BAD_CHAR.sub(lambda m: _escaped(m.group()), str(text))
 
 

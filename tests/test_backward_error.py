@@ -321,7 +321,9 @@ def test_glm_step_maps_starting_method_onto_underlying_method(name, monkeypatch)
     cache: dict = {}
     F = {t: sp.lambdify(y, elementary_differential(t, (y,), (fexpr,), cache)[0], "mpmath") for t in trees_up_to(N)}
     f = sp.lambdify(y, fexpr, "mpmath")
-    num = lambda x: mp.mpf(str(sp.N(x, 50)))  # noqa: E731
+
+    def num(x):
+        return mp.mpf(str(sp.N(x, 50)))
     A, U, B, V = ([[num(x) for x in row] for row in M.tolist()] for M in (g.A, g.U, g.B, g.V))
     u = [num(x) for x in ms.u]
     xi = {t: [num(x) for x in ms.starting[t]] for t in trees_up_to(N)}

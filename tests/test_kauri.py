@@ -32,14 +32,14 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-kauri = pytest.importorskip("kauri")
-from kauri import Map, Tree  # noqa: E402
-from kauri.cem import antipode as cem_antipode  # noqa: E402
+from tableau_lab.analysis import bseries as bs
+from tableau_lab.analysis.method_series import method_series
+from tableau_lab.analysis.trees import density, order, symmetry, trees_of_order, trees_up_to
+from tableau_lab.exact.tableau_json import load
 
-from tableau_lab.analysis import bseries as bs  # noqa: E402
-from tableau_lab.analysis.method_series import method_series  # noqa: E402
-from tableau_lab.analysis.trees import density, order, symmetry, trees_of_order, trees_up_to  # noqa: E402
-from tableau_lab.exact.tableau_json import load  # noqa: E402
+kauri = pytest.importorskip("kauri")
+from kauri import Map, Tree  # noqa: E402 -- after importorskip: the file is skipped without kauri
+from kauri.cem import antipode as cem_antipode  # noqa: E402 -- after importorskip, as above
 
 ROOT = Path(__file__).resolve().parents[1]
 N = 8        # all 200 trees of orders 1..8

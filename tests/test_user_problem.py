@@ -329,7 +329,10 @@ def test_a_trace_that_disagrees_with_the_callable_is_discarded():
         return np.array([y[1], -y[0] * (1 + 1e-6 * calls[0])])
 
     rng = np.random.default_rng(1)
-    noisy = lambda t, y: np.array([y[1], -y[0] + 1e-9 * rng.standard_normal()])       # noqa: E731
+
+    def noisy(t, y):
+        return np.array([y[1], -y[0] + 1e-9 * rng.standard_normal()])
+
     for f in (counted, noisy):
         sol = integrate(load("rk4"), f, [1, 0], (0, "1/10"), "1/100", notice=False)
         assert sol.loop == "Python" and "disagree" in sol.why and sol.f_calls >= sol.nfev

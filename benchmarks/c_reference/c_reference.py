@@ -386,8 +386,13 @@ def _run_lib(pr: Prepared, steps, reps, cflags, cc="gcc") -> tuple:
     [nfev, sweeps, nvel], seconds of each rep)."""
     (s, r, d), pk = pr.shape, pr.pk
     lib = library(pr.cp.problem, pr.shape, cflags, cc, pr.dense)
-    f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
-    i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
+
+    def f64(x):
+        return np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
+
+    def i64(x):
+        return np.ascontiguousarray(x, dtype=np.int64).reshape(-1)
+
     args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
                 U=f64(pk.U), B=f64(pk.B), V=f64(pk.V), cls=i64(pk.cls), E=f64(pk.E), Ainv=f64(pk.Ainv))
     want = dict(consts=4, flags=limits.N_FLAGS, c=len(pr.cp.constants), A=2 * s * s, U=s * r, B=2 * r * s, V=r * r,

@@ -100,7 +100,9 @@ class MethodList(Result):
         head = ("name", "kind", "size", "order", "source")
         cells = self._cells()
         widths = [max(len(h), *(len(c[i]) for c in cells)) for i, h in enumerate(head)]
-        line = lambda row: "  ".join(x.ljust(w) for x, w in zip(row, widths, strict=False)).rstrip()  # noqa: E731
+
+        def line(row):
+            return "  ".join(x.ljust(w) for x, w in zip(row, widths, strict=False)).rstrip()
         return "\n".join([self.title, "", line(head), line(["-" * w for w in widths])] + [line(c) for c in cells]
                          + ["(order: claimed by the file and checked by `tableau-lab verify`; * computed; "
                             "families: the published formula; load a family as name:N, e.g. gauss:3)"])
@@ -152,8 +154,10 @@ def _family_row(name: str) -> MethodRow:
     formula = FAMILY_ORDERS.get(name)
     if formula is not None:
         got, where = formula[0], "formula"
-    else:                                        # a family without its formula here: its smallest member's
+    elif smallest is not None:                   # a family without its formula here: its smallest member's
         got, where = f"{int(order(smallest))} ({letter} = {n})", "computed"
+    else:
+        raise ValueError(f"family {name}: no member of size 1 … {largest} can be built")
     return MethodRow(f"{name}:{letter}", smallest.kind if smallest is not None else "?", size, got,
                      smallest.source if smallest is not None else "", where, family=True)
 
