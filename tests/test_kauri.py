@@ -174,7 +174,9 @@ def test_adjoint(name, gen):
 # ------------------------------------------------------------------ 4. substitution (CEM)
 def test_substitute_is_cem_product():
     """A field with b(τ) = -2 ≠ 1, so the single-vertex pieces count."""
-    fn = lambda t: sp.Rational((-1) ** order(t) * 2, density(t) + symmetry(t))  # noqa: E731
+    def fn(t):
+        return sp.Rational((-1) ** order(t) * 2, density(t) + symmetry(t))
+
     b = bs.BSeries.from_function(fn, N, empty=0)
     kb = Map(lambda k: 0 if k.list_repr is None else fn(ours(k)))
     assert_exact(bs.substitute(b, phi("rk4")), kb ^ weights("rk4"), what="b⋆rk4")
