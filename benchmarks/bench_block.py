@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_blocks import cli  # noqa: E402
+from doc_blocks import cli
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT / "reports" / "bench"
@@ -24,8 +24,10 @@ def standing(res: dict) -> str:
     rows = res["float64"]
     missed = [r for r in rows if r.get("over_c") is not None and r["over_c"] > r["goal"]]
     name = {"gauss2": "2-stage Gauss", "gauss3": "3-stage Gauss"}
-    parts = [f"{name.get(r['method'], r['method'])} on the {r['problem'].replace('_', ' ')}, {r['over_c']:.2f}× the C loop "
-             f"({r['us_per_step']:.3f} µs/step against {r['c_us_per_step']:.3f}; goal ≤ {r['goal']:.1f})" for r in missed]
+    parts = [f"{name.get(r['method'], r['method'])} on the {r['problem'].replace('_', ' ')}, "
+             f"{r['over_c']:.2f}× the C loop "
+             f"({r['us_per_step']:.3f} µs/step against {r['c_us_per_step']:.3f}; goal ≤ {r['goal']:.1f})"
+             for r in missed]
     text = ("Where it stands against the goals of issue 14: "
             + ("every row is within its goal." if not missed else
                f"every row is within its goal but {'; '.join(parts)}."))
@@ -33,7 +35,8 @@ def standing(res: dict) -> str:
     if gni:
         text += " Against Hairer's GNI_IRK2 (measured once on this machine class, for orientation): " + "; ".join(
             f"{r['method']} on the {r['problem'].replace('_', ' ')} {r['us_per_step']:.3f} µs/step with "
-            f"{r['nfev_per_step']:.2f} f-evaluations per step, GNI {r['gni_us_per_step']} µs/step with {r['gni_nfev_per_step']}"
+            f"{r['nfev_per_step']:.2f} f-evaluations per step, "
+            f"GNI {r['gni_us_per_step']} µs/step with {r['gni_nfev_per_step']}"
             for r in gni if r["gni_nfev_per_step"] != "–") + "."
     llvm = res.get("llvm_c") or []
     if llvm:

@@ -344,7 +344,8 @@ def page(results, total, target: Path, steps: int) -> str:
          f"everything before it (the whole run when it never does).  **blow-up**: the component reaches {CEILING:g}.",
          "", f"![Example 4 and GLM43 on the pendulum]({rel})", "",
          "## Results", "",
-         "| run | onset t | pre-onset max \\|H − H₀\\| | pre-onset max \\|H̃ − H̃₀\\| | ratio | pre-onset max \\|z − Φⁿ\\| "
+         "| run | onset t | pre-onset max \\|H − H₀\\| | pre-onset max \\|H̃ − H̃₀\\| | ratio "
+         "| pre-onset max \\|z − Φⁿ\\| "
          "| pre-onset max \\|z − y(t)\\| | blow-up t (predicted) | max \\|H − H₀\\| | max parasitic |",
          "|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
@@ -387,7 +388,8 @@ def page(results, total, target: Path, steps: int) -> str:
           "predicted): the same growth from a higher start.  (In this run the monitor measures against the "
           "exported S, so below the onset its curve includes the smooth difference between the two starting "
           f"methods along the orbit, at most {fmt(b['monitor_floor'])} before the onset: below that level the "
-          f"red curve of the second panel is not all parasitic.)  The pre-onset ratio is {b['pre_onset_ratio']:.3g}, and z_n stays "
+          "red curve of the second panel is not all parasitic.)  "
+          f"The pre-onset ratio is {b['pre_onset_ratio']:.3g}, and z_n stays "
           f"within {fmt(b['pre_onset_max_dist_phi'])} of Φⁿ(y₀) up to the onset.",
           f"* **Bounded cases.**  Example 4 at (q₀, p₀) = (0, 1) never reaches cos q < 0: the component stays at "
           f"{fmt(s['max_parasitic'])}, |H − H₀| ≤ {fmt(s['max_abs_H_error'])}, |H̃ − H̃₀| ≤ "
@@ -408,7 +410,8 @@ def page(results, total, target: Path, steps: int) -> str:
 
 def _jsonable(r):
     return {"key": r["case"]["key"], "label": r["case"]["label"], "method": r["method"],
-            "file": f"methods/{r['case']['file']}.json", "parameters": {k: str(v) for k, v in r["case"]["params"].items()},
+            "file": f"methods/{r['case']['file']}.json",
+            "parameters": {k: str(v) for k, v in r["case"]["params"].items()},
             "start": "exported (order 4)" if r["case"]["start"] is None else f"S to order {r['case']['start']}",
             **r["numbers"]}
 

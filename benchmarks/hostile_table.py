@@ -44,7 +44,7 @@ def row(case) -> dict:
         os.close(read)
         try:
             out = _row(case)
-        except BaseException as exc:                    # noqa: BLE001 - reported as a traceback row
+        except BaseException as exc:                    # reported as a traceback row
             out = {"id": case.id, "surface": case.surface, "category": case.category, "ok": False, "refused": False,
                    "traceback": True, "hang": False, "executed": False, "left": 0, "seconds": 0.0,
                    "error": repr(exc)[:200]}

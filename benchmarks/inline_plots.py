@@ -14,10 +14,10 @@ import time
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.pyplot as plt
 
-from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.experiments.inline_plots import plot_imaginary_axis, plot_order_star, plot_stability_region  # noqa: E402
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.experiments.inline_plots import plot_imaginary_axis, plot_order_star, plot_stability_region
 
 REGION = ["rk4", "gauss:3", "radau_iia3", "sdirk34", "glm43", "bdf:4", "glm6_moonshot"]
 STAR = ["rk4", "gauss:3"]

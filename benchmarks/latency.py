@@ -21,7 +21,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from doc_blocks import cli  # noqa: E402
+from doc_blocks import cli
 
 ROOT = Path(__file__).resolve().parents[1]
 COMMANDS = (["verify", "methods/example4_glm.json"], ["order", "methods/gauss2.json"],

@@ -59,7 +59,8 @@ def python_steps():
                 integrate(nm, cp, cp.y0, 0.01, 300, kernel="python", record_every=300)
                 times.append((time.perf_counter() - t) / 300)
             got, want = statistics.median(times), limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
-            print(f"{prob:10} {d:>2} {name:15} {nm.s:>2} {nm.r:>2} {got * 1e6:>8.0f} {want * 1e6:>9.0f} {got / want:>6.2f}")
+            print(f"{prob:10} {d:>2} {name:15} {nm.s:>2} {nm.r:>2} "
+                  f"{got * 1e6:>8.0f} {want * 1e6:>9.0f} {got / want:>6.2f}")
 
 
 def first_calls():

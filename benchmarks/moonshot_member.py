@@ -46,7 +46,9 @@ def structure(d1, d2, c, lam) -> GeneralLinearMethod:
     B = sp.Matrix([[d1, d2, d3, d3, d2, d1], [lam * c1, lam * c2, lam * c3, -lam * c3, -lam * c2, -lam * c1],
                    [0, lam * c4, lam * c5, -lam * c5, -lam * c4, 0]])
     A, U = dirk_stages(B, G, V, sp.zeros)
-    simplify = lambda e: sp.radsimp(sp.expand(e))  # noqa: E731
+
+    def simplify(e):
+        return sp.radsimp(sp.expand(e))
     return GeneralLinearMethod(A=sp.ImmutableMatrix(A.applyfunc(simplify)), U=sp.ImmutableMatrix(U.applyfunc(simplify)),
                                B=sp.ImmutableMatrix(B), V=V, name="six-stage member")
 
@@ -127,9 +129,11 @@ def main(argv=None) -> int:
                       "parasitism_free": True}
             title = f"G-symplectic, parasitism-free DIRK GLM, s = 6, symmetric output rows (d1 = {d1}, d2 = {d2})"
             c_nodes = sp.ImmutableMatrix([[sp.radsimp(sp.expand(sum(m.A.row(i))))] for i in range(m.A.rows)])
-            save(replace(m, c=c_nodes, name=f"{args.name}: {title}", claims=tuple(sorted(claims.items())), source=SOURCE,
+            save(replace(m, c=c_nodes, name=f"{args.name}: {title}", claims=tuple(sorted(claims.items())),
+                         source=SOURCE,
                          notes=(f"benchmarks/moonshot_member.py -- {d1s} {d2s} {cs}: rows 2-3 = λ·c with c on the "
-                                "μ-cone; λ² a root of the order-3 condition (θ ≡ 0), a quadratic in λ².",)), args.save)
+                                "μ-cone; λ² a root of the order-3 condition (θ ≡ 0), a quadratic in λ².",)),
+                 args.save)
             print(f"saved {args.save}")
         return 0
     sys.exit("no real λ with a nonnegative diagonal")

@@ -140,6 +140,7 @@ def main(out=ROOT / "reports" / "nodepy"):
         return 2
     from nodepy_set import rk_methods
     methods, skipped = rk_methods()
+    rows = []
     for name, rkm in methods:
         try:
             rows.append(compare(rkm, name))
@@ -149,18 +150,21 @@ def main(out=ROOT / "reports" / "nodepy"):
     keys = ["order", "stage_order", "real_interval", "imaginary_interval", "ssp_coefficient", "algebraically_stable",
             "embedded_order"]
     from importlib.metadata import version
-    lines = [f"# NodePy {version('nodepy')} against tableau-lab", "",
+    lines = [f"# NodePy {version('nodepy')} (numpy {version('numpy')}) against tableau-lab", "",
              f"{len(rows)} exact methods: the named ones of `nodepy.rk.loadRKM('All')` and the generated "
              f"families SSPRK2/3, SSPIRK1/2/3, extrap, DC, RKC1/2 ({len(skipped)} skipped: floating-point "
-             "coefficients, or a size NodePy does not build). Each cell: ours / NodePy's; = agree (to 1e-6 relative for the "
-             "floats); ≠ disagree, with the side an independent 50-digit evaluation supports (|R| between the "
+             "coefficients, or a size NodePy does not build). Each cell: ours / NodePy's; = agree (to 1e-6 relative "
+             "for the floats); ≠ disagree, with the side an independent 50-digit evaluation supports (|R| between the "
              "two claimed interval ends; Kraaijevanger's inequalities at the larger claimed SSP coefficient).", "",
              "| method | " + " | ".join(keys) + " |", "|---|" + "---|" * len(keys)]
 
+    def fmt(v):
+        if isinstance(v, float):
+            return "∞" if math.isinf(v) else f"{v:.6g}"
+        return str(v)
+
     def cell(r, k):
         a, b = r["ours"][k], r["nodepy"].get(k)
-        fmt = (lambda v: "∞" if isinstance(v, float) and math.isinf(v) else
-               (f"{v:.6g}" if isinstance(v, float) else str(v)))
         return f"{fmt(a)} / {fmt(b)} {r['verdicts'][k]}"
     for r in rows:
         lines.append(f"| {r['name']} | " + " | ".join(cell(r, k) for k in keys) + " |")

@@ -89,7 +89,8 @@ def measure(only=()) -> dict:
             r = {"name": name, "kind": "lmm" if lmm else m.kind, "stages": m.s,
                  "steps": len(obj.alpha) - 1 if lmm else None, **run_one(path)}
             rows[name] = r
-            print(f"{name}: exit {r['exit']}, {r['cpu']:.1f} s CPU, {r['wall']:.1f} s wall", file=sys.stderr, flush=True)
+            print(f"{name}: exit {r['exit']}, {r['cpu']:.1f} s CPU, {r['wall']:.1f} s wall",
+                  file=sys.stderr, flush=True)
     from importlib.metadata import version
     order = [n for n, _ in methods]
     data = {"nodepy": version("nodepy"), "limit": LIMIT, "cpus": os.cpu_count(),

@@ -16,7 +16,8 @@ import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-MATHJAX = Path.home() / ".cache" / "tableau_lab" / "mathjax" / "node_modules" / "mathjax-full" / "es5" / "tex-chtml-full.js"
+MATHJAX = (Path.home() / ".cache" / "tableau_lab" / "mathjax" / "node_modules" / "mathjax-full" / "es5"
+           / "tex-chtml-full.js")
 # MathJax 3 reads $…$ only when told (Jupyter's own setting); nbconvert's template configures MathJax 2
 CONFIG = "<script>window.MathJax = {tex: {inlineMath: [['$', '$'], ['\\\\(', '\\\\)']]}};</script>"
 SIZE = "1100,2600"
@@ -31,9 +32,9 @@ def main(argv=None) -> int:
         print("needs chromium and the local MathJax (python benchmarks/mathjax_check.py installs it)", file=sys.stderr)
         return 2
     with tempfile.TemporaryDirectory() as tmp:
-        subprocess.run([sys.executable, "-m", "jupyter", "nbconvert", "--to", "html", str(ROOT / "docs" / "notebook.ipynb"),
-                        "--output-dir", tmp, f"--HTMLExporter.mathjax_url=file://{MATHJAX}"], check=True,
-                       capture_output=True)
+        subprocess.run([sys.executable, "-m", "jupyter", "nbconvert", "--to", "html",
+                        str(ROOT / "docs" / "notebook.ipynb"), "--output-dir", tmp,
+                        f"--HTMLExporter.mathjax_url=file://{MATHJAX}"], check=True, capture_output=True)
         html = Path(tmp) / "notebook.html"
         html.write_text(html.read_text().replace("<head>", "<head>" + CONFIG, 1))
         subprocess.run([browser, "--headless", "--no-sandbox", "--disable-gpu", "--allow-file-access-from-files",

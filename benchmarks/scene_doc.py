@@ -11,7 +11,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from doc_blocks import cli  # noqa: E402
+from doc_blocks import cli
 
 
 def make() -> str:

@@ -40,7 +40,8 @@ def table() -> str:
     for path in sorted((ROOT / "methods").glob("*.json")):
         m = load(path)
         if m.kind == "prk" or m.parameters:
-            skipped.append(f"`{path.name}` ({'a partitioned method: P-series' if m.kind == 'prk' else 'free parameters'})")
+            why = "a partitioned method: P-series" if m.kind == "prk" else "free parameters"
+            skipped.append(f"`{path.name}` ({why})")
             continue
         t0 = time.perf_counter()
         try:

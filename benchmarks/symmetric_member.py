@@ -40,7 +40,8 @@ def structure(d1, b21, x, y) -> GeneralLinearMethod:
     half = sp.Rational(1, 2)
     B = sp.Matrix([[d1, half - d1, half - d1, d1], [b21, x, -x, -b21], [0, y, -y, 0]])
     A, U = dirk_stages(B, G, V, sp.zeros)
-    return GeneralLinearMethod(A=sp.ImmutableMatrix(A.applyfunc(sp.cancel)), U=sp.ImmutableMatrix(U.applyfunc(sp.cancel)),
+    return GeneralLinearMethod(A=sp.ImmutableMatrix(A.applyfunc(sp.cancel)),
+                               U=sp.ImmutableMatrix(U.applyfunc(sp.cancel)),
                                B=sp.ImmutableMatrix(B), V=V, name="symmetric member")
 
 
@@ -68,7 +69,8 @@ def main(argv=None):
     ap.add_argument("b21", nargs="?")
     ap.add_argument("--save", metavar="OUT")
     ap.add_argument("--name", default=None, metavar="LABEL", help="a short label put before the descriptive name")
-    ap.add_argument("--family", metavar="OUT", help="write the family (d1, b21, x, y unknown) as a design tableau and stop")
+    ap.add_argument("--family", metavar="OUT",
+                    help="write the family (d1, b21, x, y unknown) as a design tableau and stop")
     args = ap.parse_args(argv)
     if args.family:
         d1, b21, x, y = sp.symbols("d1 b21 x y")

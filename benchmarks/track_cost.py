@@ -14,12 +14,12 @@ import tempfile
 
 os.environ.setdefault("TABLEAU_LAB_CACHE", tempfile.mkdtemp(prefix="tableau_lab_cold_"))
 
-import sympy as sp  # noqa: E402
+import sympy as sp
 
-from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.numeric.codegen import compile_problem  # noqa: E402
-from tableau_lab.numeric.export import to_numeric  # noqa: E402
-from tableau_lab.numeric.integrate import integrate  # noqa: E402
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.numeric.codegen import compile_problem
+from tableau_lab.numeric.export import to_numeric
+from tableau_lab.numeric.integrate import integrate
 
 METHODS = os.path.join(os.path.dirname(__file__), "..", "methods")
 STRIDE = 4
@@ -39,14 +39,16 @@ def main():
         for m, prob in cases:
             cp = compile_problem(prob) if prec == "float64" else compile_problem(prob, "mpmath", dps=32)
             nm = to_numeric(load(os.path.join(METHODS, f"{m}.json")), prec)
-            first = integrate(nm, cp, cp.y0, sp.Rational(1, 100), 10, kernel="compiled" if prec == "float64" else "auto")
+            first = integrate(nm, cp, cp.y0, sp.Rational(1, 100), 10,
+                              kernel="compiled" if prec == "float64" else "auto")
             invs = tuple(cp.problem.invariants)
             plain = best(nm, cp, steps)
             every = best(nm, cp, steps, invariants=invs, track_every=1)
             stride = best(nm, cp, steps, invariants=invs, track_every=STRIDE)
             run = integrate(nm, cp, cp.y0, sp.Rational(1, 100), steps, record_every=steps)
             print(f"{prec:9s}  {m:6s}  {prob:8s}  {first.compile_seconds:9.1f}  {plain:7.3f}  "
-                  f"{every:7.3f} (+{100 * (every / plain - 1):3.0f} %)    {stride:7.3f} (+{100 * (stride / plain - 1):3.0f} %)"
+                  f"{every:7.3f} (+{100 * (every / plain - 1):3.0f} %)    "
+                  f"{stride:7.3f} (+{100 * (stride / plain - 1):3.0f} %)"
                   f"   {run.nfev / steps:.2f}", flush=True)
     cp = compile_problem("fpu")
     nm = to_numeric(load(os.path.join(METHODS, "leapfrog.json")))

@@ -78,7 +78,7 @@ def time_limit(seconds: float | None, option: str = OPTION):
     usable = (seconds and seconds > 0 and hasattr(signal, "setitimer")
               and threading.current_thread() is threading.main_thread()
               and signal.getitimer(signal.ITIMER_REAL)[0] == 0)
-    if not usable:
+    if not usable or seconds is None:
         yield
         return
 

@@ -11,14 +11,16 @@
 
 A run that fails honestly (``IntegrationError``: the step and time named) exits 1, as a failed
 claim does. A run that goes to its end but fails in substance — an invariant error or a parasitic
-component of relative size ``numeric.limits.DEGRADED`` (1e-2) or more — is "degraded": exit 4. This module imports nothing of the package: every layer may use it.
+component of relative size ``numeric.limits.DEGRADED`` (1e-2) or more — is "degraded": exit 4.
+This module imports nothing of the package: every layer may use it.
 
 >>> issubclass(BudgetError, ValueError)
 True
 """
 from __future__ import annotations
 
-__all__ = ["InputError", "BudgetError", "Terminated", "EXIT_TERMINATED", "EXIT_OK", "EXIT_CLAIM", "EXIT_INPUT", "EXIT_BUG", "EXIT_INTERRUPTED", "EXIT_DEGRADED"]
+__all__ = ["InputError", "BudgetError", "Terminated", "EXIT_TERMINATED", "EXIT_OK", "EXIT_CLAIM", "EXIT_INPUT",
+           "EXIT_BUG", "EXIT_INTERRUPTED", "EXIT_DEGRADED"]
 
 EXIT_OK, EXIT_CLAIM, EXIT_INPUT, EXIT_BUG, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 3, 130, 143
 EXIT_DEGRADED = 4           # every run went to its end, one (or more) degraded

@@ -166,10 +166,11 @@ def output_name(name, source, what: str = "name") -> str:
 
     >>> output_name("wp_kepler", "data.json")
     'wp_kepler'
-    >>> output_name("../../x", "data.json")
+    >>> output_name("../../x", "data.json")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    tableau_lab.errors.InputError: data.json: name: '../../x' is not a file name (ASCII letters, digits, - _ . starting with a letter or digit, at most 100 characters)
+    tableau_lab.errors.InputError: data.json: name: '../../x' is not a file name (ASCII letters, digits,
+    - _ . starting with a letter or digit, at most 100 characters)
     """
     from .errors import InputError
     from .inputs import NAME_LENGTH, SAFE_NAME
@@ -304,7 +305,7 @@ def is_temp(name: str) -> bool:
 def remove_stale_temps(folder) -> list:
     """Remove the temporary files in ``folder`` left by processes that are gone (killed while
     writing); returns the names removed.  Temporary files of live processes are kept."""
-    removed = []
+    removed: list[str] = []
     try:
         names = os.listdir(folder)
     except OSError:
@@ -453,10 +454,11 @@ def lock_timeout() -> float:
     :data:`LOCK_TIMEOUT`.
 
     >>> os.environ["TABLEAU_LAB_LOCK_TIMEOUT"] = "nan"
-    >>> lock_timeout()
+    >>> lock_timeout()  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    tableau_lab.errors.InputError: TABLEAU_LAB_LOCK_TIMEOUT='nan': not a number of seconds (a finite number ≥ 0, e.g. 600)
+    tableau_lab.errors.InputError: TABLEAU_LAB_LOCK_TIMEOUT='nan': not a number of seconds
+    (a finite number ≥ 0, e.g. 600)
     >>> del os.environ["TABLEAU_LAB_LOCK_TIMEOUT"]
     """
     import math
@@ -598,7 +600,7 @@ def deferred_interrupt(note: str = "finishing writing the results; Ctrl-C again 
             or signal.getsignal(signal.SIGINT) is not signal.default_int_handler):
         yield
         return
-    pending = []
+    pending: list[int] = []
 
     def hold(signum, frame):
         if pending:

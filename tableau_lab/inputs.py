@@ -30,9 +30,9 @@ import stat
 import threading
 from itertools import accumulate
 
-__all__ = ["MAX_JSON_BYTES", "MAX_JSON_DEPTH", "MAX_JSON_INT_DIGITS", "MAX_STEPS", "SAFE_NAME", "read_json", "parse_json",
-           "check_schema", "ListOf", "MapOf", "NAME_MAX", "note_input", "command_inputs", "recorded_inputs",
-           "printable", "json_path"]
+__all__ = ["MAX_JSON_BYTES", "MAX_JSON_DEPTH", "MAX_JSON_INT_DIGITS", "MAX_STEPS", "SAFE_NAME", "read_json",
+           "parse_json", "check_schema", "ListOf", "MapOf", "NAME_MAX", "note_input", "command_inputs",
+           "recorded_inputs", "printable", "json_path"]
 
 MAX_JSON_BYTES = 10 * 2 ** 20     # the largest JSON file read (a tableau's own limit is lower: tableau_json.MAX_BYTES)
 MAX_JSON_DEPTH = 64               # nesting of arrays and objects
@@ -46,8 +46,9 @@ NAME_MAX = 255                    # bytes of one file name (Linux, macOS): longe
 # control characters (tab, newline, carriage return aside), lone surrogates, bidirectional overrides
 _BAD_CHAR = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\x7f-\x9f\ud800-\udfff\u202a-\u202e\u2066-\u2069]")
 # what may hide a refused string or number (a walk over the value then finds it, with its path)
-_SUSPECT = re.compile(r"\\u(?:00[01]|007[fF]|00[89]|[dD][89a-fA-F]|202[a-eA-E]|206[6-9])|[\x7f-\x9f\ud800-\udfff\u202a-\u202e"
-                      r"\u2066-\u2069]|NaN|Infinity|[eE][+-]?[0-9]{3}|[0-9]{%d}" % (MAX_JSON_INT_DIGITS + 1))
+_SUSPECT = re.compile(r"\\u(?:00[01]|007[fF]|00[89]|[dD][89a-fA-F]|202[a-eA-E]|206[6-9])"
+                      r"|[\x7f-\x9f\ud800-\udfff\u202a-\u202e\u2066-\u2069]"
+                      r"|NaN|Infinity|[eE][+-]?[0-9]{3}|[0-9]{%d}" % (MAX_JSON_INT_DIGITS + 1))
 _STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"', re.S)
 _NOT_BRACKET = re.compile(r"[^\[\]{}]+")
 _KEY = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
@@ -59,8 +60,8 @@ def _escaped(c: str) -> str:
     return f"\\u{ord(c):04x}"
 
 
-def printable(text: str) -> str:
-    """``text`` with lone surrogates and control characters escaped as ``\\uXXXX`` (safe to print)."""
+def printable(text: object) -> str:
+    """``str(text)`` with lone surrogates and control characters escaped as ``\\uXXXX`` (safe to print)."""
     return _BAD_CHAR.sub(lambda m: _escaped(m.group()), str(text))
 
 
@@ -160,7 +161,8 @@ def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int =
     source = printable(source)
     if isinstance(text, bytes):
         if len(text) > max_bytes:
-            raise _fail(error, source, f"file is {len(text)} bytes, larger than the {max_bytes}-byte limit for a {what}")
+            raise _fail(error, source,
+                        f"file is {len(text)} bytes, larger than the {max_bytes}-byte limit for a {what}")
         try:
             text = text.decode("utf-8")
         except UnicodeDecodeError as exc:
@@ -236,9 +238,10 @@ def read_json(path, error, what: str = "JSON file", *, max_bytes: int = MAX_JSON
     (:func:`note_input`; False for a command's own file read back, e.g. a
     design checkpoint)."""
     source = printable(os.fspath(path))
-    long = next((p for p in os.fspath(path).split(os.sep) if len(p.encode("utf-8", "surrogateescape")) > NAME_MAX), None)
-    if long is not None:
-        raise _fail(error, source[:80] + "…", f"cannot read: a file name of {len(long.encode('utf-8', 'surrogateescape'))} "
+    sizes = (len(p.encode("utf-8", "surrogateescape")) for p in os.fspath(path).split(os.sep))
+    longest = next((n for n in sizes if n > NAME_MAX), None)
+    if longest is not None:
+        raise _fail(error, source[:80] + "…", f"cannot read: a file name of {longest} "
                                              f"bytes is longer than the system's limit of {NAME_MAX}")
     try:
         st = os.stat(path)
@@ -344,8 +347,8 @@ def check_schema(value, schema, source, error, path=()):
         n = len(value)
         if n > match.most or n < getattr(match, "least", 0):
             bound = (f"at most {match.most}" if n > match.most else f"at least {match.least}")
-            raise _fail(error, printable(source), f"must hold {bound} {'entry' if bound.endswith(' 1') else 'entries'}, "
-                                                  f"it holds {n}", json_path(path))
+            entries = "entry" if bound.endswith(" 1") else "entries"
+            raise _fail(error, printable(source), f"must hold {bound} {entries}, it holds {n}", json_path(path))
         items = value.items() if isinstance(match, MapOf) else enumerate(value)
         for k, v in items:
             check_schema(v, match.item, source, error, path + [k])

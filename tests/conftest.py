@@ -11,6 +11,8 @@ compiled.
 """
 import os
 
+import pytest
+
 os.environ.setdefault("TABLEAU_LAB_KERNEL", "python")
 os.environ.setdefault("TABLEAU_LAB_SPECIALISE", "0")
 os.environ.setdefault("TABLEAU_LAB_FIGURE_FORMATS", "png")   # figures as PNG only (test_figures.py: all three)
@@ -28,3 +30,19 @@ def benchmark_script(name: str):
     sys.modules[name] = mod              # before executing it: dataclasses look their module up
     spec.loader.exec_module(mod)
     return mod
+
+
+@pytest.fixture
+def figures(monkeypatch):
+    """The figures that ``figure_style.save`` is given (drawn, before they are closed), in order
+    (test_figures.py, test_stability_plots.py)."""
+    from tableau_lab.experiments import figure_style as style
+    seen = []
+    real = style.save
+
+    def save(fig, target, caption=None):
+        fig.canvas.draw()
+        seen.append(fig)
+        return real(fig, target, caption)
+    monkeypatch.setattr(style, "save", save)
+    return seen

@@ -100,12 +100,14 @@ CASES += [_entry_case(f"notnum-{i}", "not a number", e, "m.json") for i, e in en
 CASES += [_entry_case(f"unicode-{i}", "unicode", e, "m.json") for i, e in enumerate(UNICODE)]
 CASES += [_entry_case(f"size-{i}", "size", e, "m.json") for i, e in enumerate(SIZE)]
 CASES += [_entry_case(f"inject-order-{i}", "injection", e, "m.json", "order") for i, e in enumerate(INJECTION[:5])]
-CASES += [_entry_case(f"inject-stability-{i}", "injection", e, "m.json", "stability") for i, e in enumerate(INJECTION[:5])]
+CASES += [_entry_case(f"inject-stability-{i}", "injection", e, "m.json", "stability")
+          for i, e in enumerate(INJECTION[:5])]
 
 # the shape and kind of a method file
 SHAPES = {
     "ragged": rk([["0", "0"], ["1"]]), "b-short": rk([["0", "0"], ["1", "0"]], b=["1"]),
-    "kind": json.dumps({"format": "tableau_lab/1", "name": "x", "kind": "rocket", "A": [["0"]], "b": ["1"], "c": ["0"]}),
+    "kind": json.dumps({"format": "tableau_lab/1", "name": "x", "kind": "rocket",
+                        "A": [["0"]], "b": ["1"], "c": ["0"]}),
     "format": json.dumps({"format": "tableau_lab/99", "name": "x", "kind": "rk", "A": [["0"]], "b": ["1"], "c": ["0"]}),
     "no-A": json.dumps({"format": "tableau_lab/1", "name": "x", "kind": "rk", "b": ["1"], "c": ["0"]}),
     "A-number": rk([[0.5]]), "A-string": json.dumps({"format": "tableau_lab/1", "name": "x", "kind": "rk", "A": "0",
@@ -113,7 +115,8 @@ SHAPES = {
     "A-null": rk([[None]]), "A-bool": rk([[True]]), "A-nested": rk([[["0"]]]), "empty-A": rk([]),
     "list": "[1, 2]", "string": '"rk"', "empty": "", "not-json": "{'A': 1}", "truncated": rk([["0"]])[:-5],
     "claims-bad": rk([["0"]], claims={"order": "four"}), "claims-unknown": rk([["0"]], claims={"fast": True}),
-    "name-number": json.dumps({"format": "tableau_lab/1", "name": 5, "kind": "rk", "A": [["0"]], "b": ["1"], "c": ["0"]}),
+    "name-number": json.dumps({"format": "tableau_lab/1", "name": 5, "kind": "rk",
+                               "A": [["0"]], "b": ["1"], "c": ["0"]}),
     "glm-shapes": json.dumps({"format": "tableau_lab/1", "name": "x", "kind": "glm", "A": [["0"]], "U": [["1", "0"]],
                               "B": [["1"]], "V": [["1"]]}),
     "constants-bad": rk([["a"]], c=["a"], constants={"a": "nan"}),
@@ -147,8 +150,9 @@ for i, h in enumerate(("0", "-1/100", "1e-999", "1/0", "nan", "inf", "x", "١/١
                                                         "--h", h, "--steps", "10"), {"m.json": GOOD}, 2, "--h"))
 CASES += [Case("timeout-bad", "cli number", "range", ("verify", "{d}/m.json", "--timeout", "-1"), {"m.json": GOOD}, 2,
                "--timeout"),
-          Case("problem-unknown", "cli number", "range", ("run", "--method", "{d}/m.json", "--problem", "../../etc/passwd",
-                                                          "--h", "1/10", "--steps", "10"), {"m.json": GOOD}, 2, "problem")]
+          Case("problem-unknown", "cli number", "range",
+               ("run", "--method", "{d}/m.json", "--problem", "../../etc/passwd", "--h", "1/10", "--steps", "10"),
+               {"m.json": GOOD}, 2, "problem")]
 
 # solve --require strings and --repair lists
 FREE = rk([["a"]], c=["a"])
@@ -188,8 +192,8 @@ CASES += [Case("hang-solve-order12", "budget", "hang",
                {"m.json": rk([["a", "b"], ["c", "d"]], b=["e", "f"], c=["a + b", "c + d"])}, 2, ""),
           Case("hang-solve-symplectic3", "budget", "hang",
                ("--timeout", "3", "solve", "{d}/m.json", "--require", "order=5,symplectic"),
-               {"m.json": rk([["a11", "a12", "a13"], ["a21", "a22", "a23"], ["a31", "a32", "a33"]], b=["b1", "b2", "b3"],
-                             c=["c1", "c2", "c3"])}, 2, "time budget")]
+               {"m.json": rk([["a11", "a12", "a13"], ["a21", "a22", "a23"], ["a31", "a32", "a33"]],
+                             b=["b1", "b2", "b3"], c=["c1", "c2", "c3"])}, 2, "time budget")]
 
 # where outputs go: names from input never leave --out; --out naming a file is refused
 CASES += [Case("report-dotdot", "output path", "path", ("report", "{d}/..json", "--out", "{d}/o/proofs"),
@@ -200,25 +204,30 @@ CASES += [Case("report-dotdot", "output path", "path", ("report", "{d}/..json", 
                {"m.json": GOOD, "afile": "x"}, 2, "afile"),
           Case("stability-plot-file", "output path", "path", ("stability", "{d}/m.json", "--plot", "{d}/afile"),
                {"m.json": GOOD, "afile": "x"}, 2, "afile"),
-          Case("run-free-parameter", "method file", "shape", ("run", "--method", "{d}/m.json", "--problem", "pendulum",
-                                                             "--h", "1/10", "--steps", "10"), {"m.json": FREE}, 2, "m.json")]
+          Case("run-free-parameter", "method file", "shape",
+               ("run", "--method", "{d}/m.json", "--problem", "pendulum", "--h", "1/10", "--steps", "10"),
+               {"m.json": FREE}, 2, "m.json")]
 
 # a run whose state overflows ends with exit 1 and the step, at every precision (mpmath has no overflow: limits.HUGE)
 RK4 = rk([["0", "0", "0", "0"], ["1/2", "0", "0", "0"], ["0", "1/2", "0", "0"], ["0", "0", "1", "0"]],
          b=["1/6", "1/3", "1/3", "1/6"], c=["0", "1/2", "1/2", "1"])
-CASES += [Case(f"overflow-{prec}", "run", "overflow", ("run", "--method", "{d}/m.json", "--problem", "harmonic", "--h", "3",
-                                                       "--steps", "3000", "--precision", prec), {"m.json": RK4}, 1,
+CASES += [Case(f"overflow-{prec}", "run", "overflow",
+               ("run", "--method", "{d}/m.json", "--problem", "harmonic", "--h", "3", "--steps", "3000",
+                "--precision", prec), {"m.json": RK4}, 1,
                "step 1")
           for prec in ("float64", "mp:20")]
 
-# scenes through `run SCENE --out`: refused before any run, nothing under --out (tests/test_hostile_scenes.py has 154 more)
+# scenes through `run SCENE --out`: refused before any run, nothing under --out
+# (tests/test_hostile_scenes.py has 154 more)
 SCENE = {"format": "tableau_lab/scene/1", "name": "s", "problem": "pendulum", "h": "1/10", "steps": 10,
          "runs": [{"method": "m.json"}]}
 BAD_SCENES = {
-    "name-dotdot": {"name": ".."}, "name-dot": {"name": "."}, "name-slash": {"name": "a/b"}, "name-hidden": {"name": ".x"},
+    "name-dotdot": {"name": ".."}, "name-dot": {"name": "."}, "name-slash": {"name": "a/b"},
+    "name-hidden": {"name": ".x"},
     "name-arabic": {"name": "١"}, "method-null": {"runs": [{"method": None}]}, "plots-number": {"plots": 5},
     "project-nested": {"runs": [{"method": "m.json", "project": [["H"]]}]}, "precision-list": {"precision": ["dd"]},
-    "title-number": {"title": 5}, "steps-huge": {"steps": 10 ** 30}, "T-bypass": {"steps": None, "T": "1e300", "h": "1"},
+    "title-number": {"title": 5}, "steps-huge": {"steps": 10 ** 30},
+    "T-bypass": {"steps": None, "T": "1e300", "h": "1"},
     "h-tiny": {"h": "1e-999"}, "h-nan": {"h": "nan"}, "runs-empty": {"runs": []}, "unknown-key": {"colour": "red"},
     "problem-unknown": {"problem": "../../etc/passwd"}, "method-missing": {"runs": [{"method": "nothing.json"}]},
     "monitor-negative": {"monitor": "-1"}, "record-zero": {"record_every": 0},
@@ -242,9 +251,9 @@ CASES += [Case("scene-duplicate-key", "scene", "json", ("run", "{d}/scene.json",
           Case("scene-directory", "scene", "path", ("run", "{d}", "--out", "{d}/out"), {}, 2, "directory")]
 
 # raising a limit: only the named ones, within 100 times their default
-CASES += [Case(f"entry-limit-{i}", "cli number", "range", ("verify", "{d}/m.json", "--entry-limit", v), {"m.json": GOOD}, 2,
-               "--entry-limit") for i, v in enumerate(("bogus=3", "depth=x", "depth=0", "depth=999999", "depth", "=5",
-                                                        "depth=١٠"))]
+CASES += [Case(f"entry-limit-{i}", "cli number", "range", ("verify", "{d}/m.json", "--entry-limit", v),
+               {"m.json": GOOD}, 2, "--entry-limit")
+          for i, v in enumerate(("bogus=3", "depth=x", "depth=0", "depth=999999", "depth", "=5", "depth=١٠"))]
 
 # issue 29: exact core
 # a JSON number too large for a float is refused when read (it was expanded to 10**99999999 for the
@@ -265,7 +274,8 @@ CASES += [Case("json-number-1e99999999", "method file", "size", ("--timeout", "2
                {"m.json": rk([["1", "0"], ["0", "\\ud800"]]).replace("\\\\ud800", "\\ud800")}, 2,
                "entry A row 2, column 2: a lone surrogate"),
           Case("json-duplicate-key-one-based", "method file", "shape", ("verify", "{d}/m.json"),
-               {"m.json": rk([["1"]]).replace('"b": ["1"]', '"b": [{"x": 1, "x": 2}]')}, 2, "entry b[1].x: duplicate key"),
+               {"m.json": rk([["1"]]).replace('"b": ["1"]', '"b": [{"x": 1, "x": 2}]')}, 2,
+               "entry b[1].x: duplicate key"),
           Case("json-nan-number-one-based", "method file", "not a number", ("verify", "{d}/m.json"),
                {"m.json": rk([["1"]]).replace('"b": ["1"]', '"b": [NaN]')}, 2, "entry b[1]: NaN")]
 CASES += [Case(f"root8-{cmd}", "entry", "size", ("--timeout", "60", cmd, "{d}/m.json"), {"m.json": _ROOT8}, 0, "")
@@ -299,7 +309,8 @@ _FILES29 = [
      {"f.json": FREE}, "would overwrite the input"),
     ("solve-save-over-stranger", ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/m.json"),
      {"f.json": FREE, "m.json": GOOD}, "not made by this command"),
-    ("solve-name-escape", ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/o.json", "--name", "a\x1b[2Jb"),
+    ("solve-name-escape",
+     ("solve", "{d}/f.json", "--require", "order=1", "--save", "{d}/o.json", "--name", "a\x1b[2Jb"),
      {"f.json": FREE}, "--name"),
     ("design-save-over-input", ("design", "{d}/f.json", "--maximize", "imaginary-interval", "--save", "{d}/f.json"),
      {"f.json": FREE}, "would overwrite the input"),
@@ -326,12 +337,13 @@ _FILES29 = [
     ("replot-nothing-drawable", ("replot", "{d}"), {"other.json": "{}"}, "holds no saved output"),
     ("report-over-input", ("report", "{d}/m.tex", "--out", "{d}"), {"m.tex": GOOD}, "would overwrite the input"),
 ]
-CASES += [Case(f"files-{cid}", "output path", "files", argv, files, 2, fragment) for cid, argv, files, fragment in _FILES29]
+CASES += [Case(f"files-{cid}", "output path", "files", argv, files, 2, fragment)
+          for cid, argv, files, fragment in _FILES29]
 CASES += [Case(f"files-lock-timeout-{v}", "environment", "files", ("report", "{d}/m.json", "--out", "{d}/out"),
                {"m.json": GOOD}, 2, "TABLEAU_LAB_LOCK_TIMEOUT", {"TABLEAU_LAB_LOCK_TIMEOUT": v})
           for v in ("nan", "inf", "-1", "x")]
-CASES += [Case("files-cache-is-a-file", "environment", "files", ("run", "--method", "{d}/m.json", "--problem", "harmonic",
-                                                                 "--h", "1/10", "--steps", "10"),
+CASES += [Case("files-cache-is-a-file", "environment", "files",
+               ("run", "--method", "{d}/m.json", "--problem", "harmonic", "--h", "1/10", "--steps", "10"),
                {"m.json": GOOD}, 2, "TABLEAU_LAB_CACHE", {"TABLEAU_LAB_CACHE": "{d}/m.json"})]
 # end of issue 29: files ---------------------------------------------------------------------------------------------
 # issue 29: runs ----------------------------------------------------------------------------------
@@ -381,8 +393,8 @@ CASES += [Case("user-problem-wp-nested-exp45", "budget", "hang",
                ("--timeout", "3", "workprecision", "{d}/wp.json", "--out", "{d}/out", "--workers", "1"),
                {"wp.json": json.dumps({**WP, "problem": {"define": USER_PROBLEMS["nested-exp45"]}}), "m.json": GOOD}, 2,
                "time budget of 3 s")]
-CASES += [Case(f"convergence-T-{k}", "cli number", "range", ("convergence", "{d}/m.json", "--problem", "harmonic", "--T", T,
-                                                            "--workers", "1", "--out", "{d}/out"),
+CASES += [Case(f"convergence-T-{k}", "cli number", "range",
+               ("convergence", "{d}/m.json", "--problem", "harmonic", "--T", T, "--workers", "1", "--out", "{d}/out"),
                {"m.json": RK4}, 2, f"--T {T}") for k, T in (("zero", "0"), ("negative", "-1"), ("overflow", "1e400"))]
 CASES += [Case(f"q0-overflow-{p}", "run", "overflow", ("run", "--method", "{d}/m.json", "--problem", p, "--h", "1/10",
                                                        "--steps", "10", "--q0", q0), {"m.json": GOOD}, 1, "step 0")
@@ -407,7 +419,8 @@ CASES += [Case("run-method-json-float-1e99999999", "method file", "size",
           Case("scene-json-path-one-based", "scene", "json", ("run", "{d}/scene.json", "--out", "{d}/out"),
                {"scene.json": _scene({"runs": [{"method": "m.json", "label": "a\u0001"}]}), "m.json": GOOD}, 2,
                "runs[1].label"),
-          Case("scene-invariants-plot-without-invariants", "scene", "schema", ("run", "{d}/scene.json", "--out", "{d}/out"),
+          Case("scene-invariants-plot-without-invariants", "scene", "schema",
+               ("run", "{d}/scene.json", "--out", "{d}/out"),
                {"scene.json": _scene({"problem": {"define": {"name": "d", "y": ["x"], "f": ["-x"], "y0": ["1"]}},
                                       "plots": ["invariants"]}), "m.json": GOOD}, 2, "no invariants to plot")]
 # issue 29: runs (end) ----------------------------------------------------------------------------

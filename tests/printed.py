@@ -63,64 +63,72 @@ def read_text_sum(body: str, vocab: dict) -> dict:
 _TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[0-9]+|[A-Za-z]|\S")
 
 
-def latex_to_grammar(tex: str) -> str:
-    r"""sympy's LaTeX of an exact expression (``\frac``, ``\sqrt[n]``, ``\left(``, ``^{}``,
-    ``\cos``, ``\pi``, juxtaposition) as text in the tableau grammar; ``\kappa_{n}`` -> kappan."""
-    toks = _TOKEN.findall(tex)
-    pos = 0
+class _LatexReader:
+    """A recursive-descent reader of sympy's LaTeX (:func:`latex_to_grammar`): ``seq`` reads up to a
+    closing token, ``atom`` one operand, ``command`` one backslash command."""
 
-    def take():
-        nonlocal pos
-        pos += 1
-        return toks[pos - 1]
+    def __init__(self, tex: str):
+        self.tex = tex
+        self.toks = _TOKEN.findall(tex) + ["\0"]
+        self.pos = 0
 
-    def group() -> str:
-        t = take()
-        if t != "{":
-            return atom_of(t)
-        return "(" + seq("}") + ")"
+    def peek(self) -> str:
+        return self.toks[self.pos]
 
-    def atom_of(t) -> str:
+    def take(self) -> str:
+        self.pos += 1
+        return self.toks[self.pos - 1]
+
+    def group(self) -> str:
+        t = self.take()
+        return "(" + self.seq("}") + ")" if t == "{" else self.atom(t)
+
+    def atom(self, t: str) -> str:
         if t.isdigit():
             return t
+        if t in ("(", r"\left", r"\bigl"):
+            if t != "(":
+                assert self.take() in "(["
+            return "(" + self.seq(")") + ")"
+        if t == "{":
+            return "(" + self.seq("}") + ")"
+        if t.startswith("\\"):
+            return self.command(t)
+        if re.fullmatch(r"[A-Za-z]", t):
+            name = t
+            while self.pos < len(self.toks) and re.fullmatch(r"[A-Za-z0-9]+", self.peek()):
+                name += self.take()
+            return name
+        raise AssertionError(f"unexpected {t!r} in {self.tex!r}")
+
+    def command(self, t: str) -> str:
         if t == r"\frac":
-            return f"(({group()})/({group()}))"
+            return f"(({self.group()})/({self.group()}))"
         if t == r"\sqrt":
-            if toks[pos] == "[":
-                take()
-                n = seq("]")
-                return f"(({group()})^(1/({n})))"
-            return f"sqrt({group()})"
+            if self.peek() == "[":
+                self.take()
+                n = self.seq("]")
+                return f"(({self.group()})^(1/({n})))"
+            return f"sqrt({self.group()})"
         if t in (r"\cos", r"\sin"):                   # \cos^{2}{\left(…\right)} is cos(…)^2
-            power = take() and group() if toks[pos] == "^" else None
-            call = t[1:] + group()
+            power = self.take() and self.group() if self.peek() == "^" else None
+            call = t[1:] + self.group()
             return call if power is None else f"({call})^{power}"
         if t == r"\pi":
             return "pi"
         if t == r"\kappa":
-            assert take() == "_"
-            return "kappa" + group().strip("()")
-        if t in ("(", r"\left", r"\bigl"):
-            if t != "(":
-                assert take() in "(["
-            return "(" + seq(")") + ")"
-        if t == "{":
-            return "(" + seq("}") + ")"
-        if re.fullmatch(r"[A-Za-z]", t):
-            name = t
-            while pos < len(toks) and re.fullmatch(r"[A-Za-z0-9]+", toks[pos]):
-                name += take()
-            return name
-        raise AssertionError(f"unexpected {t!r} in {tex!r}")
+            assert self.take() == "_"
+            return "kappa" + self.group().strip("()")
+        raise AssertionError(f"unexpected {t!r} in {self.tex!r}")
 
-    def seq(stop) -> str:
+    def seq(self, stop: str) -> str:
         out, operand = [], False
         while True:
-            assert pos < len(toks), f"unclosed in {tex!r}"
-            t = take()
+            assert self.pos < len(self.toks), f"unclosed in {self.tex!r}"
+            t = self.take()
             if t == stop or (t in (r"\right", r"\bigr") and stop == ")"):
                 if t != stop:
-                    take()
+                    self.take()
                 return "".join(out)
             if t in (r"\,", r"\ ", r"\;"):
                 continue
@@ -131,13 +139,17 @@ def latex_to_grammar(tex: str) -> str:
                 out.append("*")
                 operand = False
             elif t == "^":
-                out.append("^" + group())
+                out.append("^" + self.group())
                 operand = True
             else:
-                out.append(("*" if operand else "") + atom_of(t))
+                out.append(("*" if operand else "") + self.atom(t))
                 operand = True
-    toks.append("\0")
-    return seq("\0")
+
+
+def latex_to_grammar(tex: str) -> str:
+    r"""sympy's LaTeX of an exact expression (``\frac``, ``\sqrt[n]``, ``\left(``, ``^{}``,
+    ``\cos``, ``\pi``, juxtaposition) as text in the tableau grammar; ``\kappa_{n}`` -> kappan."""
+    return _LatexReader(tex).seq("\0")
 
 
 def read_latex_sum(body: str, vocab: dict, constants: dict | None = None) -> dict:

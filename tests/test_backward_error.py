@@ -150,7 +150,8 @@ def test_midpoint_modified_hamiltonian_hlw_ix3():
     H, q, p = _pendulum()
     mh = modified_hamiltonian(modified_field(series("implicit_midpoint", 5)))
     f = _hamiltonian_field(H, q, p)
-    Hff = sum(sp.diff(H, x, y) * fx * fy for x, fx in zip(q + p, f, strict=False) for y, fy in zip(q + p, f, strict=False))
+    pairs = list(zip(q + p, f, strict=False))
+    Hff = sum(sp.diff(H, x, y) * fx * fy for x, fx in pairs for y, fy in pairs)
     assert sp.expand(mh.expression(H, q, p, 3) + Hff / 24) == 0
 
 
@@ -232,7 +233,8 @@ def _poisson(F, G, q, p):
 
 
 def test_symplectic_euler_modified_hamiltonian_hlw_ix3():
-    """[HLW06] IX.3 (3.?): symplectic Euler has H̃ = H − h/2 H_p H_q + h²/12 (H_pp H_q² + H_qq H_p² + 4 H_pq H_p H_q) + …"""
+    """[HLW06] IX.3 (3.?): symplectic Euler has
+    H̃ = H − h/2 H_p H_q + h²/12 (H_pp H_q² + H_qq H_p² + 4 H_pq H_p H_q) + …"""
     H, q, p = _pendulum()
     mh = modified_hamiltonian(modified_field(series("symplectic_euler", 4)))
     Hq, Hp = sp.diff(H, q[0]), sp.diff(H, p[0])
@@ -319,7 +321,9 @@ def test_glm_step_maps_starting_method_onto_underlying_method(name, monkeypatch)
     cache: dict = {}
     F = {t: sp.lambdify(y, elementary_differential(t, (y,), (fexpr,), cache)[0], "mpmath") for t in trees_up_to(N)}
     f = sp.lambdify(y, fexpr, "mpmath")
-    num = lambda x: mp.mpf(str(sp.N(x, 50)))  # noqa: E731
+
+    def num(x):
+        return mp.mpf(str(sp.N(x, 50)))
     A, U, B, V = ([[num(x) for x in row] for row in M.tolist()] for M in (g.A, g.U, g.B, g.V))
     u = [num(x) for x in ms.u]
     xi = {t: [num(x) for x in ms.starting[t]] for t in trees_up_to(N)}
@@ -335,8 +339,9 @@ def test_glm_step_maps_starting_method_onto_underlying_method(name, monkeypatch)
     y0, hs, errs = mp.mpf("0.7"), [mp.mpf(1) / k for k in (10, 20, 40, 80)], []
     for h in hs:
         x = S(y0, h)
-        Y = mp.findroot(lambda *Y: [Y[i] - h * sum(A[i][j] * f(Y[j]) for j in range(g.s))
-                                    - sum(U[i][k] * x[k] for k in range(g.r)) for i in range(g.s)], [y0] * g.s)
+        Y = mp.findroot(lambda *Y, h=h, x=x: [Y[i] - h * sum(A[i][j] * f(Y[j]) for j in range(g.s))
+                                              - sum(U[i][k] * x[k] for k in range(g.r)) for i in range(g.s)],
+                        [y0] * g.s)
         Y = list(Y)
         out = [h * sum(B[i][j] * f(Y[j]) for j in range(g.s)) + sum(V[i][k] * x[k] for k in range(g.r))
                for i in range(g.r)]

@@ -36,7 +36,8 @@ def test_a_number_or_word_changed_by_hand_is_found(tmp_path):
     assert any("quote 5, the command prints 4" in p for p in check.check_transcript(bad, out, code))
     bad = _verify_transcript(tmp_path, lambda s: s.replace("G is definite", "G is indefinite"))
     assert any("not in the actual output" in p for p in check.check_transcript(bad, out, code))
-    bad = _verify_transcript(tmp_path, lambda s: s.replace("methods/example4_glm.json\n== ", "methods/example4_glm.json   # exit 1\n== "))
+    bad = _verify_transcript(tmp_path, lambda s: s.replace("methods/example4_glm.json\n== ",
+                                                           "methods/example4_glm.json   # exit 1\n== "))
     assert any("exited 0, the docs say 1" in p for p in check.check_transcript(bad, out, code))
 
 
@@ -47,7 +48,8 @@ def test_number_rule():
     assert same("-0.6738313830995034", "-0.6738313830995053")              # 16 digits: 1e-9 relative
     assert not same("-0.6738313830995034", "-0.673831380")
     assert same("7.550e-15", "6.772e-15") and not same("7.550e-15", "3e-13")   # round-off: a factor 10
-    pairs = check.match("sweeps 3097, 0.150 s\n  H 6.772e-15 ... end", "sweeps 3097,   0.9 s H 6.7e-15 and more text end")
+    pairs = check.match("sweeps 3097, 0.150 s\n  H 6.772e-15 ... end",
+                        "sweeps 3097,   0.9 s H 6.7e-15 and more text end")
     assert pairs == [("3097", "3097"), (None, "0.9"), ("6.772e-15", "6.7e-15")]     # a duration is not compared
     assert check.match("rank 4 ... G is definite", "rank 4, G is indefinite") == "Gisdefinite"
     assert check.match("x = -1", "x = 1") == "x=-1"                              # a sign is text

@@ -79,7 +79,9 @@ def test_cli_on_the_cluster(cluster, tmp_path):
     args = ["convergence", str(METHODS / "rk4.json"), "--problem", "harmonic"]
     assert main(args + ["--out", str(tmp_path / "dask"), "--scheduler", cluster]) == 0
     assert main(args + ["--out", str(tmp_path / "serial"), "--workers", "1"]) == 0
-    read = lambda d: json.loads((tmp_path / d / "convergence_harmonic_float64.json").read_text())  # noqa: E731
+
+    def read(d):
+        return json.loads((tmp_path / d / "convergence_harmonic_float64.json").read_text())
     assert read("dask") == read("serial")
 
 

@@ -253,7 +253,8 @@ def test_ctrl_c_while_writing_finishes_the_set(compiled, tmp_path, monkeypatch, 
     monkeypatch.setattr(files, "_fill", fill)
     with pytest.raises(KeyboardInterrupt):
         S.run_scene(compiled["scene"], out_root=out, progress=False)
-    assert len(calls) == 2 + 2 * len(formats()) and _check_scene_set(_check_folder(out / "faults"))  # data, meta, 2 plots
+    # data, meta, 2 plots
+    assert len(calls) == 2 + 2 * len(formats()) and _check_scene_set(_check_folder(out / "faults"))
     assert {f.name for f in (out / "faults").iterdir()} == set(before)
     before = {f.name: f.read_bytes() for f in (out / "faults").iterdir()}
     calls.clear()

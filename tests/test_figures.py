@@ -29,20 +29,6 @@ ROOT = Path(__file__).resolve().parent.parent
 METHODS = ROOT / "methods"
 
 
-@pytest.fixture
-def figures(monkeypatch):
-    """The figures that ``style.save`` is given (drawn, before they are closed), in order."""
-    seen = []
-    real = style.save
-
-    def save(fig, target, caption=None):
-        fig.canvas.draw()
-        seen.append(fig)
-        return real(fig, target, caption)
-    monkeypatch.setattr(style, "save", save)
-    return seen
-
-
 def _png_dpi(path: Path):
     """(x, y) pixels per inch from the PNG's pHYs chunk (None without one)."""
     data = path.read_bytes()

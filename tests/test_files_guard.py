@@ -359,7 +359,8 @@ def test_checkpoint_of_3_gb_is_not_read(tmp_path):
     with open(big, "wb") as fh:
         fh.truncate(3 * 2 ** 30)
     t0 = time.perf_counter()
-    refused(*cli("design", m, "--require", "g-symplectic", "--maximize", "imaginary-interval", "--checkpoint", big), big)
+    refused(*cli("design", m, "--require", "g-symplectic", "--maximize", "imaginary-interval", "--checkpoint", big),
+            big)
     assert time.perf_counter() - t0 < 10 and big.stat().st_size == 3 * 2 ** 30
 
 

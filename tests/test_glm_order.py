@@ -67,6 +67,23 @@ def _size(t):
     return 1 + sum(_size(c) for c in t)
 
 
+def _sigma(t):
+    """Symmetry coefficient σ(t) by its recursion (independent of the trees module)."""
+    out = 1
+    for c in set(t):
+        out *= sp.factorial(t.count(c)) * _sigma(c) ** t.count(c)
+    return out
+
+
+def _elementary_differential(f, y, t, at):
+    """Elementary differential F(t)(at) of the vector field f(y) by directional derivatives."""
+    args = [_elementary_differential(f, y, c, at) for c in t]
+    expr = f
+    for a in args:
+        expr = sum((sp.diff(expr, y[j]) * a[j] for j in range(len(y))), sp.zeros(len(y), 1))
+    return expr.subs(dict(zip(y, at, strict=True)), simultaneous=True)
+
+
 @pytest.mark.parametrize("name", ["rk4", "rule_3_8", "gauss2", "radau_iia3", "lobatto_iiia3"])
 def test_classical_order_by_independent_elementary_weights(name):
     m = load(METHODS / f"{name}.json")
@@ -93,22 +110,6 @@ def test_example4_starting_method_by_power_series():
     def F(v):
         return f.subs(dict(zip(y, v, strict=False)), simultaneous=True)
 
-    def elem(t, at):
-        """Elementary differential F(t)(at) by directional derivatives of f."""
-        if t == ():
-            return F(at)
-        args = [elem(c, at) for c in t]
-        expr = f
-        for a in args:
-            expr = sum((sp.diff(expr, y[j]) * a[j] for j in range(2)), sp.zeros(2, 1))
-        return expr.subs(dict(zip(y, at, strict=False)), simultaneous=True)
-
-    def sigma(t):
-        out = 1
-        for c in set(t):
-            out *= sp.factorial(t.count(c)) * sigma(c) ** t.count(c)
-        return out
-
     trees = [t for k in range(1, 5) for t in trees_of_order(k)]
 
     def S(at):
@@ -118,7 +119,7 @@ def test_example4_starting_method_by_power_series():
             for t in trees:
                 xi = res.starting[bracket(t)][i]
                 if xi != 0:
-                    v += h ** _size(t) / sigma(t) * xi * elem(t, at)
+                    v += h ** _size(t) / _sigma(t) * xi * _elementary_differential(f, y, t, at)
             out.append(v.applyfunc(trunc))
         return out
 

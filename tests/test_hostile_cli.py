@@ -9,9 +9,9 @@ import time
 import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
-from hostile_cases import CASES, SLACK, run_case  # noqa: E402
+from hostile_cases import CASES, SLACK, run_case
 
-from tableau_lab.cli import main  # noqa: E402
+from tableau_lab.cli import main
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])

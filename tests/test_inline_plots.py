@@ -10,16 +10,16 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
-import sympy as sp  # noqa: E402
-from matplotlib.axes import Axes  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+import sympy as sp
+from matplotlib.axes import Axes
 
-from tableau_lab.analysis.stability import characteristic_polynomial  # noqa: E402
-from tableau_lab.exact.tableau_json import load  # noqa: E402
-from tableau_lab.experiments import inline_plots as ip  # noqa: E402
-from tableau_lab.experiments.stability_plots import coefficient_array, locus_bounded, root_moduli  # noqa: E402
+from tableau_lab.analysis.stability import characteristic_polynomial
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.experiments import inline_plots as ip
+from tableau_lab.experiments.stability_plots import coefficient_array, locus_bounded, root_moduli
 
 
 def _contour(ax, gid="boundary"):

@@ -32,14 +32,14 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-kauri = pytest.importorskip("kauri")
-from kauri import Map, Tree  # noqa: E402
-from kauri.cem import antipode as cem_antipode  # noqa: E402
+from tableau_lab.analysis import bseries as bs
+from tableau_lab.analysis.method_series import method_series
+from tableau_lab.analysis.trees import density, order, symmetry, trees_of_order, trees_up_to
+from tableau_lab.exact.tableau_json import load
 
-from tableau_lab.analysis import bseries as bs  # noqa: E402
-from tableau_lab.analysis.method_series import method_series  # noqa: E402
-from tableau_lab.analysis.trees import density, order, symmetry, trees_of_order, trees_up_to  # noqa: E402
-from tableau_lab.exact.tableau_json import load  # noqa: E402
+kauri = pytest.importorskip("kauri")
+from kauri import Map, Tree  # noqa: E402 -- after importorskip: the file is skipped without kauri
+from kauri.cem import antipode as cem_antipode  # noqa: E402 -- after importorskip, as above
 
 ROOT = Path(__file__).resolve().parents[1]
 N = 8        # all 200 trees of orders 1..8
@@ -174,7 +174,9 @@ def test_adjoint(name, gen):
 # ------------------------------------------------------------------ 4. substitution (CEM)
 def test_substitute_is_cem_product():
     """A field with b(τ) = -2 ≠ 1, so the single-vertex pieces count."""
-    fn = lambda t: sp.Rational((-1) ** order(t) * 2, density(t) + symmetry(t))  # noqa: E731
+    def fn(t):
+        return sp.Rational((-1) ** order(t) * 2, density(t) + symmetry(t))
+
     b = bs.BSeries.from_function(fn, N, empty=0)
     kb = Map(lambda k: 0 if k.list_repr is None else fn(ours(k)))
     assert_exact(bs.substitute(b, phi("rk4")), kb ^ weights("rk4"), what="b⋆rk4")

@@ -12,7 +12,7 @@ from datetime import datetime
 from pathlib import Path
 
 import nbformat
-import nodepy  # noqa: F401,E402  (in the test extra: a missing NodePy fails here, it is not skipped)
+import nodepy  # noqa: F401  (in the test extra: a missing NodePy fails here, it is not skipped)
 import pytest
 from nbclient import NotebookClient
 from test_notebook import only_top_level

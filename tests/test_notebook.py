@@ -138,8 +138,9 @@ def test_stored_notebook_has_todays_outputs(executed):
     ``python tests/test_notebook.py`` after changing a display)."""
     nb, _ = executed
     stored = nbformat.read(NOTEBOOK, as_version=4)
-    shown = lambda book: [{k: v for k, v in out.get("data", {}).items() if k in SHOWN}  # noqa: E731
-                          for _, out in _outputs(book)]
+
+    def shown(book):
+        return [{k: v for k, v in out.get("data", {}).items() if k in SHOWN} for _, out in _outputs(book)]
     assert shown(stored) == shown(nb)
     assert [c.source for c in stored.cells] == [c.source for c in nb.cells]
     assert all(not c.metadata for c in stored.cells) and set(stored.metadata) == {"kernelspec", "language_info"}

@@ -256,7 +256,8 @@ def test_method_series_latex_reparses(name):
     ms = method_series(load(library_path(name)), 3)
     k = ms.phi.kind
     trees = {k.tex(t): t for t, _ in ms.phi.items()}
-    body = re.fullmatch(r"\\begin\{array\}\{c\|c\} t & \\Phi\(t\) \\\\ \\hline (.*) \\end\{array\}", ms.to_latex(), re.S)[1]
+    body = re.fullmatch(r"\\begin\{array\}\{c\|c\} t & \\Phi\(t\) \\\\ \\hline (.*) \\end\{array\}",
+                        ms.to_latex(), re.S)[1]
     rows = [r.strip() for r in body.split(r" \\") if r.strip()]
     assert len(rows) == len(trees)
     for row in rows:

@@ -1,5 +1,6 @@
 """The problems registry: generated f, Jacobian, invariants and elementary differentials against
 independent facts (finite differences, hand formulas, Lie derivatives, exact solutions)."""
+import functools
 import math
 from math import factorial
 
@@ -97,7 +98,7 @@ def test_jacobian_and_gradients_match_finite_differences(name):
     J = c.jac(y)
     assert np.abs(J - central_differences(c.f, y)).max() <= 1e-6 * np.abs(J).max()
     for inv in problem.invariants:
-        g = central_differences(lambda v: c.invariant(inv, v), y)
+        g = central_differences(functools.partial(c.invariant, inv), y)
         assert np.abs(c.gradient(inv, y) - g).max() <= 1e-6 * max(np.abs(g).max(), 1e-12)
     cm = compile_problem(problem, "mpmath", dps=30)
     Jm = cm.jac([mpmath.mpf(float(v)) for v in y])
@@ -147,7 +148,8 @@ def test_elementary_differentials_sum_to_the_taylor_coefficients(name):
     state = sp.Matrix(problem.state)
     subs = {s: problem.parameters[k] for k, s in problem.parameter_symbols.items()}
     f = sp.Matrix(problem.f_expr).xreplace(subs)
-    point = dict(zip(problem.state, [sp.Rational(7, 10), sp.Rational(-3, 10), sp.Rational(1, 5), sp.Rational(9, 10)], strict=False))
+    values = [sp.Rational(7, 10), sp.Rational(-3, 10), sp.Rational(1, 5), sp.Rational(9, 10)]
+    point = dict(zip(problem.state, values, strict=False))
     y = np.array([float(point[s]) for s in problem.state])
     F = compile_problem(problem).elementary_differentials(4)(y)
     g = f
@@ -260,13 +262,15 @@ def test_hostile_expressions_are_refused_naming_the_entry(text, key):
     (lambda: compile_problem(get_problem("harmonic"), "float32"), "backend must be"),
     (lambda: compile_problem(get_problem("kepler"), parameters={"d": 1}), "no parameter or initial value 'd'"),
     (lambda: compile_problem("kepler", parameters={"e": "1"}), "p0[2] = zoo is not a finite real number"),
-    (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["y"], "y0": [1], "eval": 1}), "entry 'eval': unknown key"),
+    (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["y"], "y0": [1], "eval": 1}),
+     "entry 'eval': unknown key"),
     (lambda: problem_from_dict({"name": "x", "y": ["__y"], "f": ["1"], "y0": [1]}), "'__y' is not a valid name"),
     (lambda: problem_from_dict({"name": "x", "y": ["sqrt"], "f": ["1"], "y0": [1]}), "'sqrt' is not a valid name"),
     (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["y", "y"], "y0": [1]}), "y, f and y0 of one length"),
     (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["foo(y)"], "y0": [1]}), "unknown function 'foo'"),
     (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["y"], "y0": ["y"]}), "entry 'y0[1]': unknown name 'y'"),
-    (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["1/y"], "y0": [0]}), "f[1] is not finite at the initial value"),
+    (lambda: problem_from_dict({"name": "x", "y": ["y"], "f": ["1/y"], "y0": [0]}),
+     "f[1] is not finite at the initial value"),
     (lambda: reference(get_problem("kepler"), 1, method="exact"), "no exact solution"),
 ])
 def test_bad_input_is_refused(call, fragment):

@@ -76,7 +76,8 @@ def test_every_report_compiles_without_overfull_lines(tmp_path, library):
     # keeps ligatures), and byte-identical PDFs when an unchanged report is made again
     if shutil.which("pdffonts"):
         for pdf in tmp_path.glob("*.pdf"):
-            rows = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, check=True).stdout.splitlines()[2:]
+            fonts = subprocess.run(["pdffonts", str(pdf)], capture_output=True, text=True, check=True).stdout
+            rows = fonts.splitlines()[2:]
             assert rows and not [r for r in rows if "Type 3" in r], (pdf.name, rows)
             assert all(r.split()[-5:-2] == ["yes", "yes", "yes"] for r in rows), (pdf.name, rows)   # emb sub uni
     if not library:

@@ -126,7 +126,8 @@ def test_quick_run_takes_exact_strings():
     a = quick_run(METHODS / "gauss2.json", "pendulum", "1/100", 5)
     b = quick_run(METHODS / "gauss2.json", "pendulum", sp.Rational(1, 100), 5)
     assert a["h"] == 0.01 and a["final"] == b["final"]
-    for bad, words in (("0", "positive"), ("x", "not a number"), ("1e-999", "rounds to 0.0"), (None, "not a step size")):
+    for bad, words in (("0", "positive"), ("x", "not a number"), ("1e-999", "rounds to 0.0"),
+                       (None, "not a step size")):
         with pytest.raises(InputError, match=words):
             quick_run(METHODS / "gauss2.json", "pendulum", bad, 5)
     with pytest.raises(InputError, match="steps"):

@@ -11,7 +11,6 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
-from test_figures import figures  # noqa: F401 - the fixture: figures given to style.save
 
 from tableau_lab.analysis.stability import stability
 from tableau_lab.analysis.stability_report import stability_report

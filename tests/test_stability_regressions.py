@@ -88,7 +88,6 @@ def test_dc4_internal_stability_within_budget():
     m = load(DATA / "dc4.json")
     res, cpu = _cpu(lambda: internal_stability(m))
     assert cpu < 20
-    z = sp.Symbol("z")
     R = stability(m).stability_function
     assert sp.expand(sum(res.functions) - (R - 1)) == 0
 

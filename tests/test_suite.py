@@ -50,7 +50,8 @@ def _run(name, steps, h=0.01, **kw):
 def test_monitor_records_components_and_the_compiled_loop_agrees():
     fast = _run("example4_glm", 1000, record_every=50, kernel="compiled")
     slow = _run("example4_glm", 1000, record_every=50, kernel="python")
-    assert list(fast.parasitic_components) == ["-1"] and fast.growth_parameters["-1"].real == pytest.approx(1 + 2 / math.sqrt(3))
+    assert list(fast.parasitic_components) == ["-1"]
+    assert fast.growth_parameters["-1"].real == pytest.approx(1 + 2 / math.sqrt(3))
     c_fast, c_slow = np.array(fast.parasitic_components["-1"]), np.array(slow.parasitic_components["-1"])
     assert len(c_fast) == len(fast.times) == 21 and np.allclose(c_fast, c_slow, rtol=1e-3, atol=1e-15)
     assert fast.predicted_growth["-1"][0] == 0 and np.all(np.diff(fast.predicted_growth["-1"]) >= 0)

@@ -42,7 +42,8 @@ def test_symmetric_step_is_reversible(name):
     with a.context():
         ones, zeros = np.array([mpmath.mpf(1)] * 2, dtype=object), np.array([mpmath.mpf(0)] * 2, dtype=object)
         h = mpmath.mpf("0.3")
-        Y0 = np.array([[mpmath.mpf(k + 1) / 7 + mpmath.mpf(i) / 3 for i in range(2)] for k in range(nm.r)], dtype=object)
+        Y0 = np.array([[mpmath.mpf(k + 1) / 7 + mpmath.mpf(i) / 3 for i in range(2)] for k in range(nm.r)],
+                      dtype=object)
         L = np.array(sp.Matrix(res.L).tolist(), dtype=object) if res.L is not None else np.eye(1, dtype=object)
         masks = (ones, zeros)
         Y1 = step(nm, _Pendulum(), L @ Y0, h, masks=masks)

@@ -117,7 +117,7 @@ def test_cli_rejects_all_bad_files_fast_and_executes_nothing(tmp_path):
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2
     assert proc.stdout == ""
-    assert len([l for l in proc.stderr.splitlines() if l.startswith("tableau-lab: error:")]) == len(files)
+    assert len([line for line in proc.stderr.splitlines() if line.startswith("tableau-lab: error:")]) == len(files)
     assert not marker.exists()
 
 

@@ -65,7 +65,9 @@ def test_agreement_is_checked_at_perturbed_points():
     """A callable that agrees with its trace at (t0, y0) only (its hidden state changes after
     the first call) is caught at a perturbed point; one that raises off (t0, y0) is checked
     where it is defined; non-finite entries must match."""
-    f = lambda t, y: np.array([y[1], -y[0]])                  # noqa: E731
+    def f(t, y):
+        return np.array([y[1], -y[0]])
+
     state = {"calls": 0}
 
     def g(t, y):

@@ -142,7 +142,8 @@ def test_mp_precision_with_a_traced_numpy_callable():
         call = integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", notice=False)
         expr = integrate(load("rk4"), [p, -sp.sin(q)], ["1/2", 0], (0, 1), "1/20", variables=[q, p],
                          precision="mp:30", notice=False)
-        assert all(a == b for u, v in zip(call.run.values, expr.run.values, strict=False) for a, b in zip(u, v, strict=False))
+        assert all(a == b for u, v in zip(call.run.values, expr.run.values, strict=False)
+                   for a, b in zip(u, v, strict=False))
     with pytest.raises(InputError, match="raised TypeError in mp:30"):
         integrate(load("rk4"), pendulum, ["1/2", 0], (0, 1), "1/20", precision="mp:30", trace=False, notice=False)
 
@@ -301,7 +302,8 @@ def test_a_general_problem_compiles_in_the_loop_for_any_shape(monkeypatch):
 @pytest.mark.parametrize("f, reason", [
     (lambda t, y: np.array([y[1], -math.sin(y[0])]), "needs a number where it has a symbol"),
     (lambda t, y: np.array([y[1], -np.sin(y[0]) if y[0] > -3 else 0.0]), "branches on a value (y1 > -3"),
-    (lambda t, y: np.array([y[1], -np.sin(np.fmod(y[0], 2 * np.pi))]), "numpy's fmod, which is outside the problem grammar"),
+    (lambda t, y: np.array([y[1], -np.sin(np.fmod(y[0], 2 * np.pi))]),
+     "numpy's fmod, which is outside the problem grammar"),
 ])
 def test_untraceable_callable_runs_in_python_and_says_why(f, reason, capsys):
     """The pendulum written with math.sin of a symbol, a branch on a value, a function outside
@@ -327,7 +329,10 @@ def test_a_trace_that_disagrees_with_the_callable_is_discarded():
         return np.array([y[1], -y[0] * (1 + 1e-6 * calls[0])])
 
     rng = np.random.default_rng(1)
-    noisy = lambda t, y: np.array([y[1], -y[0] + 1e-9 * rng.standard_normal()])       # noqa: E731
+
+    def noisy(t, y):
+        return np.array([y[1], -y[0] + 1e-9 * rng.standard_normal()])
+
     for f in (counted, noisy):
         sol = integrate(load("rk4"), f, [1, 0], (0, "1/10"), "1/100", notice=False)
         assert sol.loop == "Python" and "disagree" in sol.why and sol.f_calls >= sol.nfev

@@ -65,8 +65,8 @@ from tableau_lab.numeric.kernels import DENSE, LoopState, Pack, compiled_loop, d
 from tableau_lab.numeric.problem_code import cse_entries
 from tableau_lab.numeric.problems import get_problem
 
-__all__ = ["run_c", "run_numba", "c_functions", "build", "library", "prepare", "problem_header", "limits_header", "CASES",
-           "CFLAGS"]
+__all__ = ["run_c", "run_numba", "c_functions", "build", "library", "prepare", "problem_header", "limits_header",
+           "CASES", "CFLAGS"]
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
@@ -220,9 +220,9 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
     """The glm_loop executable (``shared=True``: the shared library, ``-shared -fPIC
     -DGLM_LIBRARY``, for ctypes) of ``problem`` for the method shape (s, r, d) and, as the numba
     loop, which of the method's matrices have no zero (``kernels.dense_matrices``:
-    ``-DDENSE_A=..`` …; () for none known), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags`` (default CFLAGS) once,
-    cached under build/ by a hash of glm_loop.c, the generated headers, the shape, the dense flags,
-    the flags, the kind and the compiler's version.  (Without arguments: the pendulum at s = r =
+    ``-DDENSE_A=..`` …; () for none known), compiled with ``cc`` (:data:`COMPILERS`) and ``cflags``
+    (default CFLAGS) once, cached under build/ by a hash of glm_loop.c, the generated headers, the
+    shape, the dense flags, the flags, the kind and the compiler's version.  (Without arguments: the pendulum at s = r =
     1, a check that gcc works.)"""
     P = get_problem(problem)
     s, r, d = (int(x) for x in shape)
@@ -241,7 +241,8 @@ def build(problem="pendulum", shape=(1, 1, 2), cflags=None, shared=False, cc="gc
                                        + ([" ".join(kind).encode()] if shared else []))).hexdigest()[:16]
     tag = "".join(ch if ch.isalnum() or ch in "_-" else "_" for ch in P.name)
     cct = "" if cc == "gcc" else f"{cc}_"
-    exe = BUILD / (f"libglm_loop_{cct}{tag}_{s}x{r}x{d}_{digest}.so" if shared else f"glm_loop_{cct}{tag}_{s}x{r}x{d}_{digest}")
+    stem = f"glm_loop_{cct}{tag}_{s}x{r}x{d}_{digest}"
+    exe = BUILD / (f"lib{stem}.so" if shared else stem)
     if exe.exists():
         return exe
     BUILD.mkdir(parents=True, exist_ok=True)
@@ -385,8 +386,13 @@ def _run_lib(pr: Prepared, steps, reps, cflags, cc="gcc") -> tuple:
     [nfev, sweeps, nvel], seconds of each rep)."""
     (s, r, d), pk = pr.shape, pr.pk
     lib = library(pr.cp.problem, pr.shape, cflags, cc, pr.dense)
-    f64 = lambda x: np.ascontiguousarray(x, dtype=np.float64).reshape(-1)   # noqa: E731
-    i64 = lambda x: np.ascontiguousarray(x, dtype=np.int64).reshape(-1)     # noqa: E731
+
+    def f64(x):
+        return np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
+
+    def i64(x):
+        return np.ascontiguousarray(x, dtype=np.int64).reshape(-1)
+
     args = dict(consts=f64([pk.h, pk.hinv, pk.eps, pk.hA]), flags=i64(pk.flags), c=f64(pk.c), A=f64(pk.A),
                 U=f64(pk.U), B=f64(pk.B), V=f64(pk.V), cls=i64(pk.cls), E=f64(pk.E), Ainv=f64(pk.Ainv))
     want = dict(consts=4, flags=limits.N_FLAGS, c=len(pr.cp.constants), A=2 * s * s, U=s * r, B=2 * r * s, V=r * r,

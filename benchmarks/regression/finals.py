@@ -94,5 +94,6 @@ if __name__ == "__main__":
     ap.add_argument("--cases", help="a JSON file with a list of 'method problem' keys (default: all)")
     args = ap.parse_args()
     cases = set(json.loads(Path(args.cases).read_text())) if args.cases else None
-    sys.exit(compare(*args.compare, args.dd) if args.compare else record(args.out, args.steps, args.perturb, args.precision,
-                                                                 cases))
+    if args.compare:
+        sys.exit(compare(*args.compare, args.dd))
+    sys.exit(record(args.out, args.steps, args.perturb, args.precision, cases))

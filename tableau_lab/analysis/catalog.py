@@ -143,8 +143,10 @@ def _family_row(name: str) -> MethodRow:
     formula = FAMILY_ORDERS.get(name)
     if formula is not None:
         got, where = formula[0], "formula"
-    else:                                        # a family without its formula here: its smallest member's
+    elif smallest is not None:                   # a family without its formula here: its smallest member's
         got, where = f"{int(order(smallest))} ({letter} = {n})", "computed"
+    else:
+        raise ValueError(f"family {name}: no member of size 1 … {largest} can be built")
     return MethodRow(f"{name}:{letter}", smallest.kind if smallest is not None else "?", size, got,
                      smallest.source if smallest is not None else "", where, family=True)
 

@@ -100,7 +100,8 @@ class ErrorConstantResult(Result):
             *norm, ".")),))
 
     def to_json(self):
-        s = lambda x: None if x is None else str(format_entry(x))  # noqa: E731
+        def s(x):
+            return None if x is None else str(format_entry(x))
         return {"order": self.order, "error_constant": s(self.C), "error_constant_normalisation": "alpha_k = 1",
                 "error_constant_over_sigma1": s(self.normalised), "sigma1": s(self.sigma1),
                 "alpha": [s(a) for a in self.alpha], "beta": [s(b) for b in self.beta]}

@@ -1,0 +1,28 @@
+"""benchmarks/lint_exceptions.py, which makes the list of per-line lint exceptions in
+docs/development.md: only real comments count (a "# noqa" inside a string does not), reasons are
+read in the project's three spellings, and a code the ruff selection does not cover is marked as
+suppressing nothing."""
+from conftest import benchmark_script
+
+lint = benchmark_script("lint_exceptions")
+
+
+def test_comments_reasons_and_selection(tmp_path):
+    (tmp_path / "pyproject.toml").write_text('[tool.ruff.lint]\nselect = ["E", "B", "C90"]\n')
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "a.py").write_text(
+        'import os  # noqa: F401 -- re-exported\n'
+        'text = "# noqa: E501 -- not a comment"\n'
+        'f = lambda x: x  # noqa: E731\n'
+        'try:\n    pass\nexcept Exception:  # noqa: BLE001 - blind on purpose\n    pass\n'
+        'def g():  # noqa: C901  (a table of cases)\n    pass\n')
+    (tmp_path / "reports").mkdir()
+    (tmp_path / "reports" / "gen.py").write_text("x = 1  # noqa: E501\n")       # generated: left out
+    assert lint.exceptions(tmp_path) == [("pkg/a.py", ("F401",), "re-exported"), ("pkg/a.py", ("E731",), ""),
+                                         ("pkg/a.py", ("BLE001",), "blind on purpose"),
+                                         ("pkg/a.py", ("C901",), "a table of cases")]
+    block = lint.make(tmp_path)
+    assert "4 lines carry a `# noqa`, in 1 files" in block
+    assert "| BLE001 | not selected: the comment suppresses nothing | 1 | 1 |" in block
+    assert "| C901 | too complex (mccabe > 15) | 1 | 1 |" in block
+    assert "- `pkg/a.py`: no reason given" in block and "- `pkg/a.py`: a table of cases" in block
