@@ -49,9 +49,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def _setup(method, problem, precision):
     """(numeric method, compiled problem) at ``precision``."""
-    from .runs import _setup as setup
-    _, _, cp, nm = setup(method, problem, precision, None)
-    return nm, cp
+    from .runs import prepare_run
+    prep = prepare_run(method, problem, precision)
+    return prep.numeric, prep.compiled
 
 
 def bench_case(method, problem, steps, h="1/100", precision="float64", reps=5, kernel="auto"):

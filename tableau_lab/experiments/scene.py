@@ -64,7 +64,7 @@ from ..inputs import MAX_STEPS, NAME_LENGTH, SAFE_NAME, printable, read_json
 from .progress import StepBar
 
 __all__ = ["SceneError", "load_scene", "run_scene", "run_one", "write_outputs", "Scene", "method_file", "method_label",
-           "scene_doc", "SCHEMA", "RUN_SCHEMA", "PLOT_SCHEMA", "Key"]
+           "scene_doc", "draw_modified_energy", "SCHEMA", "RUN_SCHEMA", "PLOT_SCHEMA", "Key"]
 
 FORMAT = "tableau_lab/scene/1"
 MAX_MODIFIED_TERMS = 3      # nonzero corrections of H̃ (each costs a tree order or two of exact algebra)
@@ -637,7 +637,7 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
             atomic_write_text(out / written[1], json.dumps(meta, indent=1, ensure_ascii=False))
             plots = draw(sc, meta, arrays, out) if any(res is not None for res in results) else []
             if sc.modified_energy is not None and any(res is not None for res in results):
-                plots.append(_draw_modified_energy(sc, meta, arrays, out, suffix))
+                plots.append(draw_modified_energy(sc, meta, arrays, out, suffix))
             extra = list(also(out)) if also is not None else []
         # the set is in place: a previous run's files must not contradict it
         from .figure_style import siblings
@@ -654,8 +654,10 @@ def write_outputs(sc: Scene, results, out, also=None) -> dict:
     return meta
 
 
-def _draw_modified_energy(sc: Scene, meta, arrays, out: Path, suffix: str) -> str:
-    """``<name>_modified_energy.png``: a panel per run, |H − H₀| beside |H̃ − H̃₀|."""
+def draw_modified_energy(sc: Scene, meta, arrays, out: Path, suffix: str) -> str:
+    """``<name>_modified_energy<suffix>.png`` in ``out``: a panel per run, |H − H₀| beside |H̃ − H̃₀|,
+    from a scene's metadata and data arrays (:func:`write_outputs` after the runs, ``tableau-lab
+    replot`` from the saved files: experiments/replot.py).  Returns the file name."""
     from .modified_energy import plot_energy_panels
     panels = []
     for i, r in enumerate(meta["runs"]):

@@ -179,8 +179,8 @@ def method_point(method_path, problem, T, steps, invariant):
     import sympy as sp
 
     from ..numeric.integrate import IntegrationError, integrate
-    from .runs import _setup
-    _, _, cp, nm = _setup(method_path, problem, "float64", None)
+    from .runs import prepare_run
+    _, _, cp, nm = prepare_run(method_path, problem, "float64", None)
     h = sp.Rational(T) / steps
     integrate(nm, cp, cp.y0, h, 1)                       # compile / load the kernel, not timed
     t0 = time.process_time()
@@ -235,8 +235,8 @@ def reference_state(problem, T, steps=None):
 
     from ..exact.families import gauss
     from ..numeric.integrate import integrate
-    from .runs import _setup
-    _, _, cp, nm = _setup(gauss(3), problem, "dd", None)
+    from .runs import prepare_run
+    _, _, cp, nm = prepare_run(gauss(3), problem, "dd", None)
     runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in reference_steps(T, steps)]
     gap = max(abs(float(a - b)) for a, b in zip(*runs, strict=False))
     return np.array([float(x) for x in runs[1]]), gap
