@@ -22,7 +22,8 @@ name read from the data is one file name: :func:`tableau_lab.files.output_name`)
 are read, never written.  Every file read back is bounded (JSON: ``inputs.MAX_JSON_BYTES``;
 ``data.npz``: :func:`tableau_lab.files.load_npz`) and checked against the schema its writer
 follows (:data:`SCHEMAS`) before anything is drawn: a damaged or edited file is a
-:class:`ReplotError` naming the file and the key (exit 2), as is a path holding nothing to draw.  Figures for which nothing was saved to draw from (the benchmark scripts' figures,
+:class:`ReplotError` naming the file and the key (exit 2), as is a path holding nothing to draw.
+Figures for which nothing was saved to draw from (the benchmark scripts' figures,
 whose curves their ``numbers.json`` does not keep) are left as they are and named by
 :func:`main_replot`.
 """

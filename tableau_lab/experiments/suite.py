@@ -149,9 +149,9 @@ def _claims(rows, monitor_of) -> list:
         out.append({"claim": "every parasitism-free GLM (all μ = 0) completes every scene, with and without "
                              "projection, its parasitic components below the monitor bound",
                     "holds": not bad,
-                    "detail": (f"{len(free)} runs of {', '.join(sorted({r['file'] for r in free}))}; largest component "
-                               f"{worst['max_parasitic'] or 0:.2e} ({worst['file']}, {worst['problem']})") if not bad else
-                              "; ".join(f"{r['file']} on {r['scene']}: {r['status']}" for r in bad)})
+                    "detail": (f"{len(free)} runs of {', '.join(sorted({r['file'] for r in free}))}; largest "
+                               f"component {worst['max_parasitic'] or 0:.2e} ({worst['file']}, {worst['problem']})")
+                    if not bad else "; ".join(f"{r['file']} on {r['scene']}: {r['status']}" for r in bad)})
     return out
 
 
