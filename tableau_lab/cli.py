@@ -1110,7 +1110,7 @@ def _seconds(text: str) -> float:
 
 def main(argv=None) -> int:
     """The command line.  Called as the program (``argv`` None) an exact command runs in a child
-    process under a hard deadline (:func:`_hard_deadline`); with ``argv`` given (tests, other
+    process under a hard deadline (:func:`run_with_hard_deadline`); with ``argv`` given (tests, other
     programs) everything runs in this process, under the time budget's alarm only."""
     out, err = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = _Printable(out), _Printable(err)
@@ -1120,8 +1120,8 @@ def main(argv=None) -> int:
             import signal
             signal.signal(signal.SIGTERM, _terminate)
             if args.command in EXACT_COMMANDS and args.timeout:
-                return _hard_deadline(args)
-        return _dispatch(args)
+                return run_with_hard_deadline(args)
+        return dispatch(args)
     finally:
         sys.stdout, sys.stderr = out, err
 
@@ -1133,7 +1133,7 @@ def _terminate(signum, frame):
 HARD_GRACE = 5.0              # seconds past --timeout after which an uninterruptible computation is killed
 
 
-def _hard_deadline(args) -> int:
+def run_with_hard_deadline(args) -> int:
     """Run the command in a forked child; kill it HARD_GRACE s after its time budget.  The alarm
     of the budget stops Python code, but not one long call into FLINT or GMP: this makes every
     budget end within HARD_GRACE s.  Ctrl-C reaches the child (same process group), which reports it."""
@@ -1141,7 +1141,7 @@ def _hard_deadline(args) -> int:
     import signal
     import time
     if not hasattr(os, "fork"):
-        return _dispatch(args)
+        return dispatch(args)
     sys.stdout.flush()
     sys.stderr.flush()
     pid = os.fork()
@@ -1150,7 +1150,7 @@ def _hard_deadline(args) -> int:
         die_with_parent()
         code = EXIT_BUG
         try:
-            code = _dispatch(args)
+            code = dispatch(args)
         finally:
             with contextlib.suppress(Exception):
                 sys.stdout.flush()
@@ -1204,7 +1204,11 @@ WRITING_COMMANDS = ("report", "run", "solve", "design", "convergence", "roundoff
 NUMERIC_COMMANDS = ("run", "roundoff", "convergence", "workprecision", "suite", "bench")     # compiled kernels
 
 
-def _dispatch(args) -> int:
+def dispatch(args) -> int:
+    """Run a parsed command (``args.run``) in this process and return its exit code: the entry
+    limits applied, the environment's settings checked before any work, the time budget of the
+    exact commands, and every error mapped to its exit code (module docstring): bad input and
+    budgets 2, Ctrl-C 130, SIGTERM 143, an internal error 3 (one line; the traceback with --debug)."""
     from .budget import time_limit
     from .files import OutputError, command_inputs, lock_timeout
     try:
