@@ -695,10 +695,11 @@ def _completion(args) -> int:
     return 0
 
 
+# -- each command's own arguments: one function per command, named in COMMANDS below --------------
+
 def _verify_options(p) -> None:
     p.add_argument("files", nargs="+", metavar="FILE", help="JSON tableau files")
     p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-
 
 
 def _order_options(p) -> None:
@@ -706,7 +707,6 @@ def _order_options(p) -> None:
     p.add_argument("--max-order", type=_count(1, MAX_ORDER), default=None, metavar="N",
                    help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
     p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-
 
 
 def _modified_options(p) -> None:
@@ -721,7 +721,6 @@ def _modified_options(p) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
 
 
-
 def _stability_options(p) -> None:
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
@@ -733,7 +732,6 @@ def _stability_options(p) -> None:
     p.add_argument("--window", type=_window, metavar="XMIN,XMAX,YMIN,YMAX",
                    help="with --plot: the region's window instead of the one from the analysis, "
                         "e.g. --window=-12,3,-8,8 (with =, as the value starts with a minus sign)")
-
 
 
 def _solve_options(p) -> None:
@@ -751,7 +749,6 @@ def _solve_options(p) -> None:
                         "the requirements solvable; a unique one is then repaired")
     p.add_argument("--within", action="append", metavar="MATRICES",
                    help="with --locate: search only these matrices, e.g. 'A,B'")
-
 
 
 def _design_options(p) -> None:
@@ -777,7 +774,6 @@ def _design_options(p) -> None:
     p.add_argument("--name", help="name of the saved method")
 
 
-
 def _run_options(p) -> None:
     p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene files (JSON); see reports/scenes/")
     p.add_argument("--out", default="reports", help="where scene outputs go (default reports/)")
@@ -801,7 +797,6 @@ def _run_options(p) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object")
 
 
-
 def _roundoff_options(p) -> None:
     p.add_argument("--method", required=True, metavar="FILE")
     p.add_argument("--problem", required=True, metavar="NAME")
@@ -810,7 +805,6 @@ def _roundoff_options(p) -> None:
     p.add_argument("--starts", type=_count(1, MAX_REPEATS), default=4)
     p.add_argument("--digits", type=_count(16, MAX_DIGITS), default=32)
     p.add_argument("--out", default="reports/roundoff")
-
 
 
 def _convergence_options(p) -> None:
@@ -822,7 +816,6 @@ def _convergence_options(p) -> None:
     p.add_argument("--start", choices=("exact", "naive"), default="exact")
     _executor_options(p)
     p.add_argument("--out", default="reports/convergence")
-
 
 
 def _bench_options(p) -> None:
@@ -839,12 +832,10 @@ def _bench_options(p) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
 
 
-
 def _workprecision_options(p) -> None:
     p.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")
     p.add_argument("--out", default="reports/workprecision", help="output folder (default reports/workprecision)")
     _executor_options(p)
-
 
 
 def _suite_options(p) -> None:
@@ -858,10 +849,8 @@ def _suite_options(p) -> None:
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
 
 
-
 def _replot_options(p) -> None:
     p.add_argument("paths", nargs="+", metavar="PATH", help="saved outputs or folders to search")
-
 
 
 def _report_options(p) -> None:
@@ -873,12 +862,10 @@ def _report_options(p) -> None:
                    help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
 
 
-
 def _list_options(p) -> None:
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="one JSON object")
     fmt.add_argument("--markdown", action="store_true", help="a Markdown table")
-
 
 
 def _completion_options(p) -> None:
