@@ -113,7 +113,8 @@ def load_scene(path, timeout: float | None = DEFAULT_SECONDS) -> Scene:
     path = Path(path)
     data = read_scene(path)
     got = read_object(SCHEMA, data, Field(path, timeout=timeout))
-    runs = tuple({**run, "as_written": raw["method"]} for run, raw in zip(got["runs"], data["runs"], strict=True))
+    runs = tuple({"method": run["method"], "as_written": raw["method"], **run}
+                 for run, raw in zip(got["runs"], data["runs"], strict=True))
     return Scene(path, got["name"], got["title"], got["seed"], got["problem"], got["h"], got["steps"], runs,
                  got["record_every"], tuple(got["plots"]), data, got["monitor"], got["modified_energy"])
 

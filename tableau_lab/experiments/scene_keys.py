@@ -34,7 +34,7 @@ from .compiled_peer import PEER as COMPILED_PEER
 
 __all__ = ["Key", "Field", "read_object", "SceneError", "SCHEMA", "RUN_SCHEMA", "MODIFIED_ENERGY_SCHEMA",
            "PLOT_SCHEMA", "WP_SCHEMA", "WP_METHOD_SCHEMA", "WP_PEER_SCHEMA", "scene_doc", "scene_number", "shown",
-           "float64_number", "read_scene", "scene_problem", "scene_text", "method_file", "method_label"]
+           "float64_number", "read_scene", "scene_problem", "method_file", "method_label"]
 
 FORMAT = "tableau_lab/scene/1"
 WP_FORMAT = "tableau_lab/workprecision/1"
@@ -197,12 +197,8 @@ def text(limit=MAX_TEXT, many=False) -> Callable:
     return read
 
 
-def scene_text(d, key, where, src, default="", limit=MAX_TEXT) -> str:
-    """A string value of ``d`` (at most ``limit`` characters); ``notes`` may be a list of strings."""
-    return text(limit, key == "notes")(d.get(key, default), Field(src, where))
-
-
 def choice(allowed) -> Callable:
+    """A reader of one of the strings ``allowed``."""
     def read(v, f: Field) -> str:
         if not isinstance(v, str) or v not in allowed:
             f.fail(f"{shown(v)} is not one of {', '.join(allowed)}")
