@@ -18,7 +18,7 @@ import statistics
 import numpy as np
 import sympy as sp
 
-from tableau_lab.experiments.runs import _setup
+from tableau_lab.experiments.runs import prepare_run
 from tableau_lab.numeric import limits
 from tableau_lab.numeric.integrate import integrate, stage_iteration
 
@@ -44,7 +44,7 @@ def main():
           f"{'sweeps N':>8} {'us fp':>8} {'us N':>8} {'ops fp':>8} {'ops N':>8} {'model':>6} {'faster':>6}")
     gaps, newton_sweeps = [], []
     for method, problem, h, steps in CASES:
-        _, _, cp, nm = _setup(f"methods/{method}.json", problem, "float64", None)
+        _, _, cp, nm = prepare_run(f"methods/{method}.json", problem, "float64", None)
         h = sp.Rational(h)
         d = len(cp.y0)
         rho = float(np.max(np.abs(np.linalg.eigvals(np.asarray(cp.jac(cp.y0), float)))))

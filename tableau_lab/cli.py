@@ -4,8 +4,8 @@ Exit codes (tableau_lab/errors.py): 0 every file read and every claim holds; 1 a
 run stops (step and time named); 2 bad input or a budget hit (file, entry or option named;
 nothing written); 3 an internal error (a bug: one line, the traceback with ``--debug``); 4 every
 run went to its end but one is degraded (an invariant error or a parasitic component of
-relative size 1e-2 or more: numeric/limits.DEGRADED); 130 interrupted. Everything printed passes through ``inputs.printable``: no terminal escapes from
-file contents reach the terminal.
+relative size 1e-2 or more: numeric/limits.DEGRADED); 130 interrupted. Everything printed passes
+through ``inputs.printable``: no terminal escapes from file contents reach the terminal.
 """
 from __future__ import annotations
 
@@ -14,6 +14,8 @@ import contextlib
 import json
 import re
 import sys
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from . import __version__
@@ -33,7 +35,8 @@ from .files import derived_name
 from .inputs import MAX_STEPS, SAFE_NAME, printable  # --steps, --max-steps
 
 EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
-BUILT_WITHIN = ("run", "workprecision", "convergence")     # their exact stage (problem, method, generated code) within --timeout
+# their exact stage (problem, method, generated code) within --timeout
+BUILT_WITHIN = ("run", "workprecision", "convergence")
 MAX_ORDER = 20                # --max-order
 MAX_DIGITS = 10 ** 4          # --digits
 MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
@@ -173,7 +176,8 @@ def _solve(args) -> int:
                 claims[key] = val
         from dataclasses import replace
         meth = replace(sol.method, name=args.name or sol.method.name, claims=tuple(sorted(claims.items())),
-                       notes=tuple(sol.method.notes) + (f"Solved by tableau-lab solve for {', '.join(map(str, res.requirements))}"
+                       notes=tuple(sol.method.notes) + ("Solved by tableau-lab solve for "
+                                                        f"{', '.join(map(str, res.requirements))}"
                                                         f" ({sol.label}).",))
         save(meth, args.save)
         print(f"saved solution {k} to {args.save}", file=sys.stderr)
@@ -210,29 +214,10 @@ def _design(args) -> int:
     from .analysis.family import FamilyError, families_of
     from .budget import computing
     from .exact.tableau_json import TableauError, save
-    from .experiments.design_search import SearchError, check_constraints, search
+    from .experiments.design_search import search
     from .experiments.executor import SchedulerError
 
-    lo, _, hi = args.box.partition(":")
-    try:
-        box = (float(lo), float(hi))
-    except ValueError:
-        print(f"tableau-lab: error: --box {args.box!r}: write LO:HI, e.g. -3:3", file=sys.stderr)
-        return EXIT_INPUT
-    if not all(map(lambda v: abs(v) < 1e6, box)):
-        print(f"tableau-lab: error: --box {args.box!r}: bounds within ±1e6", file=sys.stderr)
-        return EXIT_INPUT
-    for opt, items in (("--require", args.require), ("--constrain", args.constrain)):
-        empty = next((item for item in items or () if not _split([item])), None)
-        if empty is not None:
-            print(f"tableau-lab: error: {opt} {empty!r}: no condition given", file=sys.stderr)
-            return EXIT_INPUT
-    requirements = _split(args.require)
-    try:
-        constraints = check_constraints(_split(args.constrain))
-    except SearchError as exc:
-        print(f"tableau-lab: error: --constrain: {exc}", file=sys.stderr)
-        return EXIT_INPUT
+    box, requirements, constraints = _design_request(args)
     if args.save:
         _guard_save(args)                        # before any work
     if args.checkpoint:
@@ -255,26 +240,55 @@ def _design(args) -> int:
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
     for res in results:
-        print(json.dumps({"file": args.file, **res.to_json()}, ensure_ascii=False) if args.json else f"== {args.file}\n{res}",
-              flush=True)
+        print(json.dumps({"file": args.file, **res.to_json()}, ensure_ascii=False) if args.json
+              else f"== {args.file}\n{res}", flush=True)
     best = next((c for res in results for c in res.candidates if c.certified is not None), None)
     if best is None:
         return EXIT_CLAIM
     if args.save:
         from dataclasses import replace
-        claims = {"order": best.verified["order"]} if "order" in best.verified else {}
-        if "g-symplectic" in requirements or best.verified.get("G-symplectic"):
-            claims["g_symplectic"] = True
-        if "order with θ ≡ 0" in best.verified and best.certified.kind == "glm":
-            claims["identity_start_order"] = best.verified["order with θ ≡ 0"]
-        if best.verified.get("mu") is not None and all(mu == 0 for mu in best.verified["mu"]):
-            claims["parasitism_free"] = True
-        meth = replace(best.certified, name=args.name or best.certified.name, claims=tuple(sorted(claims.items())),
-                       notes=(f"Found by tableau-lab design ({', '.join((args.maximize or []) + (args.minimize or []))}; "
+        goals = ", ".join((args.maximize or []) + (args.minimize or []))
+        meth = replace(best.certified, name=args.name or best.certified.name,
+                       claims=tuple(sorted(_design_claims(best, requirements).items())),
+                       notes=(f"Found by tableau-lab design ({goals}; "
                               f"{', '.join(constraints) or 'no constraints'}) and re-verified exactly.",))
         save(meth, args.save)
         print(f"saved the best certified member to {args.save}", file=sys.stderr)
     return EXIT_OK
+
+
+def _design_request(args) -> tuple:
+    """(box, requirements, constraints) of design from --box, --require and --constrain, checked
+    before any work (InputError naming the option)."""
+    from .experiments.design_search import SearchError, check_constraints
+    lo, _, hi = args.box.partition(":")
+    try:
+        box = (float(lo), float(hi))
+    except ValueError:
+        raise InputError(f"--box {args.box!r}: write LO:HI, e.g. -3:3") from None
+    if not all(abs(v) < 1e6 for v in box):
+        raise InputError(f"--box {args.box!r}: bounds within ±1e6")
+    for opt, items in (("--require", args.require), ("--constrain", args.constrain)):
+        empty = next((item for item in items or () if not _split([item])), None)
+        if empty is not None:
+            raise InputError(f"{opt} {empty!r}: no condition given")
+    try:
+        constraints = check_constraints(_split(args.constrain))
+    except SearchError as exc:
+        raise InputError(f"--constrain: {exc}") from None
+    return box, _split(args.require), constraints
+
+
+def _design_claims(best, requirements) -> dict:
+    """The claims design saves with its best certified member: what its re-verification showed."""
+    claims = {"order": best.verified["order"]} if "order" in best.verified else {}
+    if "g-symplectic" in requirements or best.verified.get("G-symplectic"):
+        claims["g_symplectic"] = True
+    if "order with θ ≡ 0" in best.verified and best.certified.kind == "glm":
+        claims["identity_start_order"] = best.verified["order with θ ≡ 0"]
+    if best.verified.get("mu") is not None and all(mu == 0 for mu in best.verified["mu"]):
+        claims["parasitism_free"] = True
+    return claims
 
 
 def _family_options(parser, require_help: str, required: bool = True):
@@ -345,7 +359,8 @@ def _run(args) -> int:
         fin = ", ".join(f"{k} = [{', '.join(x if isinstance(x, str) else f'{x:.16g}' for x in v)}]"
                         for k, v in res["final"].items())
         print(f"{res['method']} on {res['problem']}: h = {res['h']:g}, {res['steps']} steps, {res['precision']}, "
-              f"start {res['start']}" + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
+              f"start {res['start']}"
+              + (f", projection onto {', '.join(res['projection'])}" if res["projection"] else ""))
         print(f"  final: {fin}")
         print("  " + _invariant_errors(res["max_invariant_error"], "max |I − I(0)|"))
         print(f"  f evaluations {res['nfev']}, stage-iteration sweeps {res['newton_iterations']}, "
@@ -499,7 +514,8 @@ def _bench(args) -> int:
     from .experiments import bench
     if args.method or args.problem:
         if not (args.method and args.problem):
-            print("tableau-lab: error: give both --method and --problem (or neither, for the standard set)", file=sys.stderr)
+            print("tableau-lab: error: give both --method and --problem (or neither, for the standard set)",
+                  file=sys.stderr)
             return EXIT_INPUT
         hs = [h.strip() for h in args.h.split(",")]
         try:
@@ -549,8 +565,9 @@ def _workprecision_runs(args, ex) -> int:
                 if "failed" in p:
                     print(f"  {label:32s} {what:16s} failed: {p['failed'][:80]}")
                 else:
+                    inv = scene.invariant
                     print(f"  {label:32s} {what:16s} cpu {p['cpu']:8.3f} s  nfev {p['nfev']:9d}  "
-                          f"error {p['error']:.2e}  max|{scene.invariant}-{scene.invariant}0| {p['invariant_error']:.2e}")
+                          f"error {p['error']:.2e}  max|{inv}-{inv}0| {p['invariant_error']:.2e}")
         from .experiments.workprecision import versus
         for level, v in data["speedup"].items():
             print(f"  max|{scene.invariant}-{scene.invariant}0| <= {level}: {versus(v)}")
@@ -655,13 +672,10 @@ _DIRS = {"bash": "_shtab_compgen_dirs", "zsh": "_files -/", "tcsh": "d"}
 
 
 def _mark_paths(parser) -> None:
-    """File-name completion for the FILE/SCENE arguments, folder-name completion for --out and
-    SUITE_DIR, in every subcommand."""
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            for sub in action.choices.values():
-                _mark_paths(sub)
-        elif action.metavar in ("FILE", "SCENE") or action.dest == "method":
+    """File-name completion for the FILE/SCENE arguments (and --method), folder-name completion
+    for --out and SUITE_DIR, in one command's parser (shtab reads ``action.complete``)."""
+    for action in parser._actions:       # argparse keeps no public list of a parser's arguments
+        if action.metavar in ("FILE", "SCENE") or action.dest == "method":
             action.complete = _FILES
         elif action.dest in ("out", "suite_dir") or action.metavar in ("DIR", "SUITE_DIR"):
             action.complete = _DIRS
@@ -681,10 +695,198 @@ def _completion(args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
+# -- each command's own arguments: one function per command, named in COMMANDS below --------------
+
+def _verify_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE", help="JSON tableau files")
+    p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+
+
+def _order_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--max-order", type=_count(1, MAX_ORDER), default=None, metavar="N",
+                   help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
+    p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+
+
+def _modified_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--order", type=_count(1, MODIFIED_MAX_ORDER), default=5, metavar="N",
+                   help=f"trees of order ≤ N, terms up to h^(N−1) (default 5, at most {MODIFIED_MAX_ORDER})")
+    p.add_argument("--modifying", action="store_true",
+                   help="the modifying integrator: the field whose numerical flow is the exact flow of f")
+    p.add_argument("--structure", action="store_true",
+                   help="also: symplectic, conjugate-symplectic, symmetric, energy-preserving to which order "
+                        "(partitioned methods: the modified energy's order)")
+    p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+
+
+def _stability_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
+    p.add_argument("--plot", metavar="DIR", help="write the stability region and the root moduli on the axis "
+                                                 "as PNG files into DIR, named after the file or family "
+                                                 "(bdf:4 -> bdf-4_region.png); the region's window encloses "
+                                                 "the boundary locus, the real interval, +-iY* and the A(alpha) "
+                                                 "sector when computed")
+    p.add_argument("--window", type=_window, metavar="XMIN,XMAX,YMIN,YMAX",
+                   help="with --plot: the region's window instead of the one from the analysis, "
+                        "e.g. --window=-12,3,-8,8 (with =, as the value starts with a minus sign)")
+
+
+def _solve_options(p) -> None:
+    _family_options(p, "comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
+    p.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
+    p.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
+    p.add_argument("--solution", type=_count(1, MAX_REPEATS), metavar="K",
+                   help="which solution --save writes (1-based)")
+    p.add_argument("--name", help="name of the saved method")
+    p.add_argument("--repair", action="append", metavar="ENTRIES",
+                   help="repair a printed (numeric) tableau: these entries, e.g. 'A[2,1],U[2,2]', become unknowns; "
+                        "the output names each changed entry with its printed and correct value")
+    p.add_argument("--locate", action="store_true",
+                   help="try every single entry as the unknown (beside --repair ones) and report those that make "
+                        "the requirements solvable; a unique one is then repaired")
+    p.add_argument("--within", action="append", metavar="MATRICES",
+                   help="with --locate: search only these matrices, e.g. 'A,B'")
+
+
+def _design_options(p) -> None:
+    _family_options(p, "the family's exact conditions, as for solve (e.g. g-symplectic); none: the tableau's "
+                       "unknowns are the free parameters", required=False)
+    p.add_argument("--maximize", action="append", metavar="OBJECTIVE",
+                   help="imaginary-interval or real-interval; with a --minimize too: the Pareto front of both")
+    p.add_argument("--minimize", action="append", metavar="OBJECTIVE", help="error-norm or mu")
+    p.add_argument("--constrain", action="append", metavar="CONSTRAINTS",
+                   help="comma-separated: order=P, parasitism-free, explicit-first-stage")
+    p.add_argument("--box", default="-2:2", metavar="LO:HI", help="search box of every free parameter (default -2:2)")
+    p.add_argument("--samples", type=_count(8, 100_000), default=256, metavar="N", help="Sobol points (default 256)")
+    p.add_argument("--starts", type=_count(1, 64), default=8, metavar="K", help="local searches (default 8)")
+    p.add_argument("--seed", type=_count(0, 2 ** 31), default=0, metavar="S")
+    p.add_argument("--workers", type=_count(1, 1024), default=1, metavar="N",
+                   help="processes for the sample and the local searches (default 1: this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="a Dask scheduler (tcp://HOST:PORT) instead of local processes")
+    p.add_argument("--checkpoint", metavar="FILE",
+                   help="keep the finished tasks in FILE (JSON); a rerun of the same request resumes from it")
+    p.add_argument("--json", action="store_true", help="one JSON object per family")
+    p.add_argument("--save", metavar="OUT", help="write the best certified member with its verified claims")
+    p.add_argument("--name", help="name of the saved method")
+
+
+def _run_options(p) -> None:
+    p.add_argument("scenes", nargs="*", metavar="SCENE", help="scene files (JSON); see reports/scenes/")
+    p.add_argument("--out", default="reports", help="where scene outputs go (default reports/)")
+    p.add_argument("--method", metavar="FILE", help="JSON tableau (no free parameters)")
+    p.add_argument("--problem", metavar="NAME",
+                   help="harmonic, pendulum, kepler, kepler_unperturbed, henon_heiles, fpu, outer_solar_system")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="problem parameter, e.g. e=0.9 (exact)")
+    p.add_argument("--q0", help="initial q, comma-separated")
+    p.add_argument("--p0", help="initial p")
+    p.add_argument("--y0", help="initial y (general problems)")
+    p.add_argument("--h", help="step size, read exactly (0.01 is 1/100)")
+    p.add_argument("--steps", type=_count(1, MAX_STEPS), help="number of steps")
+    p.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
+    p.add_argument("--precision", default="float64",
+                   help="float64 (default), dd (double-double: about 32 digits, compiled) or mp:DIGITS (mpmath), "
+                        "e.g. mp:32")
+    p.add_argument("--start", choices=("exact", "naive"), default="exact",
+                   help="GLM starting method: the computed one (default) or y^[0] = u y0")
+    p.add_argument("--monitor", metavar="BOUND", help="stop when a parasitic component of a GLM's input vector "
+                                                      "exceeds BOUND (checked at the records)")
+    p.add_argument("--json", action="store_true", help="one JSON object")
+
+
+def _roundoff_options(p) -> None:
+    p.add_argument("--method", required=True, metavar="FILE")
+    p.add_argument("--problem", required=True, metavar="NAME")
+    p.add_argument("--h", required=True)
+    p.add_argument("--steps", type=_count(1, MAX_STEPS), required=True)
+    p.add_argument("--starts", type=_count(1, MAX_REPEATS), default=4)
+    p.add_argument("--digits", type=_count(16, MAX_DIGITS), default=32)
+    p.add_argument("--out", default="reports/roundoff")
+
+
+def _convergence_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--problem", required=True)
+    p.add_argument("--T", default="10")
+    p.add_argument("--precision", default="float64")
+    p.add_argument("--max-steps", type=_count(1, MAX_STEPS), default=1 << 15)
+    p.add_argument("--start", choices=("exact", "naive"), default="exact")
+    _executor_options(p)
+    p.add_argument("--out", default="reports/convergence")
+
+
+def _bench_options(p) -> None:
+    p.add_argument("--method", help="one case: a method file")
+    p.add_argument("--problem", help="one case: a problem name")
+    p.add_argument("--steps", type=_count(1, MAX_STEPS), help="steps per run (default 10^5)")
+    p.add_argument("--h", default="1/100", help="step size, exact (default 1/100); several, comma-separated "
+                   "(1/100,1/25), are timed interleaved and their costs printed as ratios to the first")
+    p.add_argument("--precision", default="float64", help="float64, dd or mp:DIGITS (one case)")
+    p.add_argument("--reps", type=_count(1, MAX_REPEATS), default=5,
+                   help="runs per case; the median is reported (default 5)")
+    p.add_argument("--out", default="reports/bench", help="where the standard set is saved (default reports/bench)")
+    p.add_argument("--no-memory", action="store_true", help="skip the 10^7-step memory probe")
+    p.add_argument("--json", action="store_true", help="print JSON")
+
+
+def _workprecision_options(p) -> None:
+    p.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")
+    p.add_argument("--out", default="reports/workprecision", help="output folder (default reports/workprecision)")
+    _executor_options(p)
+
+
+def _suite_options(p) -> None:
+    p.add_argument("suite_dir", nargs="?", default="reports/suite", metavar="SUITE_DIR",
+                   help="folder with scenes/*.json (default reports/suite)")
+    p.add_argument("--out", help="output folder (default SUITE_DIR)")
+    p.add_argument("--steps", type=_count(1, MAX_STEPS), metavar="N",
+                   help="N steps for every scene (default: each scene's own)")
+    p.add_argument("--only", metavar="NAMES", help="comma-separated scene names")
+    _executor_options(p)
+    p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+
+
+def _replot_options(p) -> None:
+    p.add_argument("paths", nargs="+", metavar="PATH", help="saved outputs or folders to search")
+
+
+def _report_options(p) -> None:
+    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("--out", default="reports/proofs")
+    p.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
+    p.add_argument("--library", action="store_true", help="one document for all files, with a summary table")
+    p.add_argument("--stability", action="store_true",
+                   help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
+
+
+def _list_options(p) -> None:
+    fmt = p.add_mutually_exclusive_group()
+    fmt.add_argument("--json", action="store_true", help="one JSON object")
+    fmt.add_argument("--markdown", action="store_true", help="a Markdown table")
+
+
+def _completion_options(p) -> None:
+    p.add_argument("shell", choices=("bash", "zsh", "tcsh"))
+
+
+@dataclass(frozen=True)
+class Command:
+    """One command of the table :data:`COMMANDS`: its name, its handler (``args -> exit code``),
+    the function adding its own arguments to its parser, and its help texts.  The options every
+    command shares come from the parent parsers of :func:`_parents`."""
+    name: str
+    run: Callable[[argparse.Namespace], int]
+    options: Callable[[argparse.ArgumentParser], None]
+    help: str
+    description: str | None = None
+
+
+def _global_options(p) -> None:
+    """The options before the command: --version, --debug, --entry-limit, --timeout, --max-field-degree."""
     from .budget import DEFAULT_SECONDS, FIELD_DEGREE as FIELD_DEGREE_LIMIT
-    p = argparse.ArgumentParser(prog="tableau-lab", description=(
-        "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
     p.add_argument("--version", action="version", version=f"tableau-lab {__version__}")
     p.add_argument("--debug", action="store_true", help="print the traceback of an internal error")
     p.add_argument("--entry-limit", action="append", default=[], metavar="KEY=N",
@@ -694,8 +896,17 @@ def build_parser() -> argparse.ArgumentParser:
                         f"of {' and '.join(BUILT_WITHIN)} (a user-defined problem, the method, the generated code), "
                         f"in seconds; 0: none (default {DEFAULT_SECONDS:g})")
     p.add_argument("--max-field-degree", type=_count(1, MAX_FIELD_DEGREE), default=FIELD_DEGREE_LIMIT, metavar="N",
-                   help=f"largest degree of a method's number field in the exact commands (default {FIELD_DEGREE_LIMIT})")
-    debug = argparse.ArgumentParser(add_help=False)       # the same options after the command
+                   help="largest degree of a method's number field in the exact commands "
+                        f"(default {FIELD_DEGREE_LIMIT})")
+
+
+def _parents() -> dict:
+    """The shared options after the command, as argparse parents: "debug" (--debug, --entry-limit:
+    every command) and "timeout" (--timeout, --max-field-degree: the exact commands and the exact
+    stage of the runs).  Their defaults are SUPPRESS: given before the command, an option keeps
+    its value."""
+    from .budget import DEFAULT_SECONDS, FIELD_DEGREE as FIELD_DEGREE_LIMIT
+    debug = argparse.ArgumentParser(add_help=False)
     debug.add_argument("--debug", action="store_true", default=argparse.SUPPRESS, help=argparse.SUPPRESS)
     debug.add_argument("--entry-limit", action="append", default=argparse.SUPPRESS, metavar="KEY=N",
                        help="raise a limit of tableau entries, e.g. depth=100 (docs/reliability.md)")
@@ -704,253 +915,140 @@ def build_parser() -> argparse.ArgumentParser:
                          help=f"time budget in seconds, 0: none (default {DEFAULT_SECONDS:g})")
     timeout.add_argument("--max-field-degree", type=_count(1, MAX_FIELD_DEGREE), default=argparse.SUPPRESS,
                          metavar="N", help=f"largest degree of a method's number field (default {FIELD_DEGREE_LIMIT})")
+    return {"debug": debug, "timeout": timeout}
+
+
+#: the commands, in the order of ``tableau-lab --help``
+COMMANDS = (
+    Command("verify", _verify, _verify_options,
+            help="check symplecticity / G-symplecticity and the claims of tableau files",
+            description="Read JSON tableau files, solve the (G-)symplecticity conditions exactly and check each "
+                        "file's claims. Exit 0: all claims hold; 1: a claim fails; 2: a file could not be read."),
+    Command("order", _order, _order_options,
+            help="order, stage order, starting and finishing methods (GLM theory)",
+            description="RK methods: classical order by elementary weights (pinned at p + 1), principal error "
+                        "coefficients, B(p), C(q), D(r), effective order. Partitioned RK: bicoloured trees. GLMs: "
+                        "order relative to the best starting method (Butcher's algebraic theory), the order for θ ≡ "
+                        "0, the stage order, the starting method ξ(t), the finishing method and the error terms."),
+    Command("modified", _modified, _modified_options,
+            help="modified equation (backward error analysis) or modifying integrator, exactly; for GLMs that of the "
+                 "underlying one-step method",
+            description="The numerical solution is the exact flow of ỹ′ = Σ h^(|t|−1) b(t)/σ(t) F(t)(ỹ) (Hairer, "
+                        "Lubich & Wanner, Geometric Numerical Integration, IX). Prints the coefficients b(t)/σ(t) by "
+                        "powers of h for every tree of order ≤ N. --structure adds the orders to which the series is "
+                        "symplectic, conjugate-symplectic, symmetric and energy-preserving (for a partitioned "
+                        "method, a P-series: the order to which a modified energy exists, and which of the B-series "
+                        "checks do not apply)."),
+    Command("stability", _stability, _stability_options,
+            help="linear stability (A-stability, imaginary-axis interval, and for GLMs zero-stability and A(alpha)), "
+                 "algebraic stability and parasitism, exactly",
+            description="The characteristic polynomial P(w, z) = det[[I - zA, -U], [-zB, wI - V]] exactly; R(z) and "
+                        "E(y) for RK methods; A-stability; the interval |y| < Y* of the imaginary axis z = iy where "
+                        "every root has |w| = 1 ((G-)symplectic methods) or |w| <= 1 (others), Y* exact; for GLMs "
+                        "(and so linear multistep methods, e.g. bdf:5) zero-stability (V power-bounded; roots "
+                        "outside the circle certified) and, when P has degree 1 in z, the A(alpha) angle (certified "
+                        "to 30 digits); algebraic stability; parasitic growth parameters of GLMs. Partitioned "
+                        "methods: the harmonic oscillator, x = h*omega. Exit 0: done; 2: a file could not be read."),
+    Command("solve", _solve, _solve_options,
+            help="solve a tableau's unknowns for required properties (design, repair)",
+            description="Treat the named unknowns of a tableau as parameters and find every solution family "
+                        "(exactly: Gröbner bases, radicals) of the required conditions; each solution is "
+                        "re-verified. Conditions: g-symplectic, symplectic, order=P, identity-start-order=P (GLM: θ "
+                        "≡ 0), effective-order=P, stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = "
+                        "RHS'. Exit 0: solved (with --locate: entries located); 1: no (real, radical) solution "
+                        "(nothing located); 2: bad input."),
+    Command("design", _design, _design_options,
+            help="search a solution family for its best member, then certify it exactly",
+            description="The families of `solve FILE --require …` are searched numerically (a Sobol sample, then "
+                        "Nelder–Mead) for one objective under constraints; each optimum is snapped to exact values "
+                        "(the rationals of smallest height within the objective tolerance, or the exact solutions of "
+                        "the constraints on the family) and re-verified by the ordinary analyses. Objectives: "
+                        "imaginary-interval, real-interval (maximise); error-norm, mu (minimise). Constraints: "
+                        "order=P, parasitism-free, explicit-first-stage. Without --require, the tableau's unknowns "
+                        "are the free parameters. An optimum that a face of --box keeps within tolerance is flagged "
+                        "box-bound; a member several optima certify to is printed once, with its height. Exit 0: a "
+                        "certified member; 1: none; 2: bad input (also an unreachable --scheduler)."),
+    Command("run", _run, _run_options,
+            help="run scenes, or a method on a problem (float64 or mpmath)",
+            description="Run scene files (data, metadata and plots under reports/<name>/), or integrate a built-in "
+                        "problem with a method file: the final state (through the finishing method for GLMs), max "
+                        "|invariant − initial value|, f evaluations, Newton and projection iterations, wall time. "
+                        "Exit 0: done; 1: the run failed (message names step and time); 2: bad input; 4: a run went "
+                        "to its end degraded (an invariant error or a parasitic component of relative size 1e-2 or "
+                        "more)."),
+    Command("roundoff", _roundoff, _roundoff_options,
+            help="separate round-off from method error (float64 vs the same method at high precision), with and "
+                 "without compensated summation",
+            description="Runs the float64 method and the same float64 coefficients, step and initial values at "
+                        "--digits digits; the difference is round-off alone. RMS over --starts perturbed initial "
+                        "values; fitted growth exponents (Brouwer: 1/2)."),
+    Command("convergence", _convergence, _convergence_options,
+            help="measured order: global error at T against h, least-squares slope",
+            description="For each method file: the global error at T against a high-precision reference, for n = 50, "
+                        "100, 200, ... steps until the local slopes settle or round-off is reached; the "
+                        "least-squares slope is compared with the computed order. Failed runs are kept as evidence. "
+                        "Exit 1 if an order is not confirmed."),
+    Command("bench", _bench, _bench_options,
+            help="speed of the compiled loops: the standard set against a gcc -O2 C loop, scipy DOP853 and plain "
+                 "mpmath; or one case (--method, --problem)"),
+    Command("workprecision", _workprecision, _workprecision_options,
+            help="work-precision diagrams: error and invariant error against CPU time and f-evaluations, our methods "
+                 "(compiled) against scipy's DOP853 / RK45"),
+    Command("suite", _suite, _suite_options,
+            help="the hard-case suite: every symplectic and G-symplectic method on the hard problems, with and "
+                 "without projection, parasitism monitor; one table",
+            description="Runs SUITE_DIR/scenes/*.json (one independent run per method x problem x projection, "
+                        "through a process pool or a Dask cluster), writes each scene's data and plots, "
+                        "summary.json, summary.md and summary plots, and prints the table: status (completed / "
+                        "stopped by the monitor / failed, at t), max |H - H0|, max parasitic component, measured "
+                        "against predicted parasitic log-growth, seconds. Exit 0: the claims hold; 1: a claim fails; "
+                        "2: bad input."),
+    Command("replot", _replot, _replot_options,
+            help="redraw figures (PNG, PDF, SVG) from the data a run saved, without running anything again",
+            description="Redraw the figures of saved outputs in the current figure style: scene folders (meta.json, "
+                        "data.npz and the scene file named there), work-precision folders (data.json), convergence "
+                        "and round-off JSON files, a suite's summary.json; any other folder is searched (e.g. "
+                        "reports). Data files are read, never written. Exit 0: done; 2: a path holds nothing to draw "
+                        "from."),
+    Command("report", _report, _report_options,
+            help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
+            description="For each method: the tableau, the G-symplecticity proof step by step, the symplecticity "
+                        "matrix, the order conditions and starting method, parasitism; NAME.tex, NAME.report.json "
+                        "(the facts stated) and NAME.pdf under --out; never over an input (exit 2)."),
+    Command("list", _list, _list_options,
+            help="the method library: shipped tableaux and families, with kind, size, order, source",
+            description="Every method name the commands take besides a file: the shipped tableaux (e.g. rk4, gauss2) "
+                        "and the generated families (gauss:3, bdf:4), with kind, size, order and source (the same "
+                        "rows as tableau_lab.list_methods())."),
+    Command("completion", _completion, _completion_options,
+            help="print a shell completion script (bash, zsh, tcsh)",
+            description="Print the completion script of tableau-lab for SHELL (made by shtab from this command "
+                        "line): commands, options, and file names where a file is expected. Install, e.g.: "
+                        "tableau-lab completion bash > ~/.local/share/bash-completion/completions/tableau-lab "
+                        "(bash), tableau-lab completion zsh > ~/.zfunc/_tableau-lab (zsh, with ~/.zfunc in fpath)."),
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``tableau-lab``: the global options, then one subparser per entry of
+    :data:`COMMANDS` (its arguments from ``options``, the shared ones from :func:`_parents`),
+    file and folder arguments marked for shell completion.
+
+    >>> build_parser().parse_args(["verify", "a.json", "--json"]).run is _verify
+    True
+    """
+    p = argparse.ArgumentParser(prog="tableau-lab", description=(
+        "Exact verification of Runge-Kutta, partitioned RK and general linear methods."))
+    _global_options(p)
+    parents = _parents()
     sub = p.add_subparsers(dest="command", required=True)
-    _add = sub.add_parser
-    sub.add_parser = lambda name, **k: _add(name, parents=[debug] + ([timeout] if name in EXACT_COMMANDS + BUILT_WITHIN
-                                                                      else []), **k)
-    v = sub.add_parser("verify", help="check symplecticity / G-symplecticity and the claims of tableau files",
-                       description="Read JSON tableau files, solve the (G-)symplecticity conditions exactly and "
-                                   "check each file's claims. Exit 0: all claims hold; 1: a claim fails; "
-                                   "2: a file could not be read.")
-    v.add_argument("files", nargs="+", metavar="FILE", help="JSON tableau files")
-    v.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-    v.set_defaults(run=_verify)
-    o = sub.add_parser("order", help="order, stage order, starting and finishing methods (GLM theory)",
-                       description="RK methods: classical order by elementary weights (pinned at p + 1), "
-                                   "principal error coefficients, B(p), C(q), D(r), effective order. "
-                                   "Partitioned RK: bicoloured trees. GLMs: order relative to the best starting "
-                                   "method (Butcher's algebraic theory), the order for θ ≡ 0, the stage order, "
-                                   "the starting method ξ(t), the finishing method and the error terms.")
-    o.add_argument("files", nargs="+", metavar="FILE")
-    o.add_argument("--max-order", type=_count(1, MAX_ORDER), default=None, metavar="N",
-                   help="highest order examined (default: 2s for RK methods, s if explicit; 8 for GLMs)")
-    o.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-    o.set_defaults(run=_order)
-    md = sub.add_parser("modified", help="modified equation (backward error analysis) or modifying integrator, "
-                                         "exactly; for GLMs that of the underlying one-step method",
-                        description="The numerical solution is the exact flow of ỹ′ = Σ h^(|t|−1) b(t)/σ(t) F(t)(ỹ) "
-                                    "(Hairer, Lubich & Wanner, Geometric Numerical Integration, IX). Prints the "
-                                    "coefficients b(t)/σ(t) by powers of h for every tree of order ≤ N. "
-                                    "--structure adds the orders to which the series is symplectic, "
-                                    "conjugate-symplectic, symmetric and energy-preserving (for a partitioned "
-                                    "method, a P-series: the order to which a modified energy exists, and which "
-                                    "of the B-series checks do not apply).")
-    md.add_argument("files", nargs="+", metavar="FILE")
-    md.add_argument("--order", type=_count(1, MODIFIED_MAX_ORDER), default=5, metavar="N",
-                    help=f"trees of order ≤ N, terms up to h^(N−1) (default 5, at most {MODIFIED_MAX_ORDER})")
-    md.add_argument("--modifying", action="store_true",
-                    help="the modifying integrator: the field whose numerical flow is the exact flow of f")
-    md.add_argument("--structure", action="store_true",
-                    help="also: symplectic, conjugate-symplectic, symmetric, energy-preserving to which order "
-                         "(partitioned methods: the modified energy's order)")
-    md.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-    md.set_defaults(run=_modified)
-    st = sub.add_parser("stability", help="linear stability (A-stability, imaginary-axis interval, and for GLMs "
-                                          "zero-stability and A(alpha)), algebraic stability and parasitism, exactly",
-                        description="The characteristic polynomial P(w, z) = det[[I - zA, -U], [-zB, wI - V]] "
-                                    "exactly; R(z) and E(y) for RK methods; A-stability; the interval |y| < Y* "
-                                    "of the imaginary axis z = iy where every root has |w| = 1 ((G-)symplectic "
-                                    "methods) or |w| <= 1 (others), Y* exact; for GLMs (and so linear multistep "
-                                    "methods, e.g. bdf:5) zero-stability (V power-bounded; roots outside the "
-                                    "circle certified) and, when P has degree 1 in z, the A(alpha) angle "
-                                    "(certified to 30 digits); algebraic stability; parasitic "
-                                    "growth parameters of GLMs. Partitioned methods: the harmonic oscillator, "
-                                    "x = h*omega. Exit 0: done; 2: a file could not be read.")
-    st.add_argument("files", nargs="+", metavar="FILE")
-    st.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
-    st.add_argument("--plot", metavar="DIR", help="write the stability region and the root moduli on the axis "
-                                                  "as PNG files into DIR, named after the file or family "
-                                                  "(bdf:4 -> bdf-4_region.png); the region's window encloses "
-                                                  "the boundary locus, the real interval, +-iY* and the A(alpha) "
-                                                  "sector when computed")
-    st.add_argument("--window", type=_window, metavar="XMIN,XMAX,YMIN,YMAX",
-                    help="with --plot: the region's window instead of the one from the analysis, "
-                         "e.g. --window=-12,3,-8,8 (with =, as the value starts with a minus sign)")
-    st.set_defaults(run=_stability)
-    sv = sub.add_parser("solve", help="solve a tableau's unknowns for required properties (design, repair)",
-                        description="Treat the named unknowns of a tableau as parameters and find every solution "
-                                    "family (exactly: Gröbner bases, radicals) of the required conditions; each "
-                                    "solution is re-verified. Conditions: g-symplectic, symplectic, order=P, identity-start-order=P "
-                                    "(GLM: θ ≡ 0), effective-order=P, "
-                                    "stage-order=Q, parasitism-free, symmetric, or an equation 'LHS = RHS'. "
-                                    "Exit 0: solved (with --locate: entries located); 1: no (real, radical) solution "
-                                    "(nothing located); 2: bad input.")
-    _family_options(sv, "comma-separated conditions, e.g. 'symplectic,order=4' (repeatable)")
-    sv.add_argument("--json", action="store_true", help="one JSON object: status, solutions, obstruction")
-    sv.add_argument("--save", metavar="OUT", help="write the solution as a tableau file with the conditions as claims")
-    sv.add_argument("--solution", type=_count(1, MAX_REPEATS), metavar="K", help="which solution --save writes (1-based)")
-    sv.add_argument("--name", help="name of the saved method")
-    sv.add_argument("--repair", action="append", metavar="ENTRIES",
-                    help="repair a printed (numeric) tableau: these entries, e.g. 'A[2,1],U[2,2]', become unknowns; "
-                         "the output names each changed entry with its printed and correct value")
-    sv.add_argument("--locate", action="store_true",
-                    help="try every single entry as the unknown (beside --repair ones) and report those that make "
-                         "the requirements solvable; a unique one is then repaired")
-    sv.add_argument("--within", action="append", metavar="MATRICES",
-                    help="with --locate: search only these matrices, e.g. 'A,B'")
-    sv.set_defaults(run=_solve)
-    ds = sub.add_parser("design", help="search a solution family for its best member, then certify it exactly",
-                        description="The families of `solve FILE --require …` are searched numerically (a Sobol "
-                                    "sample, then Nelder–Mead) for one objective under constraints; each optimum is "
-                                    "snapped to exact values (the rationals of smallest height within the objective "
-                                    "tolerance, or the exact solutions of the "
-                                    "constraints on the family) and re-verified by the ordinary analyses. Objectives: "
-                                    "imaginary-interval, real-interval (maximise); error-norm, mu (minimise). "
-                                    "Constraints: order=P, parasitism-free, explicit-first-stage. Without --require, "
-                                    "the tableau's unknowns are the free parameters. An optimum that a face of --box keeps "
-                                    "within tolerance is flagged box-bound; a member several optima certify to is "
-                                    "printed once, with its height. Exit 0: a certified member; 1: none; "
-                                    "2: bad input (also an unreachable --scheduler).")
-    _family_options(ds, "the family's exact conditions, as for solve (e.g. g-symplectic); none: the tableau's "
-                        "unknowns are the free parameters", required=False)
-    ds.add_argument("--maximize", action="append", metavar="OBJECTIVE",
-                    help="imaginary-interval or real-interval; with a --minimize too: the Pareto front of both")
-    ds.add_argument("--minimize", action="append", metavar="OBJECTIVE", help="error-norm or mu")
-    ds.add_argument("--constrain", action="append", metavar="CONSTRAINTS",
-                    help="comma-separated: order=P, parasitism-free, explicit-first-stage")
-    ds.add_argument("--box", default="-2:2", metavar="LO:HI", help="search box of every free parameter (default -2:2)")
-    ds.add_argument("--samples", type=_count(8, 100_000), default=256, metavar="N", help="Sobol points (default 256)")
-    ds.add_argument("--starts", type=_count(1, 64), default=8, metavar="K", help="local searches (default 8)")
-    ds.add_argument("--seed", type=_count(0, 2 ** 31), default=0, metavar="S")
-    ds.add_argument("--workers", type=_count(1, 1024), default=1, metavar="N",
-                    help="processes for the sample and the local searches (default 1: this process)")
-    ds.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://HOST:PORT) instead of local processes")
-    ds.add_argument("--checkpoint", metavar="FILE",
-                    help="keep the finished tasks in FILE (JSON); a rerun of the same request resumes from it")
-    ds.add_argument("--json", action="store_true", help="one JSON object per family")
-    ds.add_argument("--save", metavar="OUT", help="write the best certified member with its verified claims")
-    ds.add_argument("--name", help="name of the saved method")
-    ds.set_defaults(run=_design)
-    r = sub.add_parser("run", help="run scenes, or a method on a problem (float64 or mpmath)",
-                       description="Run scene files (data, metadata and plots under reports/<name>/), or integrate "
-                                   "a built-in problem with a method file: the final state (through the "
-                                   "finishing method for GLMs), max |invariant − initial value|, f evaluations, "
-                                   "Newton and projection iterations, wall time. Exit 0: done; 1: the run failed "
-                                   "(message names step and time); 2: bad input; 4: a run went to its end "
-                                   "degraded (an invariant error or a parasitic component of relative size "
-                                   "1e-2 or more).")
-    r.add_argument("scenes", nargs="*", metavar="SCENE", help="scene files (JSON); see reports/scenes/")
-    r.add_argument("--out", default="reports", help="where scene outputs go (default reports/)")
-    r.add_argument("--method", metavar="FILE", help="JSON tableau (no free parameters)")
-    r.add_argument("--problem", metavar="NAME",
-                   help="harmonic, pendulum, kepler, kepler_unperturbed, henon_heiles, fpu, outer_solar_system")
-    r.add_argument("--set", action="append", metavar="NAME=VALUE", help="problem parameter, e.g. e=0.9 (exact)")
-    r.add_argument("--q0", help="initial q, comma-separated"), r.add_argument("--p0", help="initial p")
-    r.add_argument("--y0", help="initial y (general problems)")
-    r.add_argument("--h", help="step size, read exactly (0.01 is 1/100)")
-    r.add_argument("--steps", type=_count(1, MAX_STEPS), help="number of steps")
-    r.add_argument("--project", metavar="H,L", help="project onto these invariants after every step")
-    r.add_argument("--precision", default="float64",
-                   help="float64 (default), dd (double-double: about 32 digits, compiled) or mp:DIGITS (mpmath), "
-                        "e.g. mp:32")
-    r.add_argument("--start", choices=("exact", "naive"), default="exact",
-                   help="GLM starting method: the computed one (default) or y^[0] = u y0")
-    r.add_argument("--monitor", metavar="BOUND", help="stop when a parasitic component of a GLM's input vector "
-                                                      "exceeds BOUND (checked at the records)")
-    r.add_argument("--json", action="store_true", help="one JSON object")
-    r.set_defaults(run=_run)
-    ro = sub.add_parser("roundoff", help="separate round-off from method error (float64 vs the same method at "
-                                         "high precision), with and without compensated summation",
-                        description="Runs the float64 method and the same float64 coefficients, step and initial "
-                                    "values at --digits digits; the difference is round-off alone. RMS over "
-                                    "--starts perturbed initial values; fitted growth exponents (Brouwer: 1/2).")
-    ro.add_argument("--method", required=True, metavar="FILE")
-    ro.add_argument("--problem", required=True, metavar="NAME")
-    ro.add_argument("--h", required=True)
-    ro.add_argument("--steps", type=_count(1, MAX_STEPS), required=True)
-    ro.add_argument("--starts", type=_count(1, MAX_REPEATS), default=4)
-    ro.add_argument("--digits", type=_count(16, MAX_DIGITS), default=32)
-    ro.add_argument("--out", default="reports/roundoff")
-    ro.set_defaults(run=_roundoff)
-    cv = sub.add_parser("convergence", help="measured order: global error at T against h, least-squares slope",
-                        description="For each method file: the global error at T against a high-precision "
-                                    "reference, for n = 50, 100, 200, ... steps until the local slopes settle or "
-                                    "round-off is reached; the least-squares slope is compared with the computed "
-                                    "order. Failed runs are kept as evidence. Exit 1 if an order is not confirmed.")
-    cv.add_argument("files", nargs="+", metavar="FILE")
-    cv.add_argument("--problem", required=True)
-    cv.add_argument("--T", default="10")
-    cv.add_argument("--precision", default="float64")
-    cv.add_argument("--max-steps", type=_count(1, MAX_STEPS), default=1 << 15)
-    cv.add_argument("--start", choices=("exact", "naive"), default="exact")
-    _executor_options(cv)
-    cv.add_argument("--out", default="reports/convergence")
-    cv.set_defaults(run=_convergence)
-    bn = sub.add_parser("bench", help="speed of the compiled loops: the standard set against a gcc -O2 C loop, "
-                        "scipy DOP853 and plain mpmath; or one case (--method, --problem)")
-    bn.add_argument("--method", help="one case: a method file")
-    bn.add_argument("--problem", help="one case: a problem name")
-    bn.add_argument("--steps", type=_count(1, MAX_STEPS), help="steps per run (default 10^5)")
-    bn.add_argument("--h", default="1/100", help="step size, exact (default 1/100); several, comma-separated "
-                    "(1/100,1/25), are timed interleaved and their costs printed as ratios to the first")
-    bn.add_argument("--precision", default="float64", help="float64, dd or mp:DIGITS (one case)")
-    bn.add_argument("--reps", type=_count(1, MAX_REPEATS), default=5, help="runs per case; the median is reported (default 5)")
-    bn.add_argument("--out", default="reports/bench", help="where the standard set is saved (default reports/bench)")
-    bn.add_argument("--no-memory", action="store_true", help="skip the 10^7-step memory probe")
-    bn.add_argument("--json", action="store_true", help="print JSON")
-    bn.set_defaults(run=_bench)
-    wp = sub.add_parser("workprecision", help="work-precision diagrams: error and invariant error against CPU "
-                        "time and f-evaluations, our methods (compiled) against scipy's DOP853 / RK45")
-    wp.add_argument("scenes", nargs="+", metavar="SCENE", help="work-precision scene files (JSON)")
-    wp.add_argument("--out", default="reports/workprecision", help="output folder (default reports/workprecision)")
-    _executor_options(wp)
-    wp.set_defaults(run=_workprecision)
-    su = sub.add_parser("suite", help="the hard-case suite: every symplectic and G-symplectic method on the hard "
-                        "problems, with and without projection, parasitism monitor; one table",
-                        description="Runs SUITE_DIR/scenes/*.json (one independent run per method x problem x "
-                                    "projection, through a process pool or a Dask cluster), writes each scene's "
-                                    "data and plots, summary.json, summary.md and summary plots, and prints the "
-                                    "table: status (completed / stopped by the monitor / failed, at t), max |H - H0|, "
-                                    "max parasitic component, measured against predicted parasitic log-growth, "
-                                    "seconds. Exit 0: the claims hold; 1: a claim fails; 2: bad input.")
-    su.add_argument("suite_dir", nargs="?", default="reports/suite", metavar="SUITE_DIR",
-                    help="folder with scenes/*.json (default reports/suite)")
-    su.add_argument("--out", help="output folder (default SUITE_DIR)")
-    su.add_argument("--steps", type=_count(1, MAX_STEPS), metavar="N", help="N steps for every scene (default: each scene's own)")
-    su.add_argument("--only", metavar="NAMES", help="comma-separated scene names")
-    _executor_options(su)
-    su.add_argument("--json", action="store_true", help="print the summary as one JSON object")
-    su.set_defaults(run=_suite)
-    rpl = sub.add_parser("replot", help="redraw figures (PNG, PDF, SVG) from the data a run saved, without "
-                                        "running anything again",
-                         description="Redraw the figures of saved outputs in the current figure style: scene "
-                                     "folders (meta.json, data.npz and the scene file named there), work-precision "
-                                     "folders (data.json), convergence and round-off JSON files, a suite's "
-                                     "summary.json; any other folder is searched (e.g. reports). Data files are "
-                                     "read, never written. Exit 0: done; 2: a path holds nothing to draw from.")
-    rpl.add_argument("paths", nargs="+", metavar="PATH", help="saved outputs or folders to search")
-    rpl.set_defaults(run=_replot)
-    rp = sub.add_parser("report", help="LaTeX proof reports (compiled to PDF when pdflatex is present)",
-                        description="For each method: the tableau, the G-symplecticity proof step by step, the "
-                                    "symplecticity matrix, the order conditions and starting method, parasitism; "
-                                    "NAME.tex, NAME.report.json (the facts stated) and NAME.pdf under --out; never over an "
-                                    "input (exit 2).")
-    rp.add_argument("files", nargs="+", metavar="FILE")
-    rp.add_argument("--out", default="reports/proofs")
-    rp.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
-    rp.add_argument("--library", action="store_true", help="one document for all files, with a summary table")
-    rp.add_argument("--stability", action="store_true",
-                    help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
-    rp.set_defaults(run=_report)
-    ls = sub.add_parser("list", help="the method library: shipped tableaux and families, with kind, size, order, "
-                                     "source",
-                        description="Every method name the commands take besides a file: the shipped tableaux "
-                                    "(e.g. rk4, gauss2) and the generated families (gauss:3, bdf:4), with kind, "
-                                    "size, order and source (the same rows as tableau_lab.list_methods()).")
-    fmt = ls.add_mutually_exclusive_group()
-    fmt.add_argument("--json", action="store_true", help="one JSON object")
-    fmt.add_argument("--markdown", action="store_true", help="a Markdown table")
-    ls.set_defaults(run=_list)
-    cm = sub.add_parser("completion", help="print a shell completion script (bash, zsh, tcsh)",
-                        description="Print the completion script of tableau-lab for SHELL (made by shtab from "
-                                    "this command line): commands, options, and file names where a file "
-                                    "is expected. Install, e.g.: tableau-lab completion bash > "
-                                    "~/.local/share/bash-completion/completions/tableau-lab (bash), "
-                                    "tableau-lab completion zsh > ~/.zfunc/_tableau-lab (zsh, with ~/.zfunc "
-                                    "in fpath).")
-    cm.add_argument("shell", choices=("bash", "zsh", "tcsh"))
-    cm.set_defaults(run=_completion)
-    _mark_paths(p)
+    for cmd in COMMANDS:
+        shared = [parents["debug"]] + ([parents["timeout"]] if cmd.name in EXACT_COMMANDS + BUILT_WITHIN else [])
+        extra = {} if cmd.description is None else {"description": cmd.description}
+        parser = sub.add_parser(cmd.name, parents=shared, help=cmd.help, **extra)
+        cmd.options(parser)
+        parser.set_defaults(run=cmd.run)
+        _mark_paths(parser)
     return p
 
 
@@ -999,7 +1097,7 @@ def _seconds(text: str) -> float:
 
 def main(argv=None) -> int:
     """The command line.  Called as the program (``argv`` None) an exact command runs in a child
-    process under a hard deadline (:func:`_hard_deadline`); with ``argv`` given (tests, other
+    process under a hard deadline (:func:`run_with_hard_deadline`); with ``argv`` given (tests, other
     programs) everything runs in this process, under the time budget's alarm only."""
     out, err = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = _Printable(out), _Printable(err)
@@ -1009,8 +1107,8 @@ def main(argv=None) -> int:
             import signal
             signal.signal(signal.SIGTERM, _terminate)
             if args.command in EXACT_COMMANDS and args.timeout:
-                return _hard_deadline(args)
-        return _dispatch(args)
+                return run_with_hard_deadline(args)
+        return dispatch(args)
     finally:
         sys.stdout, sys.stderr = out, err
 
@@ -1022,7 +1120,7 @@ def _terminate(signum, frame):
 HARD_GRACE = 5.0              # seconds past --timeout after which an uninterruptible computation is killed
 
 
-def _hard_deadline(args) -> int:
+def run_with_hard_deadline(args) -> int:
     """Run the command in a forked child; kill it HARD_GRACE s after its time budget.  The alarm
     of the budget stops Python code, but not one long call into FLINT or GMP: this makes every
     budget end within HARD_GRACE s.  Ctrl-C reaches the child (same process group), which reports it."""
@@ -1030,7 +1128,7 @@ def _hard_deadline(args) -> int:
     import signal
     import time
     if not hasattr(os, "fork"):
-        return _dispatch(args)
+        return dispatch(args)
     sys.stdout.flush()
     sys.stderr.flush()
     pid = os.fork()
@@ -1039,7 +1137,7 @@ def _hard_deadline(args) -> int:
         die_with_parent()
         code = EXIT_BUG
         try:
-            code = _dispatch(args)
+            code = dispatch(args)
         finally:
             with contextlib.suppress(Exception):
                 sys.stdout.flush()
@@ -1093,7 +1191,11 @@ WRITING_COMMANDS = ("report", "run", "solve", "design", "convergence", "roundoff
 NUMERIC_COMMANDS = ("run", "roundoff", "convergence", "workprecision", "suite", "bench")     # compiled kernels
 
 
-def _dispatch(args) -> int:
+def dispatch(args) -> int:
+    """Run a parsed command (``args.run``) in this process and return its exit code: the entry
+    limits applied, the environment's settings checked before any work, the time budget of the
+    exact commands, and every error mapped to its exit code (module docstring): bad input and
+    budgets 2, Ctrl-C 130, SIGTERM 143, an internal error 3 (one line; the traceback with --debug)."""
     from .budget import time_limit
     from .files import OutputError, command_inputs, lock_timeout
     try:

@@ -68,7 +68,7 @@ def test_memory_and_recursion_refusals_name_the_file(exc, capsys):
         raise exc()
     args = argparse.Namespace(command="verify", files=["deep/m.json"], run=boom, debug=False, timeout=0,
                               max_field_degree=64, entry_limit=None)
-    assert cli._dispatch(args) == 2
+    assert cli.dispatch(args) == 2
     err = capsys.readouterr().err
     assert "verify of deep/m.json" in err and exc.__name__ in err
 

@@ -14,7 +14,7 @@ from distributed import LocalCluster
 
 from tableau_lab.cli import main
 from tableau_lab.experiments.executor import SchedulerError, executor
-from tableau_lab.experiments.runs import _setup, convergence, convergence_run
+from tableau_lab.experiments.runs import prepare_run, convergence, convergence_run
 
 METHODS = Path(__file__).resolve().parents[1] / "methods"
 
@@ -44,7 +44,7 @@ def test_convergence_identical_in_every_executor(cluster, name, problem, precisi
 
 
 def test_final_states_identical_to_the_last_digit(cluster):
-    _, P, _, nm = _setup(METHODS / "gauss2.json", "pendulum", "mp:32", None)
+    _, P, _, nm = prepare_run(METHODS / "gauss2.json", "pendulum", "mp:32", None)
     task = functools.partial(convergence_run, nm, P, 10, "exact")
     finals = {}
     for key, (s, w) in _executors(cluster).items():

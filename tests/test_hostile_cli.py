@@ -47,7 +47,7 @@ def test_hard_deadline_kills_an_uninterruptible_computation(capsys):
     args = argparse.Namespace(command="verify", files=["m.json"], timeout=1.0, max_field_degree=64, debug=False,
                               run=_stuck)
     t0 = time.perf_counter()
-    code = cli._hard_deadline(args)
+    code = cli.run_with_hard_deadline(args)
     seconds = time.perf_counter() - t0
     err = capsys.readouterr().err
     assert code == 2 and "time budget of 1 s exceeded" in err and "verify of m.json" in err, err
@@ -60,7 +60,7 @@ def test_hard_deadline_passes_the_exit_code():
     from tableau_lab import cli
     args = argparse.Namespace(command="verify", files=["m.json"], timeout=30.0, max_field_degree=64, debug=False,
                               run=lambda a: 1)
-    assert cli._hard_deadline(args) == 1
+    assert cli.run_with_hard_deadline(args) == 1
 
 
 def test_sigterm_stops_like_ctrl_c(tmp_path):

@@ -82,9 +82,9 @@ def test_energy_drift_and_boundedness():
     """Pendulum, 20000 steps of h = 0.01: explicit Euler's energy error grows steadily; Gauss2's
     and Störmer–Verlet's stay bounded (max over the second half ≈ max over the first)."""
     def halves(name):
-        from tableau_lab.experiments.runs import _setup
+        from tableau_lab.experiments.runs import prepare_run
         from tableau_lab.numeric.integrate import integrate
-        m, P, cp, nm = _setup(METHODS / f"{name}.json", "pendulum", "float64", None)
+        m, P, cp, nm = prepare_run(METHODS / f"{name}.json", "pendulum", "float64", None)
         run = integrate(nm, cp, cp.y0, 0.01, 20000, invariants=("H",), record_every=100)
         e = np.abs(np.array(run.invariant_errors["H"], dtype=float))
         return e[: len(e) // 2].max(), e[len(e) // 2:].max()

@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from tableau_lab.experiments.runs import _setup
+from tableau_lab.experiments.runs import prepare_run
 from tableau_lab.numeric.integrate import IntegrationError, integrate
 
 ROOT = Path(__file__).parent.parent
@@ -49,7 +49,7 @@ NEW_START = {"leapfrog", "adams_bashforth2"}           # starting method changed
 
 
 def _run(method, problem):
-    _, _, cp, nm = _setup(str(ROOT / "methods" / f"{method}.json"), problem, "float64", None)
+    _, _, cp, nm = prepare_run(str(ROOT / "methods" / f"{method}.json"), problem, "float64", None)
     run = integrate(nm, cp, cp.y0, sp.Rational(STEP[problem]), STEPS, invariants=("H",), record_every=STEPS,
                     kernel="compiled")
     return np.array([float(x) for x in run.final]), run.max_invariant_error()["H"], nm.explicit

@@ -223,7 +223,8 @@ def test_scene_format_doc_is_generated_from_the_schema():
     block = benchmark_script("doc_blocks").read_block(root / "docs" / "scenes.md", "scene-format")
     assert block == benchmark_script("scene_doc").make()
     documented = set(re.findall(r"^\| `([A-Za-z_0-9]+)` \|", block, re.M))
-    assert S.KEYS | S.RUN_KEYS | set(S.PLOTS) | set(DEFINE_KEYS) <= documented
+    from tableau_lab.experiments.scene_keys import MODIFIED_ENERGY_KEYS, WP_KEYS
+    assert S.KEYS | S.RUN_KEYS | MODIFIED_ENERGY_KEYS | WP_KEYS | set(S.PLOTS) | set(DEFINE_KEYS) <= documented
     page = (root / "docs" / "scenes.md").read_text()
     example = json.loads(page.split("```json", 1)[1].split("```", 1)[0])
     assert set(example) <= S.KEYS
@@ -236,3 +237,33 @@ def test_scene_format_doc_is_generated_from_the_schema():
     # a key outside the schema is refused, naming the allowed ones (the schema's)
     with pytest.raises(SceneError, match="unknown keys"):
         S.load_scene(_scene(Path(tempfile.mkdtemp()), colour="red"))
+
+
+def test_workprecision_keys_read_by_the_scene_table_rules(tmp_path):
+    """A work-precision scene is read by the same table loop as a scene (experiments/scene_keys.py):
+    its name by the scene's file-name rule, its unknown keys listed against its table, every
+    optional key of its tables accepted with the documented default applied when absent."""
+    from tableau_lab.experiments import scene_keys as K
+    from tableau_lab.experiments.workprecision import load_wp_scene
+    rk4 = str(METHODS / "rk4.json")
+    base = {"format": "tableau_lab/workprecision/1", "name": "w", "problem": "harmonic", "T": 1,
+            "methods": [{"method": rk4, "steps": [10]}], "peers": [{"method": "RK45", "rtol": ["1e-6"]}]}
+
+    def load(**over):
+        p = tmp_path / "wp.json"
+        p.write_text(json.dumps({**base, **over}))
+        return load_wp_scene(p)
+    with pytest.raises(SceneError, match="name: \"../x\" is not a file-name-safe name"):
+        load(name="../x")                              # the scene's rule, word for word
+    with pytest.raises(SceneError, match=r"peers\[1\]: unknown keys \['colour'\] \(allowed: \['atol_factor', "):
+        load(peers=[{"method": "RK45", "rtol": ["1e-6"], "colour": 1}])
+    sc = load()
+    assert (sc.title, sc.invariant) == ("w", "H")                       # defaults: the name, "H"
+    assert sc.methods[0][2] == "rk4" and sc.peers[0][2] == 1.0           # the file stem; atol_factor 1
+    full = load(title="t", notes=["a", "b"], invariant="H",
+                methods=[{"method": rk4, "steps": [10, 20], "label": "RK4"}],
+                peers=[{"method": "DOP853", "rtol": [1e-6, "1e-8"], "atol_factor": "1/2"}])
+    assert full.methods[0][1:] == ((10, 20), "RK4") and full.peers[0] == ("DOP853", (1e-6, 1e-8), 0.5)
+    documented = {k.name for table in (K.WP_SCHEMA, K.WP_METHOD_SCHEMA, K.WP_PEER_SCHEMA) for k in table}
+    given = set(base) | {"title", "notes", "invariant", "label", "steps", "method", "rtol", "atol_factor"}
+    assert documented == given

@@ -562,8 +562,8 @@ def test_wall_time_paragraph_names_the_scenes():
 
 def test_plot_floor():
     (floor,) = _quotes("errors that are exactly 0 at the ~# floor")
-    from tableau_lab.experiments.plots import _floor
-    _agree(floor, _floor({"precision": "float64"}), "the float64 plot floor")
+    from tableau_lab.experiments.plots import plot_floor
+    _agree(floor, plot_floor({"precision": "float64"}), "the float64 plot floor")
 
 
 def test_a_number_changed_by_hand_fails(tmp_path, monkeypatch):

@@ -31,7 +31,7 @@ STEP = {"harmonic": "1/100", "pendulum": "1/100", "kepler": "1/100", "kepler_unp
 def record(out, steps, perturb=False, precision="float64", cases=None):
     import sympy as sp
 
-    from tableau_lab.experiments.runs import _setup
+    from tableau_lab.experiments.runs import prepare_run
     from tableau_lab.numeric.integrate import IntegrationError, integrate
     rows = {}
     for path in sorted((ROOT / "methods").glob("*.json")):
@@ -40,7 +40,7 @@ def record(out, steps, perturb=False, precision="float64", cases=None):
             if cases is not None and key not in cases:
                 continue
             try:
-                _, _, cp, nm = _setup(str(path), problem, precision, None)
+                _, _, cp, nm = prepare_run(str(path), problem, precision, None)
                 y0 = cp.y0 * (1 + np.finfo(float).eps) if perturb else cp.y0      # one ulp: round-off's reach
                 run = integrate(nm, cp, y0, sp.Rational(h), steps, invariants=("H",), record_every=steps,
                                 kernel="compiled" if precision == "float64" else "auto")

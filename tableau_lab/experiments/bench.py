@@ -7,7 +7,8 @@ iteration on the q stages of a separable problem with the predicted start, or si
 Newton; Kahan summation of the principal value) written in C99, the problem's functions printed
 as C from its symbols, the method's shape as compile-time constants, ``gcc -O3 -march=native``,
 called in this process through ctypes — timing the step loop alone in both, ``reps`` times
-each, interleaved (ours, C, ours, C, …) so that the drift of a shared machine hits both alike.  It prints the median µs/step of each, their ratio
+each, interleaved (ours, C, ours, C, …) so that the drift of a shared machine hits both alike.
+It prints the median µs/step of each, their ratio
 (ours/C: the figure to watch, as absolute times drift), the f-evaluations per step of each (for
 separable problems: force evaluations, as Hairer's GNI codes count them), the goal of each row,
 and Hairer's GNI_IRK2 (gfortran -O2) as measured for issue 14 on this machine class, for
@@ -49,9 +50,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 def _setup(method, problem, precision):
     """(numeric method, compiled problem) at ``precision``."""
-    from .runs import _setup as setup
-    _, _, cp, nm = setup(method, problem, precision, None)
-    return nm, cp
+    from .runs import prepare_run
+    prep = prepare_run(method, problem, precision)
+    return prep.numeric, prep.compiled
 
 
 def bench_case(method, problem, steps, h="1/100", precision="float64", reps=5, kernel="auto"):
@@ -88,7 +89,6 @@ def step_sizes(method, problem, steps, hs, precision="float64", reps=5, kernel="
     from ..numeric.integrate import IntegrationError, integrate
     nm, cp = _setup(method, problem, precision)
     hs = [sp.Rational(h) for h in hs]
-    invs = tuple(cp.problem.invariants)
     rows = [bench_case(method, problem, steps, h=h, precision=precision, reps=1, kernel=kernel) for h in hs]
     failed = [r for r in rows if "failed" in r]
     if failed:
@@ -117,7 +117,8 @@ def step_size_table(res: dict) -> str:
     lines = [f"{rows[0]['method']} on {rows[0]['problem']}, {rows[0]['steps']} steps, {rows[0]['reps']} interleaved "
              f"rounds (median):"]
     lines += [f"  h = {r['h']}: {r['us_per_step']:.3f} µs/step, {r['nfev_per_step']:.2f} f-evals/step, "
-              f"{r['newton_per_step']:.2f} sweeps/step, max abs(ΔH) {r['max_invariant_error'].get('H', float('nan')):.1e}"
+              f"{r['newton_per_step']:.2f} sweeps/step, "
+              f"max abs(ΔH) {r['max_invariant_error'].get('H', float('nan')):.1e}"
               for r in rows]
     lines += [f"  cost at h = {q['h']} over h = {rows[0]['h']}: {q['us_per_step_over_first']:.2f} "
               f"(f-evals {q['nfev_per_step_over_first']:.2f})" for q in res["cost_ratios"]]
@@ -313,10 +314,12 @@ def table(res: dict) -> str:
                   + "."]
     if res.get("llvm_c"):
         lines += ["", f"The same C loop compiled by LLVM ({res['llvm_c'][0]['clang']}; numba's backend), same flags, "
-                      "interleaved:", "", "| method | problem | ours µs/step | C (gcc) | C (clang) | clang/gcc | ours/clang |",
+                      "interleaved:", "",
+                  "| method | problem | ours µs/step | C (gcc) | C (clang) | clang/gcc | ours/clang |",
                   "|---|---|---|---|---|---|---|"]
         for r in res["llvm_c"]:
-            lines.append(f"| {r['method']} | {r['problem']} | {r['ours_us_per_step']:.3f} | {r['gcc_us_per_step']:.3f} | "
+            lines.append(f"| {r['method']} | {r['problem']} | {r['ours_us_per_step']:.3f} | "
+                         f"{r['gcc_us_per_step']:.3f} | "
                          f"{r['clang_us_per_step']:.3f} | {r['clang_us_per_step'] / r['gcc_us_per_step']:.2f} | "
                          f"{r['ours_us_per_step'] / r['clang_us_per_step']:.2f} |")
     lines += ["", "| 32 digits | problem | dd µs/step | mp:32 µs/step | mpmath/dd | dd − mp:32 after 100 steps |",

@@ -58,7 +58,8 @@ __all__ = ["design", "search", "SearchResult", "Candidate", "OBJECTIVES", "CONST
 PENALTY = 1e3            # weight of a constraint violation in the score
 MAX_CERTIFIED = 8        # candidates certified per search (each costs exact analyses)
 FRONT_POINTS = 12        # a Pareto front is thinned to at most this many members
-EXACT_FREE = 3           # certification solves the constraints exactly on families with at most this many free parameters
+# certification solves the constraints exactly on families with at most this many free parameters
+EXACT_FREE = 3
 ORDER_PROBE = 8          # the family's generic order is probed up to this order
 FEASIBLE = 1e-9          # a numeric constraint holds below this
 DENOMINATORS = (1, 2, 4, 10, 100, 1000, 10 ** 4, 10 ** 6)      # a partial snap's rationals, smallest height first
@@ -460,12 +461,13 @@ class _Checkpoint:
         old = _read_checkpoint(self.path)
         if old.get("key") != key:
             return                                  # another request's checkpoint: started afresh, replaced
-        for stage, ok in (("sample", lambda v: _scores(v, objectives)), ("refine", lambda v: _refined(v, objectives, dim))):
+        for stage, ok in (("sample", lambda v: _scores(v, objectives)),
+                          ("refine", lambda v: _refined(v, objectives, dim))):
             for item, value in old[stage].items():
                 if not ok(value):
-                    raise SearchError(f"{printable(self.path)}: {stage}[{printable(json.dumps(item))[:80]}]: not a value "
-                                      "this search writes (the checkpoint was edited or damaged); remove the file to "
-                                      "start afresh")
+                    raise SearchError(f"{printable(self.path)}: {stage}[{printable(json.dumps(item))[:80]}]: "
+                                      "not a value this search writes (the checkpoint was edited or damaged); "
+                                      "remove the file to start afresh")
             self.data[stage] = dict(old[stage])
 
     def has(self, stage: str, item) -> bool:
@@ -660,7 +662,7 @@ def _box_bound(task, c: Candidate) -> tuple:
     out = []
     for i, s in enumerate(task.family.free):
         for face in task.box:
-            def at(t):
+            def at(t, i=i):
                 x = list(c.point)
                 x[i] = t
                 return x
@@ -715,7 +717,7 @@ def _snap_in_order(task, c: Candidate, box, order) -> dict | None:
     for k, i in enumerate(order):
         share = (k + 1) / n
 
-        def ok(t):
+        def ok(t, i=i, share=share):
             y = list(x)
             y[i] = float(t)
             return _keeps(task, c, y, share)
@@ -885,7 +887,7 @@ def _certify_partial(family: Family, c: Candidate, constraints, p, key: str) -> 
             continue
         seen.add(tuple(fixed.values()))
 
-        def full(z):
+        def full(z, fixed=fixed):
             x = list(c.point)
             for i, v in fixed.items():
                 x[i] = float(v)
@@ -896,15 +898,17 @@ def _certify_partial(family: Family, c: Candidate, constraints, p, key: str) -> 
                             ftol=1e-15, gtol=1e-15, max_nfev=200 * len(solved))
         out = task.values(full(fit.x))
         if out is None or out[1] > FEASIBLE or not all(
-                abs(v - c.values[o]) <= PARTIAL_TOLERANCE * max(1.0, abs(c.values[o])) for o, v in zip(task.objectives, out[0], strict=False)):
+                abs(v - c.values[o]) <= PARTIAL_TOLERANCE * max(1.0, abs(c.values[o]))
+                for o, v in zip(task.objectives, out[0], strict=False)):
             continue
         tried += 1
         sub = {family.free[i]: v for i, v in fixed.items()}
         m = family.method
-        partial = dc_replace(m, **{k: M.applyfunc(lambda e: sp.cancel(e.xreplace(sub)))
+        partial = dc_replace(m, **{k: M.applyfunc(lambda e, sub=sub: sp.cancel(e.xreplace(sub)))
                                    for k, M in m.matrices().items() if isinstance(M, sp.MatrixBase)})
         try:
-            best = _nearest_solution(partial, constraints, [names[i] for i in solved], [fit.x[k] for k in range(len(solved))])
+            best = _nearest_solution(partial, constraints, [names[i] for i in solved],
+                                     [fit.x[k] for k in range(len(solved))])
         except (ValueError, FamilyError):
             best = None
         if best is not None:

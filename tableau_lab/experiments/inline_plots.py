@@ -168,8 +168,8 @@ def region_window(method) -> tuple:
     """
     C, variable, bounded = stability_polynomial_array(method)
     if variable != "z":
-        raise TypeError(f"{load_with_numbers(method, 'a plot').name}: a partitioned method has no region in the z-plane "
-                        "(it is analysed on the harmonic oscillator: plot_imaginary_axis)")
+        raise TypeError(f"{load_with_numbers(method, 'a plot').name}: a partitioned method has no region in the "
+                        "z-plane (it is analysed on the harmonic oscillator: plot_imaginary_axis)")
     return enclosing_window(locus_points(C, bounded))
 
 

@@ -177,7 +177,8 @@ def modified_energy_run(method, problem_name, params=None, h=None, steps: int = 
     where = "y_n"
     if glm:
         where = (f"z_n = wᵀy^[n], w = {[float(x) for x in nm.w]} (the principal component of the input vector; "
-                 + ("the exported starting method)" if start_order is None else f"starting method S to order {start_order})"))
+                 + ("the exported starting method)" if start_order is None
+                    else f"starting method S to order {start_order})"))
     return ModifiedEnergyRun(method.name, prob.name, params, h, steps, corr, where, times, errs["H"], errs[NAME],
                              maxima["H"], maxima[NAME], {"symbolic": t1 - t0, "compile": t2 - t1, "integrate": t3 - t2},
                              start_order, max((max(c) for c in run.parasitic_components.values() if c), default=None))

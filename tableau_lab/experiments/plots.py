@@ -11,11 +11,17 @@ import numpy as np
 from ..numeric.arith import arith
 from . import figure_style as style
 
-__all__ = ["draw", "draw_roundoff", "draw_convergence", "draw_workprecision", "roundoff_title", "convergence_title"]
+__all__ = ["draw", "draw_roundoff", "draw_convergence", "draw_workprecision", "roundoff_title", "convergence_title",
+           "plot_floor", "zeta_text"]
 
 
-def _floor(run) -> float:
-    """Exact zeros are drawn at a tenth of the precision's unit round-off."""
+def plot_floor(run) -> float:
+    """Where exact zeros are drawn on a log axis: a tenth of the unit round-off of the run's
+    precision (``run["precision"]``).
+
+    >>> plot_floor({"precision": "float64"}) == 2.0 ** -52 / 10
+    True
+    """
     return arith(run["precision"]).eps / 10
 
 
@@ -39,7 +45,7 @@ def draw(scene, meta, arrays, out: Path) -> list:
                     t, e = arrays.get(f"run{i}_t"), arrays.get(f"run{i}_{k}")
                     if t is None or e is None:
                         continue
-                    ax.semilogy(t, np.maximum(np.abs(e), _floor(r)), label=_label(r), **style.series_style(i))
+                    ax.semilogy(t, np.maximum(np.abs(e), plot_floor(r)), label=_label(r), **style.series_style(i))
                 ax.set_ylabel(style.invariant_error(k))
             axes[-1, 0].set_xlabel(style.T_LABEL)
             style.legend(list(axes[:, 0]), "right")
@@ -139,8 +145,13 @@ def _axis(name: str, angles) -> str:
     return f"${style.math_name(name)}$" + (r" (mod $2\pi$)" if name in angles else "")
 
 
-def _zetas(values) -> str:
-    """ζ as decimals; a conjugate pair (numbers, not their printed text, compared) as a ± bi."""
+def zeta_text(values) -> str:
+    """ζ as decimals for a legend; a conjugate pair (numbers, not their printed text, compared)
+    as a ± bi.
+
+    >>> zeta_text(["1", "-1"])
+    '1, -1'
+    """
     zs = [style.complex_value(z) for z in values]
     if len(zs) == 2 and None not in zs and zs[0].imag != 0 and abs(zs[0] - zs[1].conjugate()) <= 1e-12 * abs(zs[0]):
         z = zs[0]
@@ -161,7 +172,7 @@ def _draw_parasitic(ax, arrays, i, run, k, modes=True) -> int:
     t = arrays.get(f"run{i}_t")
     if t is None:
         return k
-    floor, groups = _floor(run), []
+    floor, groups = plot_floor(run), []
     for j, mode in enumerate(run.get("parasitic_modes", [])):
         c = arrays.get(f"run{i}_parasitic_{j}")
         if c is None:
@@ -176,7 +187,7 @@ def _draw_parasitic(ax, arrays, i, run, k, modes=True) -> int:
         c, P = g["c"], g["P"]
         s = style.series_style(k)
         k += 1
-        ax.semilogy(t[: len(c)], np.maximum(c, floor), label=f"{label}: $\\zeta$ = {_zetas(g['zeta'])}, "
+        ax.semilogy(t[: len(c)], np.maximum(c, floor), label=f"{label}: $\\zeta$ = {zeta_text(g['zeta'])}, "
                                                              f"$\\mu$ = {style.decimal(g['mu'])}", **s)
         start = np.flatnonzero(c > 0)
         if P is not None and len(start):

@@ -22,7 +22,8 @@ name read from the data is one file name: :func:`tableau_lab.files.output_name`)
 are read, never written.  Every file read back is bounded (JSON: ``inputs.MAX_JSON_BYTES``;
 ``data.npz``: :func:`tableau_lab.files.load_npz`) and checked against the schema its writer
 follows (:data:`SCHEMAS`) before anything is drawn: a damaged or edited file is a
-:class:`ReplotError` naming the file and the key (exit 2), as is a path holding nothing to draw.  Figures for which nothing was saved to draw from (the benchmark scripts' figures,
+:class:`ReplotError` naming the file and the key (exit 2), as is a path holding nothing to draw.
+Figures for which nothing was saved to draw from (the benchmark scripts' figures,
 whose curves their ``numbers.json`` does not keep) are left as they are and named by
 :func:`main_replot`.
 """
@@ -180,7 +181,7 @@ def _scene_file(name: str, folder: Path) -> Path:
 
 def _scene(folder: Path) -> list:
     from .plots import draw
-    from .scene import _draw_modified_energy, load_scene
+    from .scene import draw_modified_energy, load_scene
     meta_path = _meta_file(folder)
     meta = _checked(meta_path, "scene")
     suffix = "" if meta.get("complete") else ".incomplete"
@@ -194,14 +195,14 @@ def _scene(folder: Path) -> list:
         names += draw(sc, meta, arrays, folder)
         me = meta.get("modified_energy")
         if isinstance(me, dict) and any("modified_energy" in r for r in meta["runs"]):
-            names.append(_draw_modified_energy(dataclasses.replace(sc, modified_energy=me.get("terms", 2)), meta,
+            names.append(draw_modified_energy(dataclasses.replace(sc, modified_energy=me.get("terms", 2)), meta,
                                                arrays, folder, suffix))
         if (folder / f"{sc.name}_energy.png").exists():          # a scene of the hard-case suite
             from .figure_style import pyplot
-            from .suite import _draw_energy
+            from .suite import draw_suite_energy
             runs = [({k.removeprefix(f"run{i}_"): v for k, v in arrays.items() if k.startswith(f"run{i}_")}, r, False)
                     for i, r in enumerate(meta["runs"]) if f"run{i}_t" in arrays]
-            names.append(_draw_energy(pyplot(), sc, runs, folder))
+            names.append(draw_suite_energy(pyplot(), sc, runs, folder))
     return [folder / n for n in names]
 
 
@@ -228,11 +229,11 @@ def _beside(kind: str, path: Path) -> list:
 
 def _suite(path: Path) -> list:
     from .figure_style import pyplot
-    from .suite import _draw
+    from .suite import draw_suite_maps
     summary = _checked(path, "suite")
     scenes = [SimpleNamespace(name=s["name"]) for s in summary["scenes"]]
     with output_phase(path.parent):
-        names = _draw(pyplot(), summary["rows"], scenes, path.parent)
+        names = draw_suite_maps(pyplot(), summary["rows"], scenes, path.parent)
     return [path.parent / n for n in names]
 
 

@@ -35,7 +35,7 @@ from .executor import executor
 from .job import RunJob
 
 __all__ = ["quick_run", "prepare_quick", "convergence", "Convergence", "fit_order", "roundoff", "step_size",
-           "step_count", "final_time", "generate"]
+           "step_count", "final_time", "generate", "prepare_run", "PreparedRun"]
 
 
 def step_size(h, what: str = "h"):
@@ -107,16 +107,31 @@ def compiled(problem, precision: str):
     return compile_problem(problem, a.backend, None if a.backend == "numpy" else a.dps)
 
 
-def _setup(method, problem, precision, overrides):
-    """(method, problem, compiled problem, numeric method); a method with free parameters is
-    refused first, naming its file."""
+class PreparedRun(NamedTuple):
+    """What a run needs, built once (:func:`prepare_run`)."""
+    method: object          # the exact method (exact/methods.py)
+    problem: object         # the problem with its overrides (numeric/problems.py)
+    compiled: object        # its generated code for the precision (numeric/codegen.py)
+    numeric: object         # the method rounded to the precision (numeric/export.py)
+
+
+def prepare_run(method, problem, precision: str, overrides=None) -> PreparedRun:
+    """The exact method (a file, a name or a method), the problem (a name, with ``overrides`` of
+    its parameters or initial values), its compiled code and the numeric method for
+    ``precision`` ("float64", "dd", "mp:DIGITS"): what every run, benchmark and convergence study
+    starts from.  A method with free parameters is refused first (TableauError naming its file).
+
+    >>> prep = prepare_run("gauss2", "pendulum", "float64")
+    >>> prep.method.name, prep.problem.name, prep.numeric.s
+    ('Gauss–Legendre, 2 stages', 'pendulum', 2)
+    """
     m = load(method) if not hasattr(method, "kind") else method
     if m.parameters:
         raise TableauError(str(method) if not hasattr(method, "kind") else m.name,
                            f"free parameters {', '.join(map(str, m.parameters))}: a run needs numbers; "
                            "solve for them first (tableau-lab solve)")
     P = get_problem(problem, **(overrides or {}))
-    return m, P, compiled(P, precision), to_numeric(m, precision)
+    return PreparedRun(m, P, compiled(P, precision), to_numeric(m, precision))
 
 
 def quick_run(method, problem, h, steps, *, precision="float64", project=(), start="exact", overrides=None,
@@ -136,7 +151,7 @@ def prepare_quick(method, problem, h, steps, *, precision="float64", project=(),
     implicit methods and GLMs, the invariants, the gradients projected on, the derivatives of
     the starting and finishing series) and the compiled loop's file."""
     h, steps = step_size(h), step_count(steps)
-    m, P, cp, nm = _setup(method, problem, precision, overrides)
+    m, P, cp, nm = prepare_run(method, problem, precision, overrides)
     project = P.check_projection(project)
     invs, a = tuple(P.invariants), nm.arith
     if isinstance(h, int) or is_exact(h):
@@ -239,7 +254,7 @@ def convergence(method, problem, T=10.0, steps=None, *, precision="float64", sta
     positive number (InputError); the reference solution is computed within the time budget
     ``timeout`` (seconds; BudgetError), as the exact commands' work."""
     T = final_time(T)
-    m, P, _, nm = _setup(method, problem, precision, overrides)
+    m, P, _, nm = prepare_run(method, problem, precision, overrides)
     a = nm.arith
     with time_limit(timeout), computing(f"the reference solution of {P.name} at T = {float(T):g}"):
         ref = reference(P, T, max(ref_dps, a.dps + 8))
@@ -330,7 +345,7 @@ def roundoff(method, problem, h, steps, *, starts=4, every=None, dps: int = 32, 
     near the problem's (relative perturbations of 10 %), recorded every ``every`` steps.  Returns
     {"n": [...], "compensated": [...], "plain": [...], "slope_compensated", "slope_plain"}: the
     growth exponents fitted on log-log data (Brouwer's law predicts 1/2 for a random walk)."""
-    m, P, cp64, nm64 = _setup(method, problem, "float64", overrides)
+    m, P, cp64, nm64 = prepare_run(method, problem, "float64", overrides)
     # the reference runs the float64 method exactly as represented (its rounded coefficients,
     # step size and initial value, converted exactly) at dps digits: the difference is the
     # arithmetic round-off alone, not the representation of 1/6 or 0.01 in binary

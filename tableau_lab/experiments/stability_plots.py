@@ -48,12 +48,12 @@ DEFAULT_HALF = 5.0         # half-size of the window when nothing bounded is the
 
 
 def coefficient_array(polynomial, variable: str = "z") -> np.ndarray:
-    """C[k, l] = the coefficient of w^k v^l of the exact polynomial (v = z or x), as floats."""
+    """C[k, j] = the coefficient of w^k v^j of the exact polynomial (v = z or x), as floats."""
     P = sp.Poly(sp.sympify(polynomial), sp.Symbol("w"), sp.Symbol(variable))
     r, d = P.degree(0), max(P.degree(1), 0)
     C = np.zeros((r + 1, d + 1))
-    for (k, l), c in P.terms():
-        C[k, l] = arith().number(c)
+    for (k, j), c in P.terms():
+        C[k, j] = arith().number(c)
     return C
 
 

@@ -39,7 +39,8 @@ from ..files import atomic_write_text, output_phase
 from .executor import executor
 from .scene import SceneError, load_scene, run_one, write_outputs
 
-__all__ = ["run_suite", "suite_task", "growth_check", "format_table", "load_suite"]
+__all__ = ["run_suite", "suite_task", "growth_check", "format_table", "load_suite", "draw_suite_energy",
+           "draw_suite_maps"]
 
 CEILING = 1e-2          # the measured growth window ends where the component reaches this size
 SUMMARY_FILES = ("summary.json", "summary.md")   # what run_suite writes into OUT beside the scenes' folders
@@ -148,9 +149,9 @@ def _claims(rows, monitor_of) -> list:
         out.append({"claim": "every parasitism-free GLM (all μ = 0) completes every scene, with and without "
                              "projection, its parasitic components below the monitor bound",
                     "holds": not bad,
-                    "detail": (f"{len(free)} runs of {', '.join(sorted({r['file'] for r in free}))}; largest component "
-                               f"{worst['max_parasitic'] or 0:.2e} ({worst['file']}, {worst['problem']})") if not bad else
-                              "; ".join(f"{r['file']} on {r['scene']}: {r['status']}" for r in bad)})
+                    "detail": (f"{len(free)} runs of {', '.join(sorted({r['file'] for r in free}))}; largest "
+                               f"component {worst['max_parasitic'] or 0:.2e} ({worst['file']}, {worst['problem']})")
+                    if not bad else "; ".join(f"{r['file']} on {r['scene']}: {r['status']}" for r in bad)})
     return out
 
 
@@ -209,7 +210,7 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
     def write(sc):                   # a scene's data and plots, the energy plot in the same set
         res = [results.get((str(sc.path), i, steps)) for i in range(len(sc.runs))]
         metas[sc.name] = write_outputs(sc, res, out / sc.name, also=lambda folder: [
-            _draw_energy(pyplot(), sc, [r for r in res if r is not None], folder)])
+            draw_suite_energy(pyplot(), sc, [r for r in res if r is not None], folder)])
 
     def finished(k, res):
         results[items[order[k]]] = res
@@ -244,14 +245,16 @@ def run_suite(suite_dir="reports/suite", out=None, steps=None, scheduler=None, w
         summary_json, summary_md = (out / name for name in SUMMARY_FILES)
         atomic_write_text(summary_json, json.dumps(summary, indent=1, ensure_ascii=False))
         atomic_write_text(summary_md, _markdown(summary))
-        summary["plots"] = _draw(pyplot(), rows, scenes, out)
+        summary["plots"] = draw_suite_maps(pyplot(), rows, scenes, out)
     return summary
 
 
-def _draw_energy(plt, sc, results, out) -> str:
+def draw_suite_energy(plt, sc, results, out) -> str:
     """|H − H₀| against t (log–log), one panel per method: without projection solid, with
     projection dashed; a run that stopped or failed ends in a cross; a panel whose two curves
-    coincide says so in its title.  Returns the file name."""
+    coincide says so in its title.  ``results``: ``run_one``'s triples (arrays, meta entry,
+    interrupted).  Returns the file name, ``<scene>_energy.png`` in ``out``; the suite draws it
+    after its runs, ``tableau-lab replot`` again from the saved data (experiments/replot.py)."""
     from . import figure_style as style
     stems = list(dict.fromkeys(Path(m["file"]).stem for _, m, _ in results))
     cols = min(style.GRID_COLUMNS, len(stems))
@@ -286,10 +289,12 @@ def _draw_energy(plt, sc, results, out) -> str:
     return name
 
 
-def _draw(plt, rows, scenes, out) -> list:
+def draw_suite_maps(plt, rows, scenes, out) -> list:
     """Two heat maps, methods × problems (without | with projection, one above the other): log10
     max |H − H₀|, and the fraction of the span each run got through (stopped and failed runs
-    marked)."""
+    marked), from the summary's rows; ``scenes`` give the columns (their ``name``).  Returns the
+    file names written in ``out``; drawn by the suite and by ``tableau-lab replot`` from
+    summary.json (experiments/replot.py)."""
     from . import figure_style as style
     names = [sc.name for sc in scenes]
     methods = list(dict.fromkeys(r["file"] for r in rows))

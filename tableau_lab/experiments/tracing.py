@@ -44,8 +44,8 @@ import sympy as sp
 
 from ..numeric.expressions import FUNCTIONS, LIMITS
 
-__all__ = ["NotTraceable", "Traced", "trace_callable", "agrees", "TRACE_OPERATIONS", "TRACE_SECONDS", "AGREEMENT", "CHECK_POINTS",
-           "CHECK_SEED"]
+__all__ = ["NotTraceable", "Traced", "trace_callable", "agrees", "TRACE_OPERATIONS", "TRACE_SECONDS", "AGREEMENT",
+           "CHECK_POINTS", "CHECK_SEED"]
 
 #: operations a trace may record, and seconds it may take, before it is abandoned (a loop of the
 #: user's that builds a huge expression: a sum of 12 000 distinct sines took 128 s, sympy's sums
@@ -89,6 +89,7 @@ class Traced:
     :class:`NotTraceable`.  ``tape``: [the shared count of operations, the deadline on
     ``time.perf_counter()``] (:data:`TRACE_OPERATIONS`, :data:`TRACE_SECONDS`).
 
+    >>> import math
     >>> x = Traced(sp.Symbol("x"), [0, math.inf])
     >>> (2 * x ** 2 - np.cos(x) / 4).e
     2*x**2 - cos(x)/4

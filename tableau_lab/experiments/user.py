@@ -144,7 +144,8 @@ def _values(v, key, n, read, label):
 def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None, invariants=None,
             parameters=None, angles=(), name: str = "user") -> Problem:
     """A problem of the user's: a Hamiltonian ``H`` in coordinates ``q`` and momenta ``p`` (by
-    default the names q1, q2, … and p1, p2, … that H uses, or q and p; f = (∂H/∂p, −∂H/∂q)), or a right-hand side ``f`` (a list) in the variables ``y``.
+    default the names q1, q2, … and p1, p2, … that H uses, or q and p; f = (∂H/∂p, −∂H/∂q)), or a
+    right-hand side ``f`` (a list) in the variables ``y``.
     Expressions are text read by the project's safe grammar (:mod:`~tableau_lab.numeric.expressions`:
     numbers, declared names, + − * / ^ and sqrt, exp, log, sin, cos, …; never eval) or sympy
     expressions (their symbols matched to the declared names by name).  ``invariants`` and
@@ -163,14 +164,14 @@ def problem(H=None, *, f=None, q=None, p=None, y=None, q0=None, p0=None, y0=None
     {'k': 4}
     >>> problem(H="(p1^2 + p2^2)/2 - 1/sqrt(q1^2 + q2^2)", q0=[1, 0], p0=[0, 1]).state
     (q1, q2, p1, p2)
-    >>> problem(H="p^2/2 - cos(r)")
+    >>> problem(H="p^2/2 - cos(r)")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    tableau_lab.numeric.problem_functions.ProblemError: problem 'user', entry 'H': unknown name 'r' (at position 13 of 'p^2/2 - cos(r)'); known names: q, p
-    >>> problem(H="__import__('os').system('ls')")
+    tableau_lab...ProblemError: problem 'user', entry 'H': unknown name 'r' (at position 13 of ...); known names: q, p
+    >>> problem(H="__import__('os').system('ls')")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    tableau_lab.numeric.problem_functions.ProblemError: problem 'user', entry 'H': names must start with a letter, not '_' (at position 1 of "__import__('os').system('ls')")
+    tableau_lab...ProblemError: problem 'user', entry 'H': names must start with a letter, not '_' (at position 1...)
     """
     if not isinstance(name, str) or not 0 < len(name) <= LABEL_LENGTH:
         raise ProblemError(f"problem(): name must be a string of 1 to {LABEL_LENGTH} characters")
@@ -264,8 +265,8 @@ class _Callable:
     def __init__(self, fn, d, invariants, a):
         self.fn, self.d, self.a, self.calls = fn, d, a, 0
         self.invariants = dict(invariants or {})
-        for k, I in self.invariants.items():
-            if not callable(I):
+        for k, inv in self.invariants.items():
+            if not callable(inv):
                 raise InputError(f"integrate: invariants[{k!r}]: with a callable f, an invariant is a callable I(y)")
 
         class _P:                          # what the loop and integrate read of a problem
@@ -338,10 +339,10 @@ def _traced(fn, d: int, invariants, y0, t0) -> tuple:
     if exprs is None:
         return None, why
     invs = {}
-    for k, I in (invariants or {}).items():
-        if not callable(I):
+    for k, inv in (invariants or {}).items():
+        if not callable(inv):
             raise InputError(f"integrate: invariants[{k!r}]: with a callable f, an invariant is a callable I(y)")
-        e, why = trace_callable(I, d, timed=False)
+        e, why = trace_callable(inv, d, timed=False)
         if e is None:
             return None, f"invariant {k}: {why.replace('f(t, y)', 'I(y)')}"
         invs[k] = e[0]
@@ -357,8 +358,8 @@ def _traced(fn, d: int, invariants, y0, t0) -> tuple:
         return np.concatenate([y, [t]]) if timed else y
     yf, tf = np.array([float(v) for v in y0]), float(t0)
     why = agrees(lambda t, y: cf.f(z(t, y))[:d], fn, tf, yf)
-    for k, I in (invariants or {}).items():
-        bad = agrees(lambda t, y, k=k: [cf.invariant(k, z(t, y))], lambda t, y, I=I: [I(y)], tf, yf)
+    for k, inv in (invariants or {}).items():
+        bad = agrees(lambda t, y, k=k: [cf.invariant(k, z(t, y))], lambda t, y, inv=inv: [inv(y)], tf, yf)
         why = why or (bad and f"invariant {k}: {bad.replace(' with f ', ' with I ')}")
     return (None, why) if why else (P, "")
 
@@ -423,9 +424,10 @@ class Solution:
     steps; an untraced callable's calls in all, finite differences included, in ``f_calls``,
     None when f was traced), ``steps``, ``h`` (the step used: module docstring), ``loop``
     ("compiled with numba" or "Python") and ``why`` (whether a callable was traced, and why
-    this loop: :func:`~tableau_lab.numeric.limits.choose_loop`), ``seconds`` (the steps) and ``compile_seconds`` (numba's first call of a compiled
-    loop: a compile, or a load from its disk cache), ``start`` (a GLM's starting values: "exact"
-    or "naive"), ``run`` (the integrator's :class:`~tableau_lab.numeric.integrate.Run`).
+    this loop: :func:`~tableau_lab.numeric.limits.choose_loop`), ``seconds`` (the steps) and
+    ``compile_seconds`` (numba's first call of a compiled loop: a compile, or a load from its disk
+    cache), ``start`` (a GLM's starting values: "exact" or "naive"), ``run`` (the integrator's
+    :class:`~tableau_lab.numeric.integrate.Run`).
     ``plot(ax=None, what="states" | "phase" | "invariants")`` draws it on matplotlib axes.
 
     >>> from tableau_lab.exact.tableau_json import load
@@ -537,7 +539,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     "python" (problems with symbols, and a traced callable: the step loop; "auto" the one predicted
     to finish first, :func:`~tableau_lab.numeric.limits.choose_loop`); ``trace``: False runs a callable
     as Python without tracing it, True requires the trace (InputError when it fails).
-    ``notice``: print the one-line notice of which loop ran (and why) to stderr. ``timeout``: the budget in seconds (BudgetError; None for none) of the exact stage —
+    ``notice``: print the one-line notice of which loop ran (and why) to stderr. ``timeout``: the
+    budget in seconds (BudgetError; None for none) of the exact stage —
     the method rounded, a symbolic problem's code generated — as the commands' exact work; the
     steps are bounded by ``inputs.MAX_STEPS``. Records every step (every ``record_every``-th; by
     default so that at most :data:`RECORDS` are kept).  The methods: [HNW93] II (Runge–Kutta),
@@ -553,7 +556,6 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     from ..numeric.arith import arith
     from ..numeric.export import to_numeric
     from ..numeric.integrate import integrate as run_steps
-    from ..numeric.kernels import available
     from .runs import compiled, generate, step_count
 
     m = load_with_numbers(method, "a run")
@@ -563,46 +565,18 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         raise InputError(f"integrate: {exc}") from None
     t0, t1, n, hx = step_grid(t_span, h)
     step_count(n, "integrate: (t1 - t0)/h")
-    if start not in ("exact", "naive"):
-        raise InputError(f"integrate: start must be 'exact' or 'naive', not {start!r}")
+    _check_options(start, record_every, project)
     with time_limit(timeout, "timeout=SECONDS"), computing(f"{m.name} in {precision}"):
         nm = to_numeric(m, precision)
-    if record_every is not None:
-        step_count(record_every, "integrate: record_every")
     every = min(record_every or max(1, n // RECORDS), n)
-    if isinstance(project, str) or not all(isinstance(k, str) for k in project):
-        raise InputError(f"integrate: project must be a list of invariant names, not {str(project)[:40]!r}")
     f_calls, traced, label, cp = None, 0, None, None
     if callable(f) and not isinstance(f, (sp.Basic, Problem)):
-        if y0 is None:
-            raise InputError("integrate: y0 is needed with a callable f")
-        if trace not in (None, True, False):
-            raise InputError(f"integrate: trace must be None, True or False, not {trace!r}")
-        exact0 = [_exact(v, f"y0[{i + 1}]") for i, v in enumerate(np.asarray(y0, dtype=object).reshape(-1))]
-        y, tt = _first_call(f, arith("float64"), exact0, t0)      # the trace is checked in float64
-        d = len(y)
         label = getattr(f, "__name__", "f")
-        with time_limit(timeout, "timeout=SECONDS"), computing("the trace of f"):
-            P, why = (None, "trace=False") if trace is False else _traced(f, d, invariants, exact0, t0)
+        P, traced, python = _callable_f(f, y0, invariants, trace, precision, a, t0, project, timeout)
         if P is not None:
-            f, y0, variables, time, invariants, traced = P, None, None, None, None, d
-        elif trace:
-            raise InputError(f"integrate: trace=True, but f is not traceable: {why}")
-        elif precision == "dd":
-            raise InputError(f"integrate: precision dd runs compiled loops generated from a problem's symbols; "
-                             f"f is not traceable ({why}): a Python callable runs in float64 or mp:DIGITS")
+            f, y0, variables, time, invariants = P, None, None, None, None
         else:
-            if a.dtype is not float:
-                y, tt = _first_call(f, a, exact0, t0)           # the callable's own numbers: mpmath's
-            cp = _Callable(f, d, invariants, a)
-            unknown = [k for k in project if k not in cp.invariants]
-            if unknown:
-                raise InputError(f"integrate: project: {', '.join(unknown)} not among the invariants given "
-                                 f"({', '.join(cp.invariants) or 'none'})")
-            names = tuple(f"y{i + 1}" for i in range(d)) if d > 1 else ("y",)
-            z0 = np.concatenate([y, np.array([tt], dtype=a.dtype)])
-            run_start, keep = "naive", d
-            loop_why = f"f not traceable ({why}): a Python callable runs in the Python step loop"
+            cp, z0, names, keep, loop_why = python
     if cp is None:
         with time_limit(timeout, "timeout=SECONDS"), computing("the problem's code"):
             P, keep = _symbolic(f, y0, variables, time, invariants, t0)
@@ -610,7 +584,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
             P.check_projection(project)
             cp = compiled(P, precision)
             generate(cp, nm, tuple(P.invariants), tuple(project))
-        z0, names, label, run_start = cp.y0, tuple(str(s) for s in P.state[:keep]), label or P.name, start
+        z0, names, label = cp.y0, tuple(str(s) for s in P.state[:keep]), label or P.name
+    run_start = "naive" if isinstance(cp, _Callable) else start
     with a.context():
         hnum = a.number(hx)
     run = run_steps(nm, cp, z0, hnum, n, start=run_start, project=tuple(project),
@@ -621,17 +596,8 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         f_calls = cp.calls
         loop, why = "Python", loop_why
     else:
-        import os
         loop = "compiled with numba" if run.loop == "compiled" else "Python"
-        why = (run.loop_why if run.loop_why
-               else f"the step loop generated from the problem's symbols ({precision})" if run.loop == "compiled"
-               else "asked for: kernel='python'" if kernel == "python"
-               else f"precision {precision} runs in the Python loop (mpmath)" if a.dtype is not float
-               else "numba is not installed" if not available()
-               else "asked for: TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
-               else "the Python loop")
-        if traced:
-            why = f"f traced to expressions; {why}"
+        why = _loop_why(run, kernel, precision, a, traced)
     if nm.r > 1 and run_start == "naive" and nm.starting and isinstance(cp, _Callable):
         why += "; a GLM with a callable f starts naively (y^[0] = u y0): its order may drop to the naive start's"
     states = np.array([a.to_float(v)[:keep] for v in run.values])
@@ -644,3 +610,61 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
     if notice:
         print(f"tableau-lab: {m.name}, {n} steps: {loop} ({why})", file=sys.stderr)
     return sol
+
+
+def _check_options(start, record_every, project) -> None:
+    """integrate's start, record_every and project, checked before any work."""
+    from .runs import step_count
+    if start not in ("exact", "naive"):
+        raise InputError(f"integrate: start must be 'exact' or 'naive', not {start!r}")
+    if record_every is not None:
+        step_count(record_every, "integrate: record_every")
+    if isinstance(project, str) or not all(isinstance(k, str) for k in project):
+        raise InputError(f"integrate: project must be a list of invariant names, not {str(project)[:40]!r}")
+
+
+def _callable_f(f, y0, invariants, trace, precision, a, t0, project, timeout) -> tuple:
+    """A Python callable ``f``: traced to expressions, (problem, dimension, None); or run as Python
+    in the Python step loop, (None, 0, (problem wrapper, z0, names, kept components, why))."""
+    if y0 is None:
+        raise InputError("integrate: y0 is needed with a callable f")
+    if trace not in (None, True, False):
+        raise InputError(f"integrate: trace must be None, True or False, not {trace!r}")
+    exact0 = [_exact(v, f"y0[{i + 1}]") for i, v in enumerate(np.asarray(y0, dtype=object).reshape(-1))]
+    from ..numeric.arith import arith
+    y, tt = _first_call(f, arith("float64"), exact0, t0)      # the trace is checked in float64
+    d = len(y)
+    with time_limit(timeout, "timeout=SECONDS"), computing("the trace of f"):
+        P, why = (None, "trace=False") if trace is False else _traced(f, d, invariants, exact0, t0)
+    if P is not None:
+        return P, d, None
+    if trace:
+        raise InputError(f"integrate: trace=True, but f is not traceable: {why}")
+    if precision == "dd":
+        raise InputError(f"integrate: precision dd runs compiled loops generated from a problem's symbols; "
+                         f"f is not traceable ({why}): a Python callable runs in float64 or mp:DIGITS")
+    if a.dtype is not float:
+        y, tt = _first_call(f, a, exact0, t0)           # the callable's own numbers: mpmath's
+    cp = _Callable(f, d, invariants, a)
+    unknown = [k for k in project if k not in cp.invariants]
+    if unknown:
+        raise InputError(f"integrate: project: {', '.join(unknown)} not among the invariants given "
+                         f"({', '.join(cp.invariants) or 'none'})")
+    names = tuple(f"y{i + 1}" for i in range(d)) if d > 1 else ("y",)
+    z0 = np.concatenate([y, np.array([tt], dtype=a.dtype)])
+    return None, 0, (cp, z0, names, d, f"f not traceable ({why}): a Python callable runs in the Python step loop")
+
+
+def _loop_why(run, kernel, precision, a, traced) -> str:
+    """Why a problem's run took the loop it took (integrate's notice)."""
+    import os
+
+    from ..numeric.kernels import available
+    why = (run.loop_why if run.loop_why
+           else f"the step loop generated from the problem's symbols ({precision})" if run.loop == "compiled"
+           else "asked for: kernel='python'" if kernel == "python"
+           else f"precision {precision} runs in the Python loop (mpmath)" if a.dtype is not float
+           else "numba is not installed" if not available()
+           else "asked for: TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
+           else "the Python loop")
+    return f"f traced to expressions; {why}" if traced else why

@@ -30,15 +30,12 @@ import numpy as np
 from ..budget import DEFAULT_SECONDS
 from ..files import atomic_write_text, output_phase
 from .compiled_peer import PEER as COMPILED_PEER, dop853_point, max_invariant_error
+from .scene_keys import PEERS, WP_FORMAT, WP_SCHEMA
 
-__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus", "cheapest"]
+__all__ = ["load_wp_scene", "run_wp", "WPScene", "peer_point", "method_point", "speedup", "summary_table", "versus",
+           "cheapest", "FORMAT", "PEERS"]
 
-FORMAT = "tableau_lab/workprecision/1"
-PEERS = ("DOP853", "RK45", "RK23", "Radau", COMPILED_PEER)   # scipy's solve_ivp methods, and DOP853 compiled
-# (experiments/compiled_peer.py: numbalsoda, f through a C function pointer: the fair CPU peer)
-METHOD_KEYS = {"method", "steps", "label"}     # keys of an entry of "methods"
-PEER_KEYS = {"method", "rtol", "atol_factor"}   # keys of an entry of "peers"
-MAX_SWEEP = 100                                 # step counts of one method, tolerances of one peer
+FORMAT = WP_FORMAT
 LEVELS = (1e-6, 1e-8, 1e-10, 1e-12)   # energy-error thresholds of the summary: the cheapest run reaching each
 
 
@@ -55,111 +52,27 @@ class WPScene:
 
 
 def load_wp_scene(path, timeout: float | None = DEFAULT_SECONDS) -> WPScene:
-    """Read and validate a work–precision scene: the keys, the problem (built within the time
-    budget ``timeout``, as the exact commands'), every sweep within the step budget of a run
-    scene (``inputs.MAX_STEPS`` per run, the reference's runs included), peers among
-    :data:`PEERS`.  Messages name the file and the entry (one-based: ``methods[1].steps[2]``)."""
-    from ..budget import computing, time_limit
+    """Read and validate a work–precision scene: every key read by its entry of
+    :data:`~tableau_lab.experiments.scene_keys.WP_SCHEMA` (the methods' and peers' by
+    ``WP_METHOD_SCHEMA``, ``WP_PEER_SCHEMA``): the problem built within the time budget
+    ``timeout`` (as the exact commands'), every sweep within the step budget of a run scene
+    (``inputs.MAX_STEPS`` per run, the reference's runs included), peers among :data:`PEERS`.
+    Messages name the file and the entry (one-based: ``methods[1].steps[2]``)."""
     from ..inputs import MAX_STEPS, printable
-    from .scene import (
-        MAX_RUNS,
-        NAME,
-        SceneError,
-        float64_number,
-        method_file,
-        method_label,
-        read_scene,
-        scene_number,
-        scene_problem,
-        scene_text,
-        shown,
-    )
+    from .scene_keys import Field, SceneError, read_object, read_scene, shown
     path = Path(path)
-    src = printable(path)
     data = read_scene(path)
-    allowed = {"format", "name", "title", "problem", "T", "methods", "peers", "invariant", "notes"}
-    unknown = set(data) - allowed
-    if unknown:
-        raise SceneError(f"{src}: unknown keys {sorted(map(printable, unknown))} (allowed: {sorted(allowed)})")
-    if data.get("format") != FORMAT:
-        raise SceneError(f"{src}: format must be {FORMAT!r}")
-    name = data.get("name")
-    if not isinstance(name, str) or not NAME.fullmatch(name):
-        raise SceneError(f"{src}: name must be ASCII letters, digits, - _ . starting with a letter or digit "
-                         "(the output folder's name)")
-    title = scene_text(data, "title", "title", src, name)
-    scene_text(data, "notes", "notes", src, limit=20000)
-    T = scene_number(data.get("T"), "T", path)
-    if not (T.is_real and T > 0):
-        raise SceneError(f"{src}: T must be positive, not {shown(data.get('T'))}")
-    float64_number(T, "T", src)
-    longest = max(reference_steps(T))
+    got = read_object(WP_SCHEMA, data, Field(path, timeout=timeout))
+    longest = max(reference_steps(got["T"]))
     if longest > MAX_STEPS:
-        raise SceneError(f"{src}: T = {shown(data.get('T'))}: the reference solution would take {longest:.3g} steps, "
-                         f"more than the limit of {MAX_STEPS} steps of a run (MAX_STEPS); T ≤ "
+        raise SceneError(f"{printable(path)}: T = {shown(data['T'])}: the reference solution would take {longest:.3g} "
+                         f"steps, more than the limit of {MAX_STEPS} steps of a run (MAX_STEPS); T ≤ "
                          f"{MAX_STEPS // (2 * REFERENCE_STEPS_PER_UNIT)} is within it")
-    methods, peers = data.get("methods", []), data.get("peers", [])
-    for key, v in (("methods", methods), ("peers", peers)):
-        if not isinstance(v, list) or len(v) > MAX_RUNS:
-            raise SceneError(f"{src}: {key} must be a list of at most {MAX_RUNS} objects, not {shown(v)}")
-    with time_limit(timeout), computing(f"the problem of {src}"):
-        problem = scene_problem(data.get("problem"), path)
-    out_methods = []
-    for k, m in enumerate(methods, 1):
-        where = f"methods[{k}]"
-        if not isinstance(m, dict) or not isinstance(m.get("method"), str) or not m["method"]:
-            raise SceneError(f"{src}: {where} must be an object with a \"method\" path")
-        if set(m) - METHOD_KEYS:
-            raise SceneError(f"{src}: {where}: unknown keys {sorted(map(printable, set(m) - METHOD_KEYS))} "
-                             f"(allowed: {sorted(METHOD_KEYS)})")
-        mp = method_file(path, m["method"], f"{where}.method")
-        steps = m.get("steps")
-        if not isinstance(steps, list) or not 0 < len(steps) <= MAX_SWEEP:
-            raise SceneError(f"{src}: {where}.steps must be a list of 1 to {MAX_SWEEP} step counts, not {shown(steps)}")
-        for j, n in enumerate(steps, 1):
-            if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= MAX_STEPS:
-                raise SceneError(f"{src}: {where}.steps[{j}] must be an integer between 1 and {MAX_STEPS} "
-                                 f"(MAX_STEPS, the step budget of a run), not {shown(n)}")
-            float64_number(T / n, f"{where}.steps[{j}]: the step size T/n", src)
-        out_methods.append((mp, tuple(steps), scene_text(m, "label", f"{where}.label", src, method_label(mp))
-                            or method_label(mp)))
-    out_peers = []
-    for k, p in enumerate(peers, 1):
-        where = f"peers[{k}]"
-        if not isinstance(p, dict) or p.get("method") not in PEERS:
-            given = shown(p.get("method")) if isinstance(p, dict) else shown(p)
-            raise SceneError(f"{src}: {where}.method must be one of {', '.join(PEERS)} (the known peers), not {given}")
-        if set(p) - PEER_KEYS:
-            raise SceneError(f"{src}: {where}: unknown keys {sorted(map(printable, set(p) - PEER_KEYS))} "
-                             f"(allowed: {sorted(PEER_KEYS)})")
-        rtols = p.get("rtol", [])
-        if not isinstance(rtols, list) or not 0 < len(rtols) <= MAX_SWEEP:
-            raise SceneError(f"{src}: {where}.rtol must be a list of 1 to {MAX_SWEEP} numbers in (0, 1) such as "
-                             f"\"1e-8\", not {shown(rtols)}")
-        values = []
-        for j, x in enumerate(rtols, 1):
-            v = _tolerance(x, f"{where}.rtol[{j}]", path)
-            if not (v.is_real and 0 < v < 1):
-                raise SceneError(f"{src}: {where}.rtol[{j}] must be a number in (0, 1), not {shown(x)}")
-            values.append(float64_number(v, f"{where}.rtol[{j}]", src))
-        af = _tolerance(p.get("atol_factor", 1), f"{where}.atol_factor", path)
-        if not (af.is_real and af > 0):
-            raise SceneError(f"{src}: {where}.atol_factor must be a positive number, not {shown(p.get('atol_factor'))}")
-        out_peers.append((p["method"], tuple(values), float64_number(af, f"{where}.atol_factor", src)))
-    if not out_methods and not out_peers:
-        raise SceneError(f"{src}: nothing to run (no methods, no peers)")
-    inv = data.get("invariant", "H")
-    if not isinstance(inv, str) or inv not in problem.invariants:
-        raise SceneError(f"{src}: invariant {shown(inv)} unknown for {printable(problem.name)} "
-                         f"({', '.join(problem.invariants) or 'it has none'})")
-    return WPScene(path, name, title, problem, T, tuple(out_methods), tuple(out_peers), inv)
-
-
-def _tolerance(v, where, path):
-    """A tolerance: an exact string or integer as every scene number, or a JSON float (the
-    decimal it is written as)."""
-    from .scene import scene_number
-    return scene_number(repr(v) if isinstance(v, float) else v, where, path)
+    if not got["methods"] and not got["peers"]:
+        raise SceneError(f"{printable(path)}: nothing to run (no methods, no peers)")
+    return WPScene(path, got["name"], got["title"], got["problem"], got["T"],
+                   tuple((m["method"], m["steps"], m["label"]) for m in got["methods"]),
+                   tuple((p["method"], p["rtol"], p["atol_factor"]) for p in got["peers"]), got["invariant"])
 
 
 REFERENCE_STEPS_PER_UNIT = 500       # steps of the reference run per unit of T (at least REFERENCE_MIN_STEPS)
@@ -179,8 +92,8 @@ def method_point(method_path, problem, T, steps, invariant):
     import sympy as sp
 
     from ..numeric.integrate import IntegrationError, integrate
-    from .runs import _setup
-    _, _, cp, nm = _setup(method_path, problem, "float64", None)
+    from .runs import prepare_run
+    _, _, cp, nm = prepare_run(method_path, problem, "float64", None)
     h = sp.Rational(T) / steps
     integrate(nm, cp, cp.y0, h, 1)                       # compile / load the kernel, not timed
     t0 = time.process_time()
@@ -235,8 +148,8 @@ def reference_state(problem, T, steps=None):
 
     from ..exact.families import gauss
     from ..numeric.integrate import integrate
-    from .runs import _setup
-    _, _, cp, nm = _setup(gauss(3), problem, "dd", None)
+    from .runs import prepare_run
+    _, _, cp, nm = prepare_run(gauss(3), problem, "dd", None)
     runs = [integrate(nm, cp, cp.y0, sp.Rational(T) / k, k).final for k in reference_steps(T, steps)]
     gap = max(abs(float(a - b)) for a, b in zip(*runs, strict=False))
     return np.array([float(x) for x in runs[1]]), gap
@@ -266,7 +179,7 @@ def run_wp(scene: WPScene, out_root="reports/workprecision", scheduler=None, wor
     with executor(scheduler=scheduler, workers=workers) as ex:
         results = ex.map(_call, [(fn, args) for fn, args, _ in tasks])
     series: dict = {}
-    for (fn, args, label), res in zip(tasks, results, strict=False):
+    for (_, _, label), res in zip(tasks, results, strict=False):
         if "final" in res:
             res["error"] = float(np.max(np.abs(np.array(res.pop("final")) - ref)))
         series.setdefault(label, []).append(res)
