@@ -51,15 +51,6 @@ DYNAMIC_LOOKUPS = {
                                   "name (_HOMES), never a module of the package",
 }
 
-#: private names still imported across modules, to be renamed by another branch of issue 31
-PENDING = {  # renamed on branch h4
-    ("tableau_lab.experiments.bench", "tableau_lab.experiments.runs", "_setup"),
-    ("tableau_lab.experiments.workprecision", "tableau_lab.experiments.runs", "_setup"),
-    ("tableau_lab.experiments.replot", "tableau_lab.experiments.scene", "_draw_modified_energy"),
-    ("tableau_lab.experiments.replot", "tableau_lab.experiments.suite", "_draw"),
-    ("tableau_lab.experiments.replot", "tableau_lab.experiments.suite", "_draw_energy"),
-}
-
 
 def _module_name(path: Path) -> str:
     parts = path.relative_to(PKG.parent).with_suffix("").parts
@@ -231,8 +222,7 @@ def test_exact_core_imports_nothing_above_it():
 
 def test_no_private_name_crosses_a_module():
     found = {(m, t, name) for m in MODULES for t, name in SCAN[m].private}
-    assert found - PENDING == set(), sorted(found - PENDING)
-    assert PENDING <= found, f"no longer needed, remove from PENDING: {sorted(PENDING - found)}"
+    assert found == set(), sorted(found)
 
 
 def test_lookups_by_name_are_the_named_ones():
