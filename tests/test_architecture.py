@@ -24,8 +24,8 @@ DOC = Path(__file__).parent.parent / "docs" / "architecture.md"
 #: render (tableau_lab/render/: the document model and one renderer per format) sits on the exact core
 #: and under the analyses, whose results build documents from their data and leave the formats to it
 FLOORS = ("base", "exact", "render", "analysis", "numeric", "experiments", "faces")
-SUBPACKAGE_FLOOR = {"exact": "exact", "render": "render", "analysis": "analysis", "numeric": "numeric", "experiments": "experiments",
-                    "proofs": "faces"}
+SUBPACKAGE_FLOOR = {"exact": "exact", "render": "render", "analysis": "analysis", "numeric": "numeric",
+                    "experiments": "experiments", "proofs": "faces"}
 TOP_LEVEL_FLOOR = {
     # the package itself: __version__ and the lazy table of public names; it imports nothing
     # statically, and every module's import runs it first, so it is the lowest floor

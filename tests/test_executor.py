@@ -14,7 +14,7 @@ from distributed import LocalCluster
 
 from tableau_lab.cli import main
 from tableau_lab.experiments.executor import SchedulerError, executor
-from tableau_lab.experiments.runs import prepare_run, convergence, convergence_run
+from tableau_lab.experiments.runs import convergence, convergence_run, prepare_run
 
 METHODS = Path(__file__).resolve().parents[1] / "methods"
 
