@@ -160,12 +160,14 @@ class DesignResult(Result):
         lines = [f"{self.name}: solve for {', '.join(map(str, self.unknowns))} with {req}",
                  f"status: {self.status} ({self.equations} equations, {self.seconds:.2f} s)"]
         for i, sol in enumerate(self.solutions, 1):
-            lines.append(f"solution {i}: {sol.label}" + (f"; free: {', '.join(map(str, sol.free))}" if sol.free else ""))
+            free = f"; free: {', '.join(map(str, sol.free))}" if sol.free else ""
+            lines.append(f"solution {i}: {sol.label}{free}")
             lines += [f"    {k} = {format_entry(v)}" for k, v in sol.parameters.items()]
             for k, M in sol.auxiliary.items():
                 lines.append(f"    {k} = {_inline(M)}")
             lines += [f"    provided {format_entry(c)} ≠ 0" for c in sol.conditions]
-            lines.append("    re-verified: " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items()))
+            verdicts = ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items())
+            lines.append("    re-verified: " + verdicts)
         if self.obstruction:
             lines.append("obstruction (a minimal inconsistent set of the equations):")
             lines += [f"    {lab}: {format_entry(e)} = 0" for lab, e in self.obstruction]
@@ -179,7 +181,8 @@ class DesignResult(Result):
         return {"status": self.status, "requirements": [str(r) for r in self.requirements],
                 "unknowns": [str(u) for u in self.unknowns], "equations": self.equations,
                 "solutions": [s.to_json() for s in self.solutions],
-                "obstruction": [{"condition": lab, "equation": f"{format_entry(e)} = 0"} for lab, e in self.obstruction],
+                "obstruction": [{"condition": lab, "equation": f"{format_entry(e)} = 0"}
+                                for lab, e in self.obstruction],
                 "rejected": [s.to_json() for s in self.rejected], "seconds": round(self.seconds, 3)}
 
     def display(self) -> Document:
@@ -671,7 +674,8 @@ class RepairResult(Result):
                              + (f"  →  {format_entry(changed[e][1])}" if e in changed else "  (correct)"))
             for k, M in sol.auxiliary.items():
                 lines.append(f"    {k} = {_inline(M)}")
-            lines.append("    re-verified: " + ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items()))
+            verdicts = ", ".join(f"{k} {'yes' if v else 'NO'}" for k, v in sol.verified.items())
+            lines.append("    re-verified: " + verdicts)
         if self.design.obstruction:
             lines.append("obstruction: " + "; ".join(lab for lab, _ in self.design.obstruction))
         return "\n".join(lines)
@@ -692,7 +696,8 @@ class RepairResult(Result):
         if self.design is not None:
             out.update(self.design.to_json())
             out["changes"] = [{e: {"printed": str(format_entry(a)), "correct": str(format_entry(b))}
-                               for e, (a, b) in self.changes(k).items()} for k in range(1, len(self.design.solutions) + 1)]
+                               for e, (a, b) in self.changes(k).items()}
+                              for k in range(1, len(self.design.solutions) + 1)]
         return out
 
     def display(self) -> Document:

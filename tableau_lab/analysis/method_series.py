@@ -66,7 +66,9 @@ class MethodSeries(Result):
                 else f"{self.method}: B-series")
         lines = [head + f" to order {self.phi.max_order}"]
         for t, v in self.phi.items():
-            xi = ("    ξ = (" + ", ".join(str(format_entry(x)) for x in self.starting[t]) + ")") if self.starting else ""
+            xi = ""
+            if self.starting:
+                xi = "    ξ = (" + ", ".join(str(format_entry(x)) for x in self.starting[t]) + ")"
             lines.append(f"  {self.phi.kind.bracket(t):12s} {format_entry(v)}{xi}")
         return "\n".join(lines)
 

@@ -69,7 +69,8 @@ class RKSymplecticResult(Result):
             if not self.holds and self.holds_separable:
                 head += "\n  symplectic for separable H = T(p) + U(q) only (M = 0 but b ≠ b̂)"
         if self.congruent:
-            return head + "\n  VᵀMV (V = [cⱼ^m], congruent to M: same rank and inertia) =\n" + matrix_text(self.M, "    ")
+            return (head + "\n  VᵀMV (V = [cⱼ^m], congruent to M: same rank and inertia) =\n"
+                    + matrix_text(self.M, "    "))
         return head + "\n  M =\n" + matrix_text(self.M, "    ")
 
     def to_json(self):
@@ -170,7 +171,8 @@ class GSymplecticResult(Result):
             out.append(Formula(f"G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)}"))
             out += [Formula(f"{tex} = {matrix_latex(R)}")
                     for R, tex in zip(self.residuals.values(), RESIDUAL_LATEX, strict=False)]
-        out.append(Paragraph("The method is " + ("G-symplectic." if self.holds else "not G-symplectic. " + self.reason)))
+        verdict = "G-symplectic." if self.holds else "not G-symplectic. " + self.reason
+        out.append(Paragraph("The method is " + verdict))
         return Document(head, (Plain(*(Paragraph(x) for x in lines)), Typeset(*out)))
 
     def _text(self) -> str:
