@@ -11,7 +11,9 @@ when Φ(t) = 1/γ(t) for every bicoloured tree with |t| ≤ p.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 
@@ -19,19 +21,18 @@ from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
 from .results import Result
-from .tree_kinds import BICOLOURED, bicoloured_trees
+from .tree_kinds import BICOLOURED, Tree, bicoloured_trees
 
 __all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
 
 
-def _gamma(t) -> int:
+def _gamma(t: Tree) -> int:
     return BICOLOURED.density(t)
 
 
-def _label(t) -> str:
+def _label(t: Tree) -> str:
     """Bracket notation with ● for the first partition (q) and ○ for the second (p)."""
-    mark = "●" if t[0] == 0 else "○"
-    return mark if not t[1] else f"[{''.join(_label(c) for c in t[1])}]{mark}"
+    return BICOLOURED.bracket(t)
 
 
 @dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
@@ -56,24 +57,13 @@ class PRKOrderResult(Result):
         return f"The partitioned method has order {self.order}."
 
 
-def weight_function(m: PartitionedRungeKutta, K):
+def weight_function(m: PartitionedRungeKutta, K: Any) -> Callable[[Tree], Any]:
     """t ↦ Φ(t) over K for the bicoloured trees of :mod:`tree_kinds`: Φ(t) = b_{col(t)}ᵀΨ(t),
-    Ψ(t) = Π over the children c of A_{col(c)}Ψ(c) (componentwise)."""
-    As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
-    bs = [[element(K, x) for x in m.b], [element(K, x) for x in m.bhat]]
-    s = m.s
-    psi = {}
-
-    def stage(t):
-        if t not in psi:
-            v = [K.one] * s
-            for c in t[1]:
-                Ac, pc = As[c[0]], stage(c)
-                w = [sum((a * x for a, x in zip(row, pc, strict=False)), K.zero) for row in Ac]
-                v = [x * y for x, y in zip(v, w, strict=False)]
-            psi[t] = v
-        return psi[t]
-    return lambda t: sum((b * x for b, x in zip(bs[t[0]], stage(t), strict=False)), K.zero)
+    Ψ(t) = Π over the children c of A_{col(c)}Ψ(c) (componentwise), by the one recursion
+    :meth:`~tableau_lab.analysis.tree_kinds.TreeKind.elementary_weights`."""
+    As = (to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list())
+    bs = ([element(K, x) for x in m.b], [element(K, x) for x in m.bhat])
+    return BICOLOURED.elementary_weights(As, bs, K.zero, K.one)
 
 
 def _residuals(m: PartitionedRungeKutta, K):

@@ -24,8 +24,10 @@ all 1842 order-11 conditions in well under a second.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import sympy as sp
 
@@ -34,6 +36,7 @@ from ..exact.field import FastField, element, field_of, normal_form, power, to_d
 from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
 from .results import Result
+from .tree_kinds import PLAIN, Tree
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
 __all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights", "weight_function"]
@@ -247,24 +250,10 @@ def _conjugate_assumptions(alg) -> tuple[int, int, int]:
     return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)
 
 
-def elementary_weights(A, b, zero, one):
-    """t ↦ Φ(t) = bᵀΨ(t) for A, b given as lists of field elements (any arithmetic with
-    +, *), with the stage weights Ψ(t) and AΨ(t) cached across trees."""
-    s = len(b)
-    psi: dict = {}
-    apsi: dict = {}
-
-    def stage(t):
-        if t not in psi:
-            v = [one] * s
-            for ch in t:
-                if ch not in apsi:
-                    pc = stage(ch)
-                    apsi[ch] = [sum((a * x for a, x in zip(row, pc, strict=False)), zero) for row in A]
-                v = [x * y for x, y in zip(v, apsi[ch], strict=False)]
-            psi[t] = v
-        return psi[t]
-    return lambda t: sum((bi * x for bi, x in zip(b, stage(t), strict=False)), zero)
+def elementary_weights(A: list, b: list, zero: Any, one: Any) -> Callable[[Tree], Any]:
+    """t ↦ Φ(t) = bᵀΨ(t) for A, b given as lists of field elements (any arithmetic with +, *): the
+    plain-tree case of the one recursion :meth:`~tableau_lab.analysis.tree_kinds.TreeKind.elementary_weights`."""
+    return PLAIN.elementary_weights(A, b, zero, one)
 
 
 def weight_function(m: RungeKutta):
