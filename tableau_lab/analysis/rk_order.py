@@ -63,9 +63,9 @@ class RKOrderResult(Result):
     capped: bool
     effective_order: int | None = None
     errors_partial: bool = False      # ERROR_TREES_BUDGET hit: only the first nonzero error coefficient
-    embedded: object = None           # RKOrderResult of (A, b̂) for an embedded pair
-    effective: object = None          # GLMOrderResult when the effective order was computed
-    _F: object = field(default=None, repr=False, compare=False)
+    embedded: RKOrderResult | None = None   # RKOrderResult of (A, b̂) for an embedded pair
+    effective: Any = None             # GLMOrderResult when the effective order was computed
+    _F: Any = field(default=None, repr=False, compare=False)      # the FastField of the weights
     _phi: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ fast), ...), |t| ≤ p + 1
     _bad: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ − 1/γ fast), ...) at p + 1
 
@@ -104,7 +104,7 @@ class RKOrderResult(Result):
         when not every coefficient was computed (ERROR_TREES_BUDGET) or the order is capped."""
         if self.errors_partial or not self._bad:
             return None
-        total = sum(self._F.to_sympy(v) ** 2 / symmetry(t) ** 2 for t, v in self._bad)
+        total: Any = sum(self._F.to_sympy(v) ** 2 / symmetry(t) ** 2 for t, v in self._bad)
         return sp.sqrt(total if total.is_Rational else normal_form(total))
 
     @property
@@ -211,7 +211,7 @@ def _stability_order(m, n: int) -> int:
     from .stability import stability_function
     N, D, K = stability_function(m)
     Nc, Dc = ([K.to_sympy(c) for c in reversed(P.to_dense())] + [0] * (n + 2) for P in (N, D))   # z⁰ first
-    R = []
+    R: list[sp.Expr] = []
     for k in range(n + 2):                       # R·D = N, D(0) = 1
         R.append(sp.expand((Nc[k] - sum(Dc[j] * R[k - j] for j in range(1, k + 1))) / Dc[0]))
         if sp.expand(R[k] - sp.Rational(1, sp.factorial(k))) != 0:
@@ -310,7 +310,8 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
             from .glm_order import glm_order
             eff = glm_order(m, max_order=cap)
             eff_order = eff.order
-    emb = rk_order(m.embedded(), max_order, effective=False) if m.bhat is not None else None
+    pair = m.embedded()
+    emb = rk_order(pair, max_order, effective=False) if pair is not None else None
     return RKOrderResult(method=m.name, order=p, B=Bp, C=Cq, D=Dr, stage_order=min(Cq, p), embedded=emb,
                          capped=not bad, effective_order=eff_order, effective=eff, errors_partial=partial,
                          _F=F, _phi=tuple(phis), _bad=tuple(bad))

@@ -314,8 +314,8 @@ def partitions(kind: TreeKind, t) -> tuple:
         for v in range(1, n):
             if keep[v]:
                 top[v] = top[parent[v]]
-        kids = [[] for _ in range(n)]      # children inside the piece
-        skel = [[] for _ in range(n)]      # for piece roots: the roots of the pieces hanging below
+        kids: list[list[int]] = [[] for _ in range(n)]      # children inside the piece
+        skel: list[list[int]] = [[] for _ in range(n)]      # for piece roots: the roots of the pieces hanging below
         for v in range(1, n):
             if keep[v]:
                 kids[parent[v]].append(v)
@@ -336,7 +336,7 @@ def kept_cuts(kind: TreeKind, t, inner, one=1) -> dict:
     for c in ch:
         options = {None: inner(c)}
         options.update(kept_cuts(kind, c, inner, one))
-        new = {}
+        new: dict[tuple, Any] = {}
         for trunk, coef in acc.items():
             for sub, cf in options.items():
                 key = trunk if sub is None else tuple(sorted(trunk + (sub,)))
@@ -349,7 +349,7 @@ def kept_cuts(kind: TreeKind, t, inner, one=1) -> dict:
 def graft(kind: TreeKind, t, s) -> tuple:
     """The trees t with s grafted on one vertex, one per vertex of t (with repetitions)."""
     parent, label = labelled(kind, t)
-    kids = [[] for _ in parent]
+    kids: list[list[int]] = [[] for _ in parent]
     for v in range(1, len(parent)):
         kids[parent[v]].append(v)
     return tuple(rebuild(kind, kids, label, 0, {v: [s]}) for v in range(len(parent)))
