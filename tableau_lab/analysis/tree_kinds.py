@@ -1,6 +1,10 @@
-r"""Plain and bicoloured rooted trees behind one interface, so that the algebra of B-series
-(cuts, the substitution law, free trees, grafting) is written once and serves P-series of
-partitioned methods too ([HLW06] III.2.1, VI.7.3; Chartier, Hairer & Vilmart 2010, Sec. 5).
+r"""Plain and bicoloured rooted trees behind one interface, so that each recursion over trees
+is written once and serves B-series of Runge–Kutta methods and P-series of partitioned ones
+([HLW06] III.1, III.2.1, VI.7.3; Chartier, Hairer & Vilmart 2010, Sec. 5): the enumeration
+(:func:`forests`, ``kind.trees_of_order``), order, density and symmetry, the notations, the
+elementary weights (:meth:`TreeKind.elementary_weights`, used by :mod:`rk_order` and
+:mod:`prk_order`), cuts, the substitution law and grafting.  :mod:`trees` adds what only plain
+trees have (Butcher's product, leaf removal, parsing of bracket notation) on top of this module.
 
 A plain tree is the sorted tuple of its children (:mod:`trees`); a bicoloured tree is
 ``(colour, sorted children)`` with colour 0 for the first partition (q, tableau A, b) and 1 for the
