@@ -21,18 +21,9 @@ from ..exact.field import element, field_of, to_dm
 from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
 from .results import Result
-from .tree_kinds import BICOLOURED, Tree, bicoloured_trees
+from .tree_kinds import BICOLOURED, Tree, bicoloured_trees, density
 
 __all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
-
-
-def _gamma(t: Tree) -> int:
-    return BICOLOURED.density(t)
-
-
-def _label(t: Tree) -> str:
-    """Bracket notation with ● for the first partition (q) and ○ for the second (p)."""
-    return BICOLOURED.bracket(t)
 
 
 @dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
@@ -72,7 +63,7 @@ def _residuals(m: PartitionedRungeKutta, K):
     n = 0
     while True:
         n += 1
-        yield [(t, phi(t) - K.convert(sp.Rational(1, _gamma(t)))) for t in bicoloured_trees(n)]
+        yield [(t, phi(t) - K.convert(sp.Rational(1, density(t)))) for t in bicoloured_trees(n)]
 
 
 def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
@@ -81,7 +72,7 @@ def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     out = []
     for n, level in zip(range(1, max_order + 1), _residuals(m, K), strict=False):
-        out += [(f"order {n}, tree {_label(t)}", K.to_sympy(r)) for t, r in level]
+        out += [(f"order {n}, tree {BICOLOURED.bracket(t)}", K.to_sympy(r)) for t, r in level]
     return out
 
 
@@ -90,8 +81,8 @@ def condition_table(m: PartitionedRungeKutta, max_order: int) -> list:
     computed over the method's field (exact sympy values)."""
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     phi = weight_function(m, K)
-    return [(n, _label(t), K.to_sympy(phi(t)), sp.Rational(1, _gamma(t)),
-             K.to_sympy(phi(t) - K.convert(sp.Rational(1, _gamma(t)))))
+    return [(n, BICOLOURED.bracket(t), K.to_sympy(phi(t)), sp.Rational(1, density(t)),
+             K.to_sympy(phi(t) - K.convert(sp.Rational(1, density(t)))))
             for n in range(1, max_order + 1) for t in bicoloured_trees(n)]
 
 
@@ -101,7 +92,7 @@ def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
     p = 0
     errors = {}
     for n, level in zip(range(1, max_order + 2), _residuals(m, K), strict=False):
-        bad = {_label(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
+        bad = {BICOLOURED.bracket(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
         if bad:
             errors = bad
             break
