@@ -68,7 +68,7 @@ def free_tree(t, kind: TreeKind = PLAIN) -> FreeTree:
     """The free tree of ``t`` with the sign of t's rooting; see :class:`FreeTree`."""
     parent, label = labelled(kind, t)
     n = len(parent)
-    adj = [[] for _ in range(n)]
+    adj: list[list[int]] = [[] for _ in range(n)]
     for v in range(1, n):
         adj[v].append(parent[v])
         adj[parent[v]].append(v)

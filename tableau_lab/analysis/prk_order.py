@@ -11,7 +11,9 @@ when Φ(t) = 1/γ(t) for every bicoloured tree with |t| ≤ p.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 
@@ -20,19 +22,9 @@ from ..exact.grammar import format_entry
 from ..exact.methods import PartitionedRungeKutta
 from ..render.model import Document, Paragraph, Plain, Typeset
 from .results import Result
-from .tree_kinds import BICOLOURED, bicoloured_trees
+from .tree_kinds import BICOLOURED, Tree, bicoloured_trees, density
 
 __all__ = ["prk_order", "PRKOrderResult", "bicoloured_trees", "weight_function", "condition_table"]
-
-
-def _gamma(t) -> int:
-    return BICOLOURED.density(t)
-
-
-def _label(t) -> str:
-    """Bracket notation with ● for the first partition (q) and ○ for the second (p)."""
-    mark = "●" if t[0] == 0 else "○"
-    return mark if not t[1] else f"[{''.join(_label(c) for c in t[1])}]{mark}"
 
 
 @dataclass(frozen=True, eq=False)      # Result.__eq__: equal to its order as an int
@@ -59,24 +51,13 @@ class PRKOrderResult(Result):
                                Typeset(Paragraph(f"The partitioned method has order {self.order}."))))
 
 
-def weight_function(m: PartitionedRungeKutta, K):
+def weight_function(m: PartitionedRungeKutta, K: Any) -> Callable[[Tree], Any]:
     """t ↦ Φ(t) over K for the bicoloured trees of :mod:`tree_kinds`: Φ(t) = b_{col(t)}ᵀΨ(t),
-    Ψ(t) = Π over the children c of A_{col(c)}Ψ(c) (componentwise)."""
-    As = [to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list()]
-    bs = [[element(K, x) for x in m.b], [element(K, x) for x in m.bhat]]
-    s = m.s
-    psi = {}
-
-    def stage(t):
-        if t not in psi:
-            v = [K.one] * s
-            for c in t[1]:
-                Ac, pc = As[c[0]], stage(c)
-                w = [sum((a * x for a, x in zip(row, pc, strict=False)), K.zero) for row in Ac]
-                v = [x * y for x, y in zip(v, w, strict=False)]
-            psi[t] = v
-        return psi[t]
-    return lambda t: sum((b * x for b, x in zip(bs[t[0]], stage(t), strict=False)), K.zero)
+    Ψ(t) = Π over the children c of A_{col(c)}Ψ(c) (componentwise), by the one recursion
+    :meth:`~tableau_lab.analysis.tree_kinds.TreeKind.elementary_weights`."""
+    As = (to_dm(m.A, K).to_list(), to_dm(m.Ahat, K).to_list())
+    bs = ([element(K, x) for x in m.b], [element(K, x) for x in m.bhat])
+    return BICOLOURED.elementary_weights(As, bs, K.zero, K.one)
 
 
 def _residuals(m: PartitionedRungeKutta, K):
@@ -85,7 +66,7 @@ def _residuals(m: PartitionedRungeKutta, K):
     n = 0
     while True:
         n += 1
-        yield [(t, phi(t) - K.convert(sp.Rational(1, _gamma(t)))) for t in bicoloured_trees(n)]
+        yield [(t, phi(t) - K.convert(sp.Rational(1, density(t)))) for t in bicoloured_trees(n)]
 
 
 def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
@@ -94,7 +75,7 @@ def order_conditions(m: PartitionedRungeKutta, max_order: int) -> list:
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     out = []
     for n, level in zip(range(1, max_order + 1), _residuals(m, K), strict=False):
-        out += [(f"order {n}, tree {_label(t)}", K.to_sympy(r)) for t, r in level]
+        out += [(f"order {n}, tree {BICOLOURED.bracket(t)}", K.to_sympy(r)) for t, r in level]
     return out
 
 
@@ -103,8 +84,8 @@ def condition_table(m: PartitionedRungeKutta, max_order: int) -> list:
     computed over the method's field (exact sympy values)."""
     K = field_of([m.A, m.b, m.Ahat, m.bhat])
     phi = weight_function(m, K)
-    return [(n, _label(t), K.to_sympy(phi(t)), sp.Rational(1, _gamma(t)),
-             K.to_sympy(phi(t) - K.convert(sp.Rational(1, _gamma(t)))))
+    return [(n, BICOLOURED.bracket(t), K.to_sympy(phi(t)), sp.Rational(1, density(t)),
+             K.to_sympy(phi(t) - K.convert(sp.Rational(1, density(t)))))
             for n in range(1, max_order + 1) for t in bicoloured_trees(n)]
 
 
@@ -114,7 +95,7 @@ def prk_order(m: PartitionedRungeKutta, max_order: int = 6) -> PRKOrderResult:
     p = 0
     errors = {}
     for n, level in zip(range(1, max_order + 2), _residuals(m, K), strict=False):
-        bad = {_label(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
+        bad = {BICOLOURED.bracket(t): K.to_sympy(r) for t, r in level if not K.is_zero(r)}
         if bad:
             errors = bad
             break

@@ -24,8 +24,10 @@ all 1842 order-11 conditions in well under a second.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import sympy as sp
 
@@ -35,6 +37,7 @@ from ..exact.grammar import format_entry
 from ..exact.methods import RungeKutta
 from ..render.model import Document, Math, Paragraph, Plain, Table, Typeset
 from .results import Result
+from .tree_kinds import PLAIN, Tree
 from .trees import bracket, density, latex, order as tree_order, symmetry, trees_of_order
 
 __all__ = ["rk_order", "RKOrderResult", "simplifying_assumptions", "elementary_weights", "weight_function"]
@@ -61,9 +64,9 @@ class RKOrderResult(Result):
     capped: bool
     effective_order: int | None = None
     errors_partial: bool = False      # ERROR_TREES_BUDGET hit: only the first nonzero error coefficient
-    embedded: object = None           # RKOrderResult of (A, b̂) for an embedded pair
-    effective: object = None          # GLMOrderResult when the effective order was computed
-    _F: object = field(default=None, repr=False, compare=False)
+    embedded: RKOrderResult | None = None   # RKOrderResult of (A, b̂) for an embedded pair
+    effective: Any = None             # GLMOrderResult when the effective order was computed
+    _F: Any = field(default=None, repr=False, compare=False)      # the FastField of the weights
     _phi: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ fast), ...), |t| ≤ p + 1
     _bad: tuple = field(default=(), repr=False, compare=False)   # ((tree, Φ − 1/γ fast), ...) at p + 1
 
@@ -102,7 +105,7 @@ class RKOrderResult(Result):
         when not every coefficient was computed (ERROR_TREES_BUDGET) or the order is capped."""
         if self.errors_partial or not self._bad:
             return None
-        total = sum(self._F.to_sympy(v) ** 2 / symmetry(t) ** 2 for t, v in self._bad)
+        total: Any = sum(self._F.to_sympy(v) ** 2 / symmetry(t) ** 2 for t, v in self._bad)
         return sp.sqrt(total if total.is_Rational else normal_form(total))
 
     @property
@@ -211,7 +214,7 @@ def _stability_order(m, n: int) -> int:
     from .stability import stability_function
     N, D, K = stability_function(m)
     Nc, Dc = ([K.to_sympy(c) for c in reversed(P.to_dense())] + [0] * (n + 2) for P in (N, D))   # z⁰ first
-    R = []
+    R: list[sp.Expr] = []
     for k in range(n + 2):                       # R·D = N, D(0) = 1
         R.append(sp.expand((Nc[k] - sum(Dc[j] * R[k - j] for j in range(1, k + 1))) / Dc[0]))
         if sp.expand(R[k] - sp.Rational(1, sp.factorial(k))) != 0:
@@ -250,24 +253,10 @@ def _conjugate_assumptions(alg) -> tuple[int, int, int]:
     return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)
 
 
-def elementary_weights(A, b, zero, one):
-    """t ↦ Φ(t) = bᵀΨ(t) for A, b given as lists of field elements (any arithmetic with
-    +, *), with the stage weights Ψ(t) and AΨ(t) cached across trees."""
-    s = len(b)
-    psi: dict = {}
-    apsi: dict = {}
-
-    def stage(t):
-        if t not in psi:
-            v = [one] * s
-            for ch in t:
-                if ch not in apsi:
-                    pc = stage(ch)
-                    apsi[ch] = [sum((a * x for a, x in zip(row, pc, strict=False)), zero) for row in A]
-                v = [x * y for x, y in zip(v, apsi[ch], strict=False)]
-            psi[t] = v
-        return psi[t]
-    return lambda t: sum((bi * x for bi, x in zip(b, stage(t), strict=False)), zero)
+def elementary_weights(A: list, b: list, zero: Any, one: Any) -> Callable[[Tree], Any]:
+    """t ↦ Φ(t) = bᵀΨ(t) for A, b given as lists of field elements (any arithmetic with +, *): the
+    plain-tree case of the one recursion :meth:`~tableau_lab.analysis.tree_kinds.TreeKind.elementary_weights`."""
+    return PLAIN.elementary_weights(A, b, zero, one)
 
 
 def weight_function(m: RungeKutta):
@@ -324,7 +313,8 @@ def rk_order(m: RungeKutta, max_order: int | None = None, effective: bool = True
             from .glm_order import glm_order
             eff = glm_order(m, max_order=cap)
             eff_order = eff.order
-    emb = rk_order(m.embedded(), max_order, effective=False) if m.bhat is not None else None
+    pair = m.embedded()
+    emb = rk_order(pair, max_order, effective=False) if pair is not None else None
     return RKOrderResult(method=m.name, order=p, B=Bp, C=Cq, D=Dr, stage_order=min(Cq, p), embedded=emb,
                          capped=not bad, effective_order=eff_order, effective=eff, errors_partial=partial,
                          _F=F, _phi=tuple(phis), _bad=tuple(bad))

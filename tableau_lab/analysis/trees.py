@@ -18,22 +18,23 @@ Trees are hashable, totally ordered and canonical, so equal trees are equal tupl
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable, Iterator
 from functools import lru_cache
-from math import factorial
+
+from .tree_kinds import PLAIN, SUPERSCRIPTS, Tree, density, forests, order, plain_differential, symmetry
 
 __all__ = ["bracket_tex", "TAU", "trees_of_order", "trees_up_to", "from_children", "order", "density", "symmetry",
            "butcher_product", "bracket", "latex", "leaf_removals", "subtrees", "parse_tree", "TreeError",
-           "differential", "forests"]
+           "differential", "forests", "Tree"]
 
 TAU = ()
 
 
-def from_children(children) -> tuple:
+def from_children(children: Iterable[Tree]) -> Tree:
     """The tree [t₁ … t_m] with the given children."""
     return tuple(sorted(children))
 
 
-@lru_cache(maxsize=None)
 def trees_of_order(n: int) -> tuple:
     """All rooted trees with n vertices, canonical and sorted (OEIS A000081; [B16] ch. 3,
     Butcher 1963).
@@ -42,83 +43,22 @@ def trees_of_order(n: int) -> tuple:
     >>> [len(tl.trees_of_order(n)) for n in range(1, 9)]
     [1, 1, 2, 4, 9, 20, 48, 115]
     """
-    if n < 1:
-        return ()
-    if n == 1:
-        return (TAU,)
-    return tuple(sorted({tuple(sorted(f)) for f in forests(n - 1, trees_of_order)}))
+    return PLAIN.trees_of_order(n)
 
 
-def forests(m: int, trees_of, bound=None):
-    """Every multiset of trees with m vertices in all, once, as a tuple in decreasing (order, tree);
-    ``trees_of(k)`` lists the trees with k vertices (plain or coloured), ``bound`` the largest
-    (order, tree) allowed first."""
-    if m == 0:
-        yield ()
-        return
-    for k in range(min(m, bound[0]) if bound else m, 0, -1):
-        for t in trees_of(k):
-            if bound is None or (k, t) <= bound:
-                for rest in forests(m - k, trees_of, (k, t)):
-                    yield (t,) + rest
-
-
-def trees_up_to(n: int):
+def trees_up_to(n: int) -> Iterator[Tree]:
     """All trees of orders 1..n, by order."""
-    for k in range(1, n + 1):
-        yield from trees_of_order(k)
+    return PLAIN.trees_up_to(n)
 
 
-@lru_cache(maxsize=None)
-def order(t) -> int:
-    """|t|, the number of vertices."""
-    return 1 + sum(order(c) for c in t)
-
-
-@lru_cache(maxsize=None)
-def density(t) -> int:
-    """γ(t) = |t| Π γ(children)."""
-    g = order(t)
-    for c in t:
-        g *= density(c)
-    return g
-
-
-@lru_cache(maxsize=None)
-def symmetry(t) -> int:
-    """σ(t) = Π over distinct children c of m_c! σ(c)^{m_c}."""
-    out = 1
-    for c in set(t):
-        m = t.count(c)
-        out *= factorial(m) * symmetry(c) ** m
-    return out
-
-
-def butcher_product(t, u) -> tuple:
+def butcher_product(t: Tree, u: Tree) -> Tree:
     """t ∘ u: the tree u grafted onto the root of t."""
     return from_children(t + (u,))
 
 
-def _groups(t):
-    i = 0
-    while i < len(t):
-        j = i
-        while j < len(t) and t[j] == t[i]:
-            j += 1
-        yield t[i], j - i
-        i = j
-
-
-_SUP = "⁰¹²³⁴⁵⁶⁷⁸⁹"
-
-
-@lru_cache(maxsize=None)
-def bracket(t) -> str:
+def bracket(t: Tree) -> str:
     """Butcher's bracket notation: τ, [τ], [τ²], [[τ]], [τ[τ]], ..."""
-    if t == TAU:
-        return "τ"
-    return "[" + "".join(bracket(c) + ("".join(_SUP[int(d)] for d in str(n)) if n > 1 else "")
-                         for c, n in _groups(t)) + "]"
+    return PLAIN.bracket(t)
 
 
 def bracket_tex(b: str) -> str:
@@ -128,19 +68,17 @@ def bracket_tex(b: str) -> str:
     >>> bracket_tex("[τ¹²[τ]]")
     '[\\tau ^{12}[\\tau ]]'
     """
-    return re.sub(f"[{_SUP}]+", lambda m: "^{" + "".join(_SUPER_DIGITS[c] for c in m[0]) + "}", b.replace("τ", r"\tau "))
+    return re.sub(f"[{SUPERSCRIPTS}]+", lambda m: "^{" + "".join(_SUPER_DIGITS[c] for c in m[0]) + "}",
+                  b.replace("τ", r"\tau "))
 
 
-@lru_cache(maxsize=None)
-def latex(t) -> str:
+def latex(t: Tree) -> str:
     r"""Bracket notation in LaTeX: ``\tau``, ``[\tau^{2}]``, ..."""
-    if t == TAU:
-        return r"\tau"
-    return "[" + "".join(latex(c) + (f"^{{{n}}}" if n > 1 else "") for c, n in _groups(t)) + "]"
+    return PLAIN.tex(t)
 
 
 @lru_cache(maxsize=None)
-def leaf_removals(t) -> tuple:
+def leaf_removals(t: Tree) -> tuple:
     """The trees obtained by removing one leaf (not the root), with multiplicity."""
     out = []
     for i, c in enumerate(t):
@@ -153,7 +91,7 @@ def leaf_removals(t) -> tuple:
 
 
 @lru_cache(maxsize=None)
-def subtrees(t) -> tuple:
+def subtrees(t: Tree) -> tuple:
     """The subtree rooted at each vertex of t (t itself first, then depth first), with
     multiplicity; γ(t) is the product of their orders."""
     out = [t]
@@ -166,83 +104,86 @@ class TreeError(ValueError):
     """Text that is not a tree in bracket notation."""
 
 
-_SUPER_DIGITS = {c: str(i) for i, c in enumerate(_SUP)}
+_SUPER_DIGITS = {c: str(i) for i, c in enumerate(SUPERSCRIPTS)}
 #: the longest text and the most vertices parse_tree reads
 TREE_TEXT_MAX, TREE_ORDER_MAX = 400, 40
 
 
-def parse_tree(text: str) -> tuple:
+def parse_tree(text: str) -> Tree:
     """A tree from bracket notation: ``τ`` (or ``t``), ``[τ²]`` (or ``[t^2]``, ``[t t]``),
     ``[τ[τ]]``; the inverse of :func:`bracket`.  Whitespace is ignored; at most
     TREE_TEXT_MAX characters and TREE_ORDER_MAX vertices."""
     if not isinstance(text, str) or len(text) > TREE_TEXT_MAX:
-        raise TreeError(f"a tree is a string of at most {TREE_TEXT_MAX} characters in bracket notation such as '[τ[τ]]'")
-    s = "".join(text.split())
-    pos = 0
+        raise TreeError(f"a tree is a string of at most {TREE_TEXT_MAX} characters in bracket notation "
+                        "such as '[τ[τ]]'")
+    return _BracketParser(text).whole()
 
-    def power():
-        nonlocal pos
-        digits = ""
-        if pos < len(s) and s[pos] == "^":
-            pos += 1
-            while pos < len(s) and s[pos] in "0123456789":
-                digits += s[pos]
-                pos += 1
-            if not digits:
-                raise TreeError(f"{text!r}: '^' must be followed by a count")
-        else:
-            while pos < len(s) and s[pos] in _SUPER_DIGITS:
-                digits += _SUPER_DIGITS[s[pos]]
-                pos += 1
-        return int(digits) if digits else 1
 
-    def tree(depth):
-        nonlocal pos
+class _BracketParser:
+    """Recursive descent over bracket notation (:func:`parse_tree`): ``pos`` is the next character
+    of ``s``, the text without whitespace; errors quote the text as given."""
+
+    def __init__(self, text: str) -> None:
+        self.text, self.s, self.pos = text, "".join(text.split()), 0
+
+    def error(self, what: str) -> TreeError:
+        return TreeError(f"{self.text!r}: {what}")
+
+    def peek(self) -> str:
+        return self.s[self.pos] if self.pos < len(self.s) else ""
+
+    def whole(self) -> Tree:
+        t = self.tree(0)
+        if self.pos != len(self.s):
+            raise self.error(f"unexpected {self.peek()!r} at character {self.pos + 1}")
+        if order(t) > TREE_ORDER_MAX:
+            raise self.error(f"{order(t)} vertices; at most {TREE_ORDER_MAX}")
+        return t
+
+    def digits(self, alphabet: dict | str) -> str:
+        out = ""
+        while self.peek() and self.peek() in alphabet:
+            out += alphabet[self.peek()] if isinstance(alphabet, dict) else self.peek()
+            self.pos += 1
+        return out
+
+    def power(self) -> int:
+        """The multiplicity after a child: ^n, superscript digits, or 1."""
+        if self.peek() != "^":
+            return int(self.digits(_SUPER_DIGITS) or 1)
+        self.pos += 1
+        digits = self.digits("0123456789")
+        if not digits:
+            raise self.error("'^' must be followed by a count")
+        return int(digits)
+
+    def tree(self, depth: int) -> Tree:
         if depth > TREE_ORDER_MAX:
-            raise TreeError(f"{text!r}: more than {TREE_ORDER_MAX} vertices")
-        if pos < len(s) and s[pos] in "τt":
-            pos += 1
+            raise self.error(f"more than {TREE_ORDER_MAX} vertices")
+        c = self.peek()
+        if c and c in "τt":
+            self.pos += 1
             return TAU
-        if pos < len(s) and s[pos] == "[":
-            pos += 1
-            kids = []
-            while pos < len(s) and s[pos] != "]":
-                c = tree(depth + 1)
-                n = power()
-                if n < 1 or len(kids) + n > TREE_ORDER_MAX:
-                    raise TreeError(f"{text!r}: more than {TREE_ORDER_MAX} vertices")
-                kids.extend([c] * n)
-            if pos >= len(s):
-                raise TreeError(f"{text!r}: missing ']'")
-            pos += 1
-            if not kids:
-                raise TreeError(f"{text!r}: '[]' is not a tree (write τ for the single vertex)")
-            return from_children(kids)
-        raise TreeError(f"{text!r}: expected τ, t or '[' at character {pos + 1}")
-
-    t = tree(0)
-    if pos != len(s):
-        raise TreeError(f"{text!r}: unexpected {s[pos]!r} at character {pos + 1}")
-    if order(t) > TREE_ORDER_MAX:
-        raise TreeError(f"{text!r}: {order(t)} vertices; at most {TREE_ORDER_MAX}")
-    return t
+        if c != "[":
+            raise self.error(f"expected τ, t or '[' at character {self.pos + 1}")
+        self.pos += 1
+        kids: list = []
+        while self.peek() not in ("]", ""):
+            child = self.tree(depth + 1)
+            n = self.power()
+            if n < 1 or len(kids) + n > TREE_ORDER_MAX:
+                raise self.error(f"more than {TREE_ORDER_MAX} vertices")
+            kids.extend([child] * n)
+        if not self.peek():
+            raise self.error("missing ']'")
+        self.pos += 1
+        if not kids:
+            raise self.error("'[]' is not a tree (write τ for the single vertex)")
+        return from_children(kids)
 
 
-_PRIMES = ("", "′", "″", "‴")
-
-
-@lru_cache(maxsize=None)
-def differential(t, ascii: bool = True, tex: bool = False) -> str:
+def differential(t: Tree, ascii: bool = True, tex: bool = False) -> str:
     """The elementary differential F(t) in the usual notation ([HLW06] III.1.1): f, f'f,
     f''(f, f), f'f'f, ...; f^(m) for m > 3 derivatives (f^{(m)} with ``tex``); primes as ′ ″ ‴
     with ``ascii=False``."""
-    if t == TAU:
-        return "f"
-    m = len(t)
-    head = "f" + (_PRIMES[m] if m < 4 else (f"^{{({m})}}" if tex else f"^({m})"))
-    if ascii:
-        head = head.replace("′", "'").replace("″", "''").replace("‴", "'''")
-    args = [differential(c, ascii, tex) for c in t]
-    if m == 1:
-        return head + args[0]
-    return head + "(" + ", ".join(args) + ")"
+    return plain_differential(t, ascii, tex)

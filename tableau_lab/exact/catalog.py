@@ -11,15 +11,17 @@ none of these gets "did you mean …").
 (3, 'classical Runge–Kutta (RK4)')
 >>> tl.load('{"name": "midpoint", "kind": "rk", "A": [["1/2"]], "b": [1]}').c.T
 Matrix([[1/2]])
->>> tl.load("RK4")
+>>> tl.load("RK4")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
-tableau_lab.exact.tableau_json.TableauError: RK4: no such file, shipped method or family; did you mean rk4? (tableau-lab list shows them all)
+tableau_lab.exact.tableau_json.TableauError: RK4: no such file, shipped method or family; did you mean rk4?
+(tableau-lab list shows them all)
 """
 from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any
 
 from ..files import OutputRefused, guard_output, path_exists
 from . import tableau_json
@@ -28,7 +30,7 @@ from .methods import Method
 __all__ = ["load", "load_with_numbers", "save"]
 
 
-def load(source, **size) -> Method:
+def load(source: Any, **size: int) -> Method:
     r"""The exact method that ``source`` names (module docstring): a path, a shipped name
     (``tableau-lab list``, ``tl.list_methods()``), ``"family:N"`` or ``load("gauss", s=3)``, JSON
     text, a NodePy ``RungeKuttaMethod``/``LinearMultistepMethod`` with exact coefficients, or a
@@ -59,7 +61,7 @@ def load(source, **size) -> Method:
     return tableau_json.load(source, **size)
 
 
-def load_with_numbers(source, purpose: str) -> Method:
+def load_with_numbers(source: Any, purpose: str) -> Method:
     """:func:`load`, refusing a method with free parameters: ``purpose`` ("a run", "a plot")
     needs numbers (TableauError naming them).
 
@@ -74,7 +76,7 @@ def load_with_numbers(source, purpose: str) -> Method:
     return m
 
 
-def save(method: Method, path, *, overwrite: bool = False) -> Path:
+def save(method: Method, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
     """Write ``method`` as a JSON tableau file (docs/tableau-format.md) at ``path``, atomically
     (all of it or nothing: :func:`tableau_lab.files.atomic_write_text`); an existing file is
     replaced only with ``overwrite=True``, and never a folder, a device or a link (the guard of

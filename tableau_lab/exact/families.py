@@ -17,10 +17,12 @@ Matrix([
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import sympy as sp
 
 from .conjugate import (
+    Conjugate,
     X,
     collocation,
     lagrange_at,
@@ -45,7 +47,7 @@ MAX_STAGES = 8
 MAX_SSP_STAGES = 25
 
 
-def _method(P, name: str, source: str, alg=None) -> RungeKutta:
+def _method(P: sp.Poly, name: str, source: str, alg: Conjugate | None = None) -> RungeKutta:
     alg = alg or collocation(P)
     A, b, c = alg.tableau()
     if not any(x.has(sp.RootOf) for x in c):      # radicals: the entries in the field's normal form
@@ -88,7 +90,7 @@ def radau_ia(s: int) -> RungeKutta:
                    solve_conditions(P, D=s, name=f"Radau IA, s = {s}"))
 
 
-def _lobatto(s):
+def _lobatto(s: int) -> sp.Poly:
     if s < 2:
         raise ValueError(f"Lobatto methods have at least 2 stages, not {s}")
     return lobatto_nodes(s)
@@ -166,7 +168,7 @@ def sdirk_alexander(s: int) -> RungeKutta:
 
 # ------------------------------------------------------------------ explicit SSP Runge–Kutta methods
 
-def shu_osher(alpha, beta, **meta) -> RungeKutta:
+def shu_osher(alpha: Any, beta: Any, **meta: Any) -> RungeKutta:
     r"""The RK method of the Shu–Osher arrays α, β ((s+1)×s, exact; Shu & Osher, J. Comput. Phys.
     77 (1988); [GKS11] ch. 3): y⁽¹⁾ = uₙ and, for i = 2, …, s + 1,
 
@@ -200,14 +202,14 @@ def shu_osher(alpha, beta, **meta) -> RungeKutta:
                 what = "α" if alpha[i, j] != 0 else "β"
                 raise ValueError(f"{what}[{i + 1},{j + 1}] ≠ 0: stage {i + 1} may use only earlier stages "
                                  "(α strictly lower triangular, β lower triangular)")
-    rows = []
+    rows: list[list[sp.Expr]] = []
     for i in range(s + 1):
-        rows.append([beta[i, j] + sum((alpha[i, l] * rows[l][j] for l in range(min(i, s))), sp.Integer(0))
+        rows.append([beta[i, j] + sum((alpha[i, k] * rows[k][j] for k in range(min(i, s))), sp.Integer(0))
                      for j in range(s)])
     return RungeKutta.from_lists(rows[:s], rows[s], **meta)
 
 
-def _exact_matrix(M, what: str) -> sp.Matrix:
+def _exact_matrix(M: Any, what: str) -> sp.Matrix:
     rows = M.tolist() if isinstance(M, sp.MatrixBase) else [list(r) for r in M]
     for i, row in enumerate(rows, 1):
         for j, e in enumerate(row, 1):
@@ -217,12 +219,12 @@ def _exact_matrix(M, what: str) -> sp.Matrix:
     return sp.Matrix(rows)
 
 
-def _ssp_size(s, what: str):
+def _ssp_size(s: object, what: str) -> None:
     if not isinstance(s, int) or isinstance(s, bool) or not 1 <= s <= MAX_SSP_STAGES:
         raise ValueError(f"{what}: the number of stages must be an integer 1 … {MAX_SSP_STAGES}, not {s!r}")
 
 
-def _zeros(s):
+def _zeros(s: int) -> list[list[sp.Expr]]:
     return [[sp.Integer(0)] * s for _ in range(s + 1)]
 
 
@@ -282,10 +284,11 @@ def ssprk3(s: int) -> RungeKutta:
     [1/2,   0,   0, 0],
     [1/2, 1/2,   0, 0],
     [1/6, 1/6, 1/6, 0]]), Matrix([[1/6, 1/6, 1/6, 1/2]]))
-    >>> ssprk3(5)
+    >>> ssprk3(5)  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: SSPRK(s,3) is built exactly for s = 3 and s = n² (4, 9, 16, 25), not 5: the optimal methods for other s have numerical coefficients
+    ValueError: SSPRK(s,3) is built exactly for s = 3 and s = n² (4, 9, 16, 25), not 5: the optimal methods for
+    other s have numerical coefficients
     """
     _ssp_size(s, "SSPRK(s,3)")
     if s == 3:
@@ -323,7 +326,8 @@ def ssprk4(s: int) -> RungeKutta:
     _ssp_size(s, "SSPRK(s,4)")
     if s != 10:
         raise ValueError(f"SSPRK(s,4) is built exactly for s = 10 only (Ketcheson's SSP(10,4)), not {s}: no 4-stage "
-                         "fourth-order method is SSP, and the optimal ones with 5 … 9 stages have numerical coefficients")
+                         "fourth-order method is SSP, and the optimal ones with 5 … 9 stages have numerical "
+                         "coefficients")
     alpha, beta = _zeros(10), _zeros(10)
     for i in range(1, 11):
         alpha[i][i - 1] = sp.Integer(1)

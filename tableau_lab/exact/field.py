@@ -18,8 +18,9 @@ True
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable, Sequence
 from functools import lru_cache
-from typing import Iterable, Sequence
+from typing import Any, Self
 
 import sympy as sp
 from sympy import QQ
@@ -27,7 +28,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..budget import FIELD_DEGREE
 from ..errors import InputError
-from .radicals import reduce_generators
+from .radicals import Reduction, reduce_generators
 
 __all__ = [
     "FieldError", "field_of", "to_dm", "from_dm", "normal_form", "is_zero",
@@ -39,7 +40,7 @@ class FieldError(InputError):
     """Entries that have no exact field arithmetic here (e.g. a radical of a parameter)."""
 
 
-def exprs_of(objs) -> list[sp.Expr]:
+def exprs_of(objs: Iterable[Any]) -> list[sp.Expr]:
     """Flatten matrices / expressions / iterables of them to a list of expressions."""
     out: list[sp.Expr] = []
     for o in objs:
@@ -54,8 +55,9 @@ def exprs_of(objs) -> list[sp.Expr]:
     return out
 
 
-def _generators(exprs: Iterable[sp.Expr]):
-    gens, syms = set(), set()
+def _generators(exprs: Iterable[sp.Expr]) -> tuple[set[sp.Expr], set[sp.Symbol]]:
+    gens: set[sp.Expr] = set()
+    syms: set[sp.Symbol] = set()
     for e in exprs:
         if e.has(sp.Float):
             raise FieldError(f"{e} contains a floating-point number; exact entries only")
@@ -75,11 +77,11 @@ def _generators(exprs: Iterable[sp.Expr]):
     return gens, syms
 
 
-def _algebraic_atoms(e) -> set:
+def _algebraic_atoms(e: sp.Expr) -> set[sp.Expr]:
     """The algebraic numbers of ``e`` that are not radicals: cos(kπ/n), sin(kπ/n) and real
     roots of polynomials (sympy's CRootOf), as :mod:`grammar` makes them; a complex CRootOf
     (an eigenvalue) is a generator too."""
-    out = set()
+    out: set[sp.Expr] = set()
     for a in e.atoms(sp.cos, sp.sin):
         if a.args[0].free_symbols or not sp.expand(a.args[0] / sp.pi).is_Rational:
             raise FieldError(f"{a} is not an algebraic number")
@@ -98,20 +100,20 @@ def _algebraic_atoms(e) -> set:
 FIELD_DEGREE_LIMIT = FIELD_DEGREE
 
 
-def _degree(g) -> int:
+def _degree(g: sp.Expr) -> int:
     """A bound on the degree g adds to a field: its polynomial's degree (RootOf, cos, sin), the
     root's index q for a radical r**(p/q) (twelve square roots of primes: 2¹² = 4096)."""
     if isinstance(g, sp.RootOf):
-        return g.poly.degree()
+        return int(g.poly.degree())
     if isinstance(g, (sp.cos, sp.sin)):
-        return sp.degree(sp.minimal_polynomial(g, sp.Dummy("x")))
+        return int(sp.degree(sp.minimal_polynomial(g, sp.Dummy("x"))))
     if g.is_Pow and g.exp.is_Rational:
         return int(g.exp.q)
     return 2 if g is sp.I else 1
 
 
 @lru_cache(maxsize=256)
-def _field(gens: tuple, syms: tuple):
+def _field(gens: tuple[sp.Expr, ...], syms: tuple[sp.Symbol, ...]) -> Any:
     red = reduce_generators(gens)
     bound = 1
     for g in red.basis:
@@ -128,7 +130,7 @@ def _field(gens: tuple, syms: tuple):
     return K
 
 
-def _embed_generators(K, red) -> None:
+def _embed_generators(K: Any, red: Reduction) -> None:
     """Record each generator's image in K from the primitive-element construction itself (its
     polynomial in θ) and the reduction's words, so that :func:`element` need not rediscover it:
     sympy's ``to_number_field`` finds an embedding by PSLQ or factoring, seconds per generator."""
@@ -145,17 +147,17 @@ def _embed_generators(K, red) -> None:
         _IMAGES[(K, g)] = img
 
 
-def field_of(exprs: Iterable) -> "sp.polys.domains.Domain":
+def field_of(exprs: Iterable[Any]) -> Any:
     """The exact field holding all the given expressions (matrices are flattened)."""
     gens, syms = _generators(exprs_of(list(exprs)))
     return _field(tuple(sorted(gens, key=sp.default_sort_key)),
                   tuple(sorted(syms, key=lambda s: s.name)))
 
 
-_IMAGES: dict = {}
+_IMAGES: dict[tuple[Any, sp.Expr], Any] = {}      # (K, generator) → its element of K
 
 
-def element(K, e):
+def element(K: Any, e: Any) -> Any:
     """An exact expression as an element of K, by field arithmetic on its parts.
 
     Each distinct radical is mapped into K once (sympy's ``to_number_field`` factors
@@ -201,7 +203,7 @@ def element(K, e):
     return K.from_sympy(e)
 
 
-def to_dm(M: sp.MatrixBase, K) -> DomainMatrix:
+def to_dm(M: sp.MatrixBase, K: Any) -> DomainMatrix:
     """A sympy matrix as a DomainMatrix over K."""
     rows = [[element(K, x) for x in M.row(i)] for i in range(M.rows)]
     return DomainMatrix(rows, M.shape, K)
@@ -214,7 +216,7 @@ def from_dm(M: DomainMatrix) -> sp.ImmutableMatrix:
                               [K.to_sympy(x) for row in M.to_list() for x in row])
 
 
-def normal_form(e, K=None) -> sp.Expr:
+def normal_form(e: Any, K: Any = None) -> sp.Expr:
     """The canonical form of an exact expression in its field (a polynomial in the
     primitive element over QQ, or a reduced fraction in the parameters)."""
     e = sp.sympify(e)
@@ -222,14 +224,14 @@ def normal_form(e, K=None) -> sp.Expr:
     return K.to_sympy(element(K, e))
 
 
-def is_zero(e, K=None) -> bool:
+def is_zero(e: Any, K: Any = None) -> bool:
     """Exact zero test in the field of ``e``."""
     e = sp.sympify(e)
     K = K or field_of([e])
-    return K.is_zero(element(K, e))
+    return bool(K.is_zero(element(K, e)))
 
 
-def nullspace(M: DomainMatrix) -> list[list]:
+def nullspace(M: DomainMatrix) -> list[list[Any]]:
     """A basis of {x : M x = 0} as lists of field elements, each normalised so that
     its last pivot-free coordinate (the free variable) is 1."""
     K = M.domain
@@ -247,7 +249,7 @@ def nullspace(M: DomainMatrix) -> list[list]:
     return basis
 
 
-def solve_linear(M: DomainMatrix, rhs: Sequence) -> list | None:
+def solve_linear(M: DomainMatrix, rhs: Sequence[Any]) -> list[Any] | None:
     """One solution of M x = rhs (free variables set to zero), or None if inconsistent."""
     K = M.domain
     m, n = M.shape
@@ -262,7 +264,7 @@ def solve_linear(M: DomainMatrix, rhs: Sequence) -> list | None:
     return x
 
 
-def power(F, x, k: int):
+def power(F: Any, x: Any, k: int) -> Any:
     """x**k in F (a sympy domain or a :class:`FastField`), with x⁰ = 1 also for x = 0: sympy's
     fields of rational functions refuse 0**0 (a node cᵢ = 0 in cᵢ^(k−1), k = 1)."""
     return x ** k if k else F.one
@@ -288,11 +290,16 @@ class FastField:
     True
     """
 
-    def __init__(self, K):
+    zero: Any
+    one: Any
+    lift: Callable[[Any], Any]      # a K element (or a sympy Rational) → a fast one
+    drop: Callable[[Any], Any]      # a fast element → a K element
+
+    def __init__(self, K: Any) -> None:
         import flint
 
         self.K = K
-        self._rationals: dict = {}
+        self._rationals: dict[sp.Rational, Any] = {}
         if K.is_QQ:
             self.zero, self.one = flint.fmpq(0), flint.fmpq(1)
             self.lift = lambda a: flint.fmpq(int(a.numerator), int(a.denominator))
@@ -309,7 +316,7 @@ class FastField:
             self.zero, self.one = K.zero, K.one
             self.lift = self.drop = lambda a: a
 
-    def rational(self, q) -> object:
+    def rational(self, q: Any) -> Any:
         """A rational number (int, sympy Rational) as a fast element (converted once each: the
         order analyses ask for the same 1/γ(t) many times)."""
         q = sp.Rational(q)
@@ -317,10 +324,10 @@ class FastField:
             self._rationals[q] = self.lift(self.K.convert(q))
         return self._rationals[q]
 
-    def is_zero(self, x) -> bool:
+    def is_zero(self, x: Any) -> bool:
         return not x
 
-    def to_sympy(self, x) -> sp.Expr:
+    def to_sympy(self, x: Any) -> sp.Expr:
         return self.K.to_sympy(self.drop(x))
 
 
@@ -328,34 +335,34 @@ class _NFElt:
     """An element of QQ[x]/(m): an fmpq_poly of degree < deg m (class attribute ``mod``)."""
 
     __slots__ = ("p",)
-    mod = None
+    mod: Any = None
 
-    def __init__(self, p):
+    def __init__(self, p: Any) -> None:
         self.p = p
 
-    def __add__(self, o):
+    def __add__(self, o: Self) -> Self:
         return type(self)(self.p + o.p)
 
-    def __sub__(self, o):
+    def __sub__(self, o: Self) -> Self:
         return type(self)(self.p - o.p)
 
-    def __neg__(self):
+    def __neg__(self) -> Self:
         return type(self)(-self.p)
 
-    def __mul__(self, o):
+    def __mul__(self, o: Self) -> Self:
         return type(self)((self.p * o.p) % self.mod)
 
-    def __pow__(self, n):
+    def __pow__(self, n: int) -> Self:
         out = type(self)(self.p ** 0)
         for _ in range(n):
             out = out * self
         return out
 
-    def __bool__(self):
+    def __bool__(self) -> bool:
         return not self.p.is_zero()
 
-    def __eq__(self, o):
-        return isinstance(o, _NFElt) and self.p == o.p
+    def __eq__(self, o: object) -> bool:
+        return isinstance(o, _NFElt) and bool(self.p == o.p)
 
-    def __hash__(self):
+    def __hash__(self) -> int:
         return hash(str(self.p))

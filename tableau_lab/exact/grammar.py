@@ -48,10 +48,11 @@ sqrt(3)/6 + 1/2
 1/(2 - 2**(1/3))
 >>> parse_entry("theta**2 - 1")
 theta**2 - 1
->>> parse_entry("0.5")
+>>> parse_entry("0.5")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
-tableau_lab.exact.grammar.EntryError: '0.5' is a decimal number, and tableau entries are exact: write it as a fraction, e.g. "1/2" (at position 1 of '0.5')
+tableau_lab.exact.grammar.EntryError: '0.5' is a decimal number, and tableau entries are exact: write it as a
+fraction, e.g. "1/2" (at position 1 of '0.5')
 >>> parse_entry("__import__('os')")
 Traceback (most recent call last):
 ...
@@ -65,14 +66,15 @@ from dataclasses import dataclass
 from fractions import Fraction
 from functools import lru_cache
 from types import MappingProxyType
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import sympy as sp
 
 from ..errors import InputError
 
-__all__ = ["EntryError", "NUMBER_NAMES", "over", "raise_limit", "LIMIT_OPTION", "parse_entry", "parse_number", "format_entry", "format_matrix", "parameter", "LIMITS",
-           "RESERVED", "NAME", "Dialect", "Function", "TABLEAU", "parse", "sympy_functions", "declared_names"]
+__all__ = ["EntryError", "NUMBER_NAMES", "over", "raise_limit", "LIMIT_OPTION", "parse_entry", "parse_number",
+           "format_entry", "format_matrix", "parameter", "LIMITS", "RESERVED", "NAME", "Dialect", "Function",
+           "TABLEAU", "parse", "sympy_functions", "declared_names"]
 
 LIMITS = {                    # the tableau dialect's (a dialect's limits have these keys; the last two: tableau only)
     "text_length": 10000,     # characters in one entry (an 8-stage Gauss entry: a polynomial in two nodes)
@@ -90,7 +92,7 @@ _DEFAULT_LIMITS = dict(LIMITS)
 LIMIT_OPTION = "--entry-limit"   # the command-line option that raises a limit of the tableau dialect
 
 
-def over(dialect, key: str) -> str:
+def over(dialect: Dialect, key: str) -> str:
     """The limit a text went over, and how to raise it (tableau entries: ``--entry-limit KEY=N``).
 
     >>> over(TABLEAU, "depth")
@@ -129,15 +131,18 @@ def parameter(name: str) -> sp.Symbol:
 
 # ---------------------------------------------------------------------------- dialects
 
+#: a dialect function's value from the parser, its name, its parsed arguments and its position
+Build = Callable[["_Parser", str, list[sp.Expr], int], sp.Expr]
+
 @dataclass(frozen=True)
 class Function:
     """A function of a dialect: ``build(parser, name, args, pos)`` makes its value from the
     parsed arguments (the parser checks it is finite, real and of modest size); ``arity``
     the numbers of arguments it takes; ``scopes`` per argument (the last one repeats) the
     names bound in it, e.g. ``{"pi": sp.pi}``, or None to keep the caller's."""
-    build: Callable
-    arity: tuple = (1,)
-    scopes: tuple = (None,)
+    build: Build
+    arity: tuple[int, ...] = (1,)
+    scopes: tuple[Mapping[str, sp.Expr] | None, ...] = (None,)
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,24 +158,31 @@ class Dialect:
     ``limits``: the keys of :data:`LIMITS` (the last two only where cos, sin, root are used)."""
     name: str
     functions: Mapping[str, Function]
-    names: Callable
+    names: Callable[[_Parser, str, int], sp.Expr]
     decimals: bool
     roots_of_names: bool
     limits: Mapping[str, int]
 
 
-def _sqrt(p, name, args, pos):
+def _sqrt(p: _Parser, name: str, args: list[sp.Expr], pos: int) -> sp.Expr:
     return p.power(args[0], sp.S.Half, pos)
 
 
-def sympy_functions(table: Mapping[str, Callable]) -> Mapping[str, Function]:
+def sympy_functions(table: Mapping[str, Callable[[sp.Expr], sp.Expr]]) -> Mapping[str, Function]:
     """Dialect functions of one argument, any argument, from sympy functions: ``sp.sqrt`` is
     the power 1/2 (with its rules and limits), the others are applied as they are."""
-    return MappingProxyType({n: Function(_sqrt) if f is sp.sqrt else Function(lambda p, name, args, pos, f=f: f(args[0]))
-                             for n, f in table.items()})
+    return MappingProxyType({n: Function(_sqrt) if f is sp.sqrt
+                             else Function(_applying(f)) for n, f in table.items()})
 
 
-def declared_names(p, name, pos):
+def _applying(f: Callable[[sp.Expr], sp.Expr]) -> Build:
+    """The dialect function that applies ``f`` to its one argument."""
+    def build(p: _Parser, name: str, args: list[sp.Expr], pos: int) -> sp.Expr:
+        return f(args[0])
+    return build
+
+
+def declared_names(p: _Parser, name: str, pos: int) -> sp.Expr:
     """Names resolved from the mapping given to :func:`parse` (all other names are refused)."""
     if name not in p.names:
         raise p.error(f"unknown name {name!r}", pos, f"; known names: {', '.join(p.names) or 'none'}")
@@ -195,9 +207,10 @@ def _where(text: str, pos: int) -> str:
     return f"(at position {pos + 1} of {shown!r})"
 
 
-def _tokens(text: str, dialect: Dialect) -> list:
+def _tokens(text: str, dialect: Dialect) -> list[_Token]:
     """The tokens of ``text`` and an end token; number literals read (or refused) by ``dialect``."""
-    out, pos = [], 0
+    out: list[_Token] = []
+    pos = 0
     while pos < len(text):
         if text[pos] in " \t\r\n":                 # ASCII white space only (no NBSP, no zero-width)
             pos += 1
@@ -207,7 +220,8 @@ def _tokens(text: str, dialect: Dialect) -> list:
             what = "names must start with a letter, not '_'" if text[pos] == "_" else \
                 f"unexpected character {text[pos]!r}"
             raise EntryError(f"{what} {_where(text, pos)}")
-        kind, value = m.lastgroup, m.group(m.lastgroup)
+        kind = m.lastgroup
+        value = m.group(kind or 0)
         out.append(_Token(kind, value, pos, _number(value, dialect, text, pos) if kind == "number" else None))
         pos = m.end()
     out.append(_Token(None, None, len(text)))
@@ -222,9 +236,11 @@ def _number(literal: str, dialect: Dialect, text: str, pos: int) -> sp.Rational:
     mantissa, _, exponent = literal.lower().partition("e")
     digits, lim = len(mantissa.replace(".", "").lstrip("0")), dialect.limits["integer_digits"]
     if digits > lim:
-        raise EntryError(f"number with {digits} digits is too long {over(dialect, 'integer_digits')} {_where(text, pos)}")
+        raise EntryError(f"number with {digits} digits is too long {over(dialect, 'integer_digits')} "
+                         f"{_where(text, pos)}")
     if exponent and (len(exponent) > 8 or abs(int(exponent)) > 4 * dialect.limits["exponent_size"]):
-        raise EntryError(f"exponent of {literal[:40]!r} is too large {over(dialect, 'exponent_size')} {_where(text, pos)}")
+        raise EntryError(f"exponent of {literal[:40]!r} is too large {over(dialect, 'exponent_size')} "
+                         f"{_where(text, pos)}")
     return sp.Integer(int(literal)) if literal.isdigit() else sp.Rational(Fraction(literal))
 
 
@@ -236,7 +252,7 @@ def _fraction_hint(text: str) -> str:
     return str(sp.Rational(text))
 
 
-def _short(e) -> str:
+def _short(e: object) -> str:
     s = str(e)
     return s if len(s) <= 60 else s[:57] + "..."
 
@@ -244,12 +260,13 @@ def _short(e) -> str:
 # ---------------------------------------------------------------------------- the parser
 
 class _Parser:
-    def __init__(self, text: str, dialect: Dialect, names: Mapping | None = None):
+    def __init__(self, text: str, dialect: Dialect, names: Mapping[str, sp.Expr] | None = None) -> None:
         self.text, self.dialect, self.names = text, dialect, dict(names or {})
         self.limits = dialect.limits
         self.toks = _tokens(text, dialect)
         self.i = self.depth = 0
-        self.scope = {}             # names bound here by the argument of a function (pi in cos, x in root)
+        # names bound here by the argument of a function (pi in cos, x in root)
+        self.scope: Mapping[str, sp.Expr] = {}
 
     # -- helpers -----------------------------------------------------------
     def error(self, msg: str, pos: int, tail: str = "") -> EntryError:
@@ -263,12 +280,12 @@ class _Parser:
         self.i = min(self.i + 1, len(self.toks) - 1)
         return tok
 
-    def expect(self, value: str):
+    def expect(self, value: str) -> None:
         tok = self.take()
         if tok.text != value:
             raise self.error(f"expected {value!r}, found {_found(tok)}", tok.pos)
 
-    def nested(self, parse, scope=None):
+    def nested(self, parse: Callable[[], sp.Expr], scope: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
         """``parse()`` one level deeper (the depth is limited), with ``scope`` bound (None: as it is)."""
         self.depth += 1
         if self.depth > self.limits["depth"]:
@@ -283,7 +300,7 @@ class _Parser:
             self.scope = saved
 
     # -- grammar -----------------------------------------------------------
-    def parse(self):
+    def parse(self) -> sp.Expr:
         if len(self.toks) == 1:
             raise EntryError("empty expression")
         e = self.expr()
@@ -292,7 +309,7 @@ class _Parser:
             raise self.error(f"unexpected {tok.text!r}", tok.pos)
         return e
 
-    def expr(self):
+    def expr(self) -> sp.Expr:
         e = self.term()
         while self.peek().text in ("+", "-"):
             op = self.take()
@@ -300,7 +317,7 @@ class _Parser:
             e = self.checked(e + t if op.text == "+" else e - t, op.pos)
         return e
 
-    def term(self):
+    def term(self) -> sp.Expr:
         e = self.unary()
         while self.peek().text in ("*", "/"):
             op = self.take()
@@ -313,25 +330,25 @@ class _Parser:
                 e = self.checked(e * f, op.pos)
         return e
 
-    def unary(self):
+    def unary(self) -> sp.Expr:
         if self.peek().text in ("+", "-"):
             op = self.take()
             u = self.nested(self.unary)
             return -u if op.text == "-" else u
         return self.power_expr()
 
-    def power_expr(self):
+    def power_expr(self) -> sp.Expr:
         base = self.atom()
         if self.peek().text in ("**", "^"):
             op = self.take()
             return self.power(base, self.nested(self.unary), op.pos)
         return base
 
-    def atom(self):
+    def atom(self) -> sp.Expr:
         tok = self.take()
         if tok.kind == "number":
             return tok.value
-        if tok.kind == "name":
+        if tok.kind == "name" and tok.text is not None:
             name = tok.text
             if name in self.dialect.functions:
                 return self.call(name, tok.pos)
@@ -347,7 +364,7 @@ class _Parser:
             return e
         raise self.error(f"expected a number, a name or '(', found {_found(tok)}", tok.pos)
 
-    def call(self, name: str, pos: int):
+    def call(self, name: str, pos: int) -> sp.Expr:
         fn = self.dialect.functions[name]
         self.expect("(")
         args = [self.nested(self.expr, fn.scopes[0])]
@@ -360,7 +377,7 @@ class _Parser:
         return self.checked(fn.build(self, name, args, pos), pos)
 
     # -- values ------------------------------------------------------------
-    def power(self, base, exp, pos):
+    def power(self, base: sp.Expr, exp: sp.Expr, pos: int) -> sp.Expr:
         """base**exp for a rational constant exp of modest size, exactly."""
         if exp.free_symbols or not exp.is_Rational:
             raise self.error(f"exponent {_short(exp)} is not a rational constant", pos)
@@ -387,7 +404,7 @@ class _Parser:
             return self.checked(sp.Pow(radicand, sp.Rational(1, exp.q)), pos)
         return self.checked(sp.Pow(base, exp), pos)
 
-    def checked(self, e, pos):
+    def checked(self, e: sp.Expr, pos: int) -> sp.Expr:
         """e, unless it is infinite, not real, or holds numbers that are too large."""
         if e.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
             raise self.error("the value is not a finite number", pos)
@@ -399,7 +416,7 @@ class _Parser:
         return e
 
 
-def _radical_depth(e) -> int:
+def _radical_depth(e: sp.Expr) -> int:
     """How deeply roots are nested in e: sqrt(2) 1, sqrt(2 + sqrt(2)) 2."""
     if not e.args:
         return 0
@@ -411,7 +428,7 @@ def _found(tok: _Token) -> str:
     return "end of text" if tok.kind is None else repr(tok.text)
 
 
-def parse(text: str, dialect: Dialect, names: Mapping | None = None) -> sp.Expr:
+def parse(text: str, dialect: Dialect, names: Mapping[str, sp.Expr] | None = None) -> sp.Expr:
     """Parse ``text`` in ``dialect``; ``names`` (name -> value) for :func:`declared_names`.
 
     >>> parse("-2**2 + 2^3^2", TABLEAU), parse("-q^2", TABLEAU)
@@ -428,7 +445,7 @@ def parse(text: str, dialect: Dialect, names: Mapping | None = None) -> sp.Expr:
 _X = sp.Symbol("x")
 
 
-def _trig(p, name, args, pos):
+def _trig(p: _Parser, name: str, args: list[sp.Expr], pos: int) -> sp.Expr:
     """cos(k*pi/n), sin(k*pi/n): algebraic for every rational k/n."""
     arg = args[0]
     q = sp.expand(arg / sp.pi)
@@ -440,7 +457,7 @@ def _trig(p, name, args, pos):
     return (sp.cos if name == "cos" else sp.sin)(q * sp.pi)
 
 
-def _root(p, name, args, pos):
+def _root(p: _Parser, name: str, args: list[sp.Expr], pos: int) -> sp.Expr:
     """root(POLY, k): the k-th real root of POLY in x, ascending (k = 1, 2, …), or
     root(POLY, a, b): its only real root in the open interval (a, b)."""
     poly, *ends = args
@@ -467,7 +484,7 @@ def _root(p, name, args, pos):
     return inside[0]
 
 
-def _parameter_name(p, name, pos):
+def _parameter_name(p: _Parser, name: str, pos: int) -> sp.Expr:
     """Every name is a real parameter; pi only in the argument of cos, sin (their scope binds it);
     not a name that reads as a number or a constant (:data:`NOT_PARAMETERS`)."""
     if name == "pi":
@@ -512,15 +529,15 @@ def _parse_text(text: str) -> sp.Expr:
     return e
 
 
-class _Printer(sp.printing.str.StrPrinter):
+class _Printer(sp.printing.str.StrPrinter):  # type: ignore[misc]  # sympy ships no types: StrPrinter is Any
     """sympy's str printer, with a real root written as ``root(POLY, k)`` (k from 1)."""
 
-    def _print_ComplexRootOf(self, r):
+    def _print_ComplexRootOf(self, r: sp.Expr) -> str:
         P = sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
         return f"root({self._print(P.as_expr())}, {real_root_index(r, P)})"
 
 
-def real_root_index(r, P=None) -> int:
+def real_root_index(r: sp.Expr, P: sp.Poly | None = None) -> int:
     """k such that the real root ``r`` (a sympy ``CRootOf``) is ``root(P, k)``: its place among the
     distinct real roots of P (default: its own polynomial), ascending, from 1.  Decided on P's
     isolating intervals (rational ends, one distinct root each), not by comparing sympy objects:
@@ -530,7 +547,8 @@ def real_root_index(r, P=None) -> int:
 
     >>> x = sp.Symbol("x")
     >>> r = sp.CRootOf._new(sp.PurePoly(x**5 + 6*x**4 + 162*x**3 + 648*x**2 + 1944*x + 3888), 0)
-    >>> real_root_index(r), parse_entry(format_entry(r)) == 3*sp.CRootOf(x**5 + 2*x**4 + 18*x**3 + 24*x**2 + 24*x + 16, 0)
+    >>> q = sp.CRootOf(x**5 + 2*x**4 + 18*x**3 + 24*x**2 + 24*x + 16, 0)
+    >>> real_root_index(r), parse_entry(format_entry(r)) == 3*q
     (1, True)
     """
     P = P if P is not None else sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
@@ -545,11 +563,11 @@ def real_root_index(r, P=None) -> int:
     raise ValueError(f"{r} is not a real root of {P.as_expr()}")
 
 
-def _print(e) -> str:
-    return _Printer({"order": None}).doprint(e)
+def _print(e: sp.Expr) -> str:
+    return str(_Printer({"order": None}).doprint(e))
 
 
-def parse_entry(value) -> sp.Expr:
+def parse_entry(value: object) -> sp.Expr:
     """Parse one tableau entry (a string in the grammar, or a Python int).
 
     Booleans, floats and every other type are refused.
@@ -573,7 +591,7 @@ def parse_entry(value) -> sp.Expr:
     raise EntryError(f"an entry must be a string or an integer, not {type(value).__name__}")
 
 
-def format_entry(e) -> str | int:
+def format_entry(e: object) -> str | int:
     """Write an exact expression back in the grammar (integers stay integers).
 
     ``parse_entry(format_entry(e)) == e`` for every expression the grammar
@@ -584,13 +602,13 @@ def format_entry(e) -> str | int:
     >>> format_entry(parse_entry("4/2"))
     2
     """
-    e = sp.sympify(e)
-    if e.is_Integer:
-        return int(e)
-    return _print(e)
+    x = sp.sympify(e)
+    if x.is_Integer:
+        return int(x)
+    return _print(x)
 
 
-def format_matrix(M) -> list:
+def format_matrix(M: Any) -> list[str] | list[list[str]]:
     """A matrix (or column vector, as a flat list) as exact strings in the grammar.
 
     >>> format_matrix(sp.Matrix([[1, sp.sqrt(3)/6]]))

@@ -17,6 +17,9 @@ Matrix([[0, 1/2]])
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
 import sympy as sp
 
@@ -30,7 +33,7 @@ class InexactMethod(MethodError):
     """A method whose coefficients are floating-point numbers: not an exact tableau."""
 
 
-def _exact(x, where: str, name: str):
+def _exact(x: object, where: str, name: str) -> sp.Expr:
     if isinstance(x, (bool, np.bool_)):
         raise MethodError(f"{name}: {where} is a boolean, not a number")
     if isinstance(x, (int, np.integer)):
@@ -48,7 +51,7 @@ def _exact(x, where: str, name: str):
     raise MethodError(f"{name}: {where} has type {type(x).__name__}, not a number")
 
 
-def from_nodepy(rkm) -> RungeKutta | GeneralLinearMethod:
+def from_nodepy(rkm: Any) -> RungeKutta | GeneralLinearMethod:
     """The exact :class:`RungeKutta` of a NodePy ``RungeKuttaMethod`` (module docstring); a NodePy
     ``LinearMultistepMethod`` (α, β exact) becomes the GLM of :func:`multistep.lmm`."""
     name = str(getattr(rkm, "name", "") or "NodePy method")
@@ -61,7 +64,7 @@ def from_nodepy(rkm) -> RungeKutta | GeneralLinearMethod:
         raise MethodError(f"{name}: A has shape {A.shape}, b has {s} entries")
     Ax = [[_exact(A[i, j], f"A[{i + 1},{j + 1}]", name) for j in range(s)] for i in range(s)]
     bx = [_exact(b[j], f"b[{j + 1}]", name) for j in range(s)]
-    bhat, bh, notes = getattr(rkm, "bhat", None), None, ()
+    bhat, bh, notes = getattr(rkm, "bhat", None), None, tuple[str, ...]()
     if bhat is not None:
         try:
             bh = sp.ImmutableMatrix([_exact(x, f"bhat[{j + 1}]", name)
@@ -72,14 +75,14 @@ def from_nodepy(rkm) -> RungeKutta | GeneralLinearMethod:
                       source=f"NodePy {_version()} ({getattr(rkm, 'shortname', '') or name})")
 
 
-def _lmm_from_nodepy(lmm_, name: str) -> GeneralLinearMethod:
+def _lmm_from_nodepy(lmm_: Any, name: str) -> GeneralLinearMethod:
     from .multistep import lmm
     alpha = [_exact(x, f"alpha[{j + 1}]", name) for j, x in enumerate(np.asarray(lmm_.alpha, dtype=object).ravel())]
     beta = [_exact(x, f"beta[{j + 1}]", name) for j, x in enumerate(np.asarray(lmm_.beta, dtype=object).ravel())]
     return lmm(alpha, beta, name=name, source=f"NodePy {_version()} ({getattr(lmm_, 'shortname', '') or name})")
 
 
-def to_nodepy(m: RungeKutta):
+def to_nodepy(m: RungeKutta) -> Any:
     """The method as a NodePy ``RungeKuttaMethod`` with exact (sympy) coefficients."""
     from nodepy import rk
     if m.kind != "rk":
@@ -89,7 +92,8 @@ def to_nodepy(m: RungeKutta):
     return rk.RungeKuttaMethod(A, b, name=m.name)
 
 
-def from_lists(A, b, c=None, **meta) -> RungeKutta:
+def from_lists(A: Sequence[Sequence[object]], b: Sequence[object], c: Sequence[object] | None = None,
+               **meta: Any) -> RungeKutta:
     """An RK method from lists of ints, sympy numbers or entries in the tableau grammar
     ("1/2", "sqrt(3)/6"); floats are refused."""
     name = meta.get("name", "method")

@@ -25,6 +25,7 @@ tableau_lab.exact.library.FamilyError: gauss:0: the number of stages must be an 
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
 
 from ..errors import InputError
@@ -43,7 +44,7 @@ class FamilyError(InputError):
 
 
 # name -> (constructor, size keyword, largest size, what the size counts)
-FAMILIES = {
+FAMILIES: dict[str, tuple[Callable[[int], Method], str, int, str]] = {
     "gauss": (families.gauss, "s", families.MAX_STAGES, "stages"),
     "radau_iia": (families.radau_iia, "s", families.MAX_STAGES, "stages"),
     "lobatto_iiia": (families.lobatto_iiia, "s", families.MAX_STAGES, "stages"),
@@ -78,7 +79,7 @@ ALIASES = {"ssp22": "ssprk2:2", "ssp33": "ssprk3:3", "ssp104": "ssprk4:10"}
 _SPEC = re.compile(r"(?P<name>[a-z_][a-z0-9_]*)(?::(?P<size>[^:]*))?")
 
 
-def family_sizes(name: str) -> tuple:
+def family_sizes(name: str) -> tuple[int, ...]:
     """The sizes (stages or steps, as FAMILIES says) the family ``name`` is built for.
 
     >>> family_sizes("ssprk3"), family_sizes("sdirk_alexander"), family_sizes("gauss")[-1]
@@ -89,13 +90,13 @@ def family_sizes(name: str) -> tuple:
     return tuple(_SIZES.get(name, range(1, FAMILIES[name][2] + 1)))
 
 
-def is_family(spec) -> bool:
+def is_family(spec: object) -> bool:
     """``spec`` names a family ("bdf:5", "gauss:3", or the bare name) or is one of its ALIASES."""
     m = _SPEC.fullmatch(str(spec))
-    return bool(m) and m.group("name") in FAMILIES or str(spec) in ALIASES
+    return m is not None and m.group("name") in FAMILIES or str(spec) in ALIASES
 
 
-def family(spec: str, **size) -> Method:
+def family(spec: str, **size: int) -> Method:
     """The method ``spec`` ("name:n") or ``family("name", s=n)`` / ``family("name", k=n)``; an
     alias ("ssp104") is the member it names."""
     if str(spec) in ALIASES and not size:
@@ -126,12 +127,12 @@ def family(spec: str, **size) -> Method:
         raise FamilyError(f"{label}: {exc}") from None
 
 
-def library_names() -> list:
+def library_names() -> list[str]:
     """The names of the shipped tableau files."""
     return sorted(p.stem for p in LIBRARY.glob("*.json")) if LIBRARY.is_dir() else []
 
 
-def library_path(name: str):
+def library_path(name: object) -> Path | None:
     """The shipped file named ``name`` (its stem, without .json), or None."""
     if not re.fullmatch(r"[A-Za-z0-9_]+", str(name)):
         return None

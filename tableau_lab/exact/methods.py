@@ -21,13 +21,14 @@ partition is q (q' = ∂H/∂p), the second p (p' = -∂H/∂q) ([HLW06] II.2, V
 """
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Self
 
 import sympy as sp
 
 from ..errors import InputError
-from .conjugate import detect
+from .conjugate import Conjugate, detect
 from .field import FieldError, field_of, from_dm, solve_linear, to_dm
 from .queries import Queries
 from .render import markdown_literal
@@ -36,11 +37,15 @@ __all__ = ["MethodError", "Method", "RungeKutta", "PartitionedRungeKutta", "Gene
            "glm_parts"]
 
 
+#: an entry typesetter: sympy.latex, or the report's named-constant one
+Tex = Callable[[Any], str]
+
+
 class MethodError(InputError):
     """A tableau whose matrices do not form a method (shapes, nodes, entries)."""
 
 
-def _exact(e, what: str):
+def _exact(e: object, what: str) -> sp.Expr:
     """One matrix entry, exactly and without evaluating text: a string is read by the tableau
     grammar (never ``sympify``, which evaluates Python), an int or a ``Fraction`` becomes a
     rational, a sympy number is kept; floats and every other type are refused."""
@@ -60,15 +65,16 @@ def _exact(e, what: str):
         raise MethodError(f"{what}: {exc}") from None
 
 
-def _exact_rows(x, what: str):
+def _exact_rows(x: Any, what: str) -> Any:
     """A matrix, a list of rows or a flat list (a column) with every entry through :func:`_exact`.
 
     >>> _exact_rows([["1/2", 0]], "A")
     [[1/2, 0]]
-    >>> _exact_rows(["__import__('os')"], "b")
+    >>> _exact_rows(["__import__('os')"], "b")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    tableau_lab.exact.methods.MethodError: b, entry 1: names must start with a letter, not '_' (at position 1 of "__import__('os')")
+    tableau_lab.exact.methods.MethodError: b, entry 1: names must start with a letter, not '_' (at position 1 of
+    "__import__('os')")
     """
     if isinstance(x, sp.MatrixBase):
         return x
@@ -80,34 +86,37 @@ def _exact_rows(x, what: str):
     return [_exact(e, f"{what}, entry {i}") for i, e in enumerate(rows, 1)]
 
 
-def _matrix(x, what: str) -> sp.ImmutableMatrix:
+def _matrix(x: Any, what: str) -> sp.ImmutableMatrix:
     try:
         M = sp.ImmutableMatrix(_exact_rows(x, what))
     except (TypeError, ValueError) as exc:
         raise MethodError(f"{what} is not a matrix: {exc}") from None
     for e in M:
         if not isinstance(e, sp.Expr) or e.has(sp.Float):
-            raise MethodError(f"{what} has a non-exact entry {e!r}: entries must be exact (rationals, radicals, parameters)")
+            raise MethodError(f"{what} has a non-exact entry {e!r}: entries must be exact (rationals, radicals, "
+                              "parameters)")
         if e.has(sp.zoo, sp.nan, sp.oo, -sp.oo, sp.I):
             raise MethodError(f"{what} has an entry that is not a finite real number: {e}")
     return M
 
 
-def _lists(args: dict, call: str) -> dict:
+def _lists(args: dict[str, Any], call: str) -> dict[str, Any]:
     """The matrices of a ``from_lists`` call as ImmutableMatrix; a misplaced argument (a string,
     a number, a mapping where a matrix goes) is named with its position and what goes there.
 
-    >>> RungeKutta.from_lists("x", [[0]], [1])
+    >>> RungeKutta.from_lists("x", [[0]], [1])  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    tableau_lab.exact.methods.MethodError: RungeKutta.from_lists: argument 1 (A) is the string 'x', not a matrix: A is a list of rows (e.g. [[0, 0], ["1/2", 0]]); a name goes in name=...
+    tableau_lab.exact.methods.MethodError: RungeKutta.from_lists: argument 1 (A) is the string 'x', not a matrix: A
+    is a list of rows (e.g. [[0, 0], ["1/2", 0]]); a name goes in name=...
     """
-    out = {}
+    out: dict[str, Any] = {}            # name → ImmutableMatrix or None
     for i, (k, x) in enumerate(args.items(), 1):
         if x is None:
             out[k] = None
             continue
-        if isinstance(x, (str, bytes, int, float, complex, dict)) or isinstance(x, sp.Basic) and not isinstance(x, sp.MatrixBase):
+        if (isinstance(x, (str, bytes, int, float, complex, dict))
+                or isinstance(x, sp.Basic) and not isinstance(x, sp.MatrixBase)):
             what = f"the string {x[:40]!r}" if isinstance(x, str) else f"the {type(x).__name__} {str(x)[:40]}"
             shape = 'rows (e.g. [[0, 0], ["1/2", 0]])' if k.startswith("A") else "values"
             raise MethodError(f"{call}: argument {i} ({k}) is {what}, not a matrix: {k} is a list of {shape}; "
@@ -121,7 +130,7 @@ def _lists(args: dict, call: str) -> dict:
     return out
 
 
-def _column(x, what: str) -> sp.ImmutableMatrix:
+def _column(x: Any, what: str) -> sp.ImmutableMatrix:
     M = _matrix(x, what)
     if M.cols != 1:
         if M.rows == 1:
@@ -130,12 +139,12 @@ def _column(x, what: str) -> sp.ImmutableMatrix:
     return M
 
 
-def _shape(M, shape, what, hint=""):
+def _shape(M: sp.MatrixBase, shape: tuple[int, int], what: str, hint: str = "") -> None:
     if M.shape != shape:
         raise MethodError(f"{what} has shape {M.shape[0]}x{M.shape[1]}, expected {shape[0]}x{shape[1]}{hint}")
 
 
-def _frozen_claims(claims) -> tuple:
+def _frozen_claims(claims: Mapping[str, Any] | None) -> tuple[tuple[str, Any], ...]:
     return tuple(sorted((claims or {}).items()))
 
 
@@ -146,32 +155,37 @@ class Method(Queries):
 
     name: str = field(default="", kw_only=True)
     source: str = field(default="", kw_only=True)
-    notes: tuple = field(default=(), kw_only=True)
-    claims: tuple = field(default=(), kw_only=True)
+    notes: tuple[str, ...] = field(default=(), kw_only=True)
+    claims: tuple[tuple[str, Any], ...] = field(default=(), kw_only=True)
 
     kind = "method"
 
     @property
-    def claims_dict(self) -> dict:
+    def claims_dict(self) -> dict[str, Any]:
         return dict(self.claims)
 
     @property
-    def parameters(self) -> tuple:
+    def parameters(self) -> tuple[sp.Symbol, ...]:
         """The named free parameters of the tableau, sorted by name."""
-        syms = set()
+        syms: set[sp.Symbol] = set()
         for M in self.matrices().values():
             if M is not None:
                 syms |= M.free_symbols
         return tuple(sorted(syms, key=lambda s: s.name))
 
-    def matrices(self) -> dict:  # pragma: no cover - overridden
+    def matrices(self) -> dict[str, sp.ImmutableMatrix | None]:  # pragma: no cover - overridden
         raise NotImplementedError
 
-    def field(self):
+    @property
+    def s(self) -> int:  # pragma: no cover - overridden
+        """The number of stages."""
+        raise NotImplementedError
+
+    def field(self) -> Any:
         """The exact field of the tableau's entries."""
         return field_of(self.matrices().values())
 
-    def _check_field(self):
+    def _check_field(self) -> None:
         try:
             self.field()
         except FieldError as exc:
@@ -179,7 +193,7 @@ class Method(Queries):
 
     # ------------------------------------------------------------ display (notebooks, reports)
 
-    def tableau_latex(self, tex=sp.latex) -> str:  # pragma: no cover - overridden
+    def tableau_latex(self, tex: Tex = sp.latex) -> str:  # pragma: no cover - overridden
         """The tableau as LaTeX math (no delimiters), each entry typeset by ``tex``: the PDF
         report passes its named-constant typesetter, notebooks the default ``sympy.latex``."""
         raise NotImplementedError
@@ -194,7 +208,7 @@ class Method(Queries):
     def _repr_markdown_(self) -> str:
         """Jupyter: the name as a heading, the kind and size, then the tableau as display math."""
         size = f"s = {self.s} stage{'s' * (self.s != 1)}"
-        if self.kind == "glm":
+        if isinstance(self, GeneralLinearMethod):
             size += f", r = {self.r} value{'s' * (self.r != 1)}"
         return (f"### {markdown_literal(self.name or 'unnamed method')}\n\n{_KIND_NAMES[self.kind]}, {size}\n\n"
                 f"$${self._display_math()}$$")
@@ -203,7 +217,7 @@ class Method(Queries):
 _KIND_NAMES = {"rk": "Runge–Kutta method", "prk": "partitioned Runge–Kutta method", "glm": "general linear method"}
 
 
-def _butcher_array(A, b, c, tex) -> str:
+def _butcher_array(A: sp.MatrixBase, b: sp.MatrixBase, c: sp.MatrixBase, tex: Tex) -> str:
     """One Butcher tableau, c | A over a rule and bᵀ, as a LaTeX array ([B16] ch. 3)."""
     s = A.rows
     rows = [f"{tex(c[i])} & " + " & ".join(tex(A[i, j]) for j in range(s)) for i in range(s)]
@@ -211,7 +225,7 @@ def _butcher_array(A, b, c, tex) -> str:
             + " & ".join(tex(x) for x in b) + r" \end{array}")
 
 
-def _meta(kw: Mapping[str, Any]) -> dict:
+def _meta(kw: Mapping[str, Any]) -> dict[str, Any]:
     out = dict(kw)
     if "claims" in out and isinstance(out["claims"], Mapping):
         out["claims"] = _frozen_claims(out["claims"])
@@ -222,7 +236,8 @@ def _meta(kw: Mapping[str, Any]) -> dict:
     return out
 
 
-def _tableau(A, b, c, hat=""):
+def _tableau(A: Any, b: Any, c: Any, hat: str = "") -> tuple[sp.ImmutableMatrix, sp.ImmutableMatrix,
+                                                                  sp.ImmutableMatrix]:
     """Validate one Butcher tableau; c = A·1 exactly (derived when c is None).
     ``hat`` suffixes the names in messages (the second tableau of a PRK method)."""
     nA, nb, nc = f"A{hat}", f"b{hat}", f"c{hat}"
@@ -265,11 +280,11 @@ class RungeKutta(Method):
     # the method as rational data on the roots of one polynomial (exact.conjugate), when its
     # entries are values of fixed polynomials at the nodes (Gauss, Radau, Lobatto families):
     # the analyses then run in ℚ instead of the field of all the nodes
-    conjugate: object = field(default=None, compare=False, repr=False, kw_only=True)
+    conjugate: Conjugate | None = field(default=None, compare=False, repr=False, kw_only=True)
 
     kind = "rk"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.bhat is not None:
             bh = _column(self.bhat, "bhat")
             _shape(bh, (_matrix(self.A, "A").rows, 1), "bhat", " (the embedded weights: one per stage)")
@@ -280,7 +295,7 @@ class RungeKutta(Method):
             if found is not None and found.c_polynomial == found.P.gen:       # c = the nodes = A·1
                 object.__setattr__(self, "conjugate", found)
         if self.conjugate is not None:
-            self._check_conjugate()
+            self._check_conjugate(self.conjugate)
             return
         try:
             parts = _tableau(self.A, self.b, self.c)
@@ -290,25 +305,25 @@ class RungeKutta(Method):
             object.__setattr__(self, k, v)
         self._check_field()
 
-    def _check_conjugate(self):
+    def _check_conjugate(self, conjugate: Conjugate) -> None:
         """Shapes, and c = A·1 in ℚ: Ã e₀ = X (the nodes' polynomial) ⟺ A·1 = c."""
         A, b, c = _matrix(self.A, "A"), _column(self.b, "b"), _column(self.c, "c")
-        s = self.conjugate.s
+        s = conjugate.s
         _shape(A, (s, s), "A", f" (s = {s} nodes)")
         _shape(b, (s, 1), "b")
         _shape(c, (s, 1), "c")
-        if list(c) != self.conjugate.abscissae():
+        if list(c) != conjugate.abscissae():
             raise MethodError("c is not consistent with A: c ≠ A·1 (Ã e₀ at the nodes)")
         for k, v in zip("Abc", (A, b, c), strict=False):
             object.__setattr__(self, k, v)
 
     @classmethod
-    def from_lists(cls, A, b, c=None, **meta):
+    def from_lists(cls, A: Any, b: Any, c: Any = None, **meta: Any) -> Self:
         return cls(**_lists({"A": A, "b": b, "c": c}, "RungeKutta.from_lists"), **_meta(meta))
 
     @property
     def s(self) -> int:
-        return self.A.rows
+        return int(self.A.rows)
 
     @property
     def explicit(self) -> bool:
@@ -322,11 +337,11 @@ class RungeKutta(Method):
         scalar factor that commutes with the step) and R has degree s."""
         return self.s if self.explicit else 2 * self.s
 
-    def tableau_latex(self, tex=sp.latex) -> str:
+    def tableau_latex(self, tex: Tex = sp.latex) -> str:
         """The Butcher tableau c | A over bᵀ."""
         return _butcher_array(self.A, self.b, self.c, tex)
 
-    def matrices(self) -> dict:
+    def matrices(self) -> dict[str, sp.ImmutableMatrix | None]:
         out = {"A": self.A, "b": self.b, "c": self.c}
         if self.bhat is not None:
             out["bhat"] = self.bhat
@@ -366,7 +381,7 @@ class PartitionedRungeKutta(Method):
 
     kind = "prk"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         first = _tableau(self.A, self.b, self.c)
         second = _tableau(self.Ahat, self.bhat, self.chat, hat="hat")
         if first[0].rows != second[0].rows:
@@ -377,20 +392,20 @@ class PartitionedRungeKutta(Method):
         self._check_field()
 
     @classmethod
-    def from_lists(cls, A, b, Ahat, bhat, c=None, chat=None, **meta):
+    def from_lists(cls, A: Any, b: Any, Ahat: Any, bhat: Any, c: Any = None, chat: Any = None, **meta: Any) -> Self:
         return cls(**_lists({"A": A, "b": b, "Ahat": Ahat, "bhat": bhat, "c": c, "chat": chat},
                             "PartitionedRungeKutta.from_lists"), **_meta(meta))
 
     @property
     def s(self) -> int:
-        return self.A.rows
+        return int(self.A.rows)
 
-    def tableau_latex(self, tex=sp.latex) -> str:
+    def tableau_latex(self, tex: Tex = sp.latex) -> str:
         """Both Butcher tableaux, (A, b, c) then (Â, b̂, ĉ), side by side."""
         return (_butcher_array(self.A, self.b, self.c, tex) + r" \qquad "
                 + _butcher_array(self.Ahat, self.bhat, self.chat, tex))
 
-    def matrices(self) -> dict:
+    def matrices(self) -> dict[str, sp.ImmutableMatrix | None]:
         return {"A": self.A, "b": self.b, "c": self.c, "Ahat": self.Ahat, "bhat": self.bhat, "chat": self.chat}
 
     def tableaux(self) -> tuple[RungeKutta, RungeKutta]:
@@ -398,7 +413,7 @@ class PartitionedRungeKutta(Method):
                 RungeKutta(A=self.Ahat, b=self.bhat, c=self.chat, name=f"{self.name} (second partition)"))
 
 
-def preconsistency(U, V) -> sp.ImmutableMatrix | None:
+def preconsistency(U: sp.MatrixBase, V: sp.MatrixBase) -> sp.ImmutableMatrix | None:
     """The preconsistency vector u with V u = u and U u = 1 ([B16] Sec. 51), or None.
 
     >>> preconsistency(sp.Matrix([[1, -2], [1, 2]]), sp.Matrix([[1, 0], [0, -1]])).T
@@ -435,7 +450,7 @@ class GeneralLinearMethod(Method):
 
     kind = "glm"
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         A = _matrix(self.A, "A")
         if A.rows != A.cols or A.rows == 0:
             raise MethodError(f"A must be square and non-empty, got shape {A.rows}x{A.cols}")
@@ -456,7 +471,7 @@ class GeneralLinearMethod(Method):
             _shape(c, (s, 1), "c", f" (s = {s} stages)")
         object.__setattr__(self, "c", self._abscissae(c))
 
-    def _abscissae(self, c):
+    def _abscissae(self, c: Any) -> sp.ImmutableMatrix:
         s, r = self.s, self.r
         u = preconsistency(self.U, self.V)
         if u is None:
@@ -497,13 +512,13 @@ class GeneralLinearMethod(Method):
 
     @property
     def s(self) -> int:
-        return self.A.rows
+        return int(self.A.rows)
 
     @property
     def r(self) -> int:
-        return self.V.rows
+        return int(self.V.rows)
 
-    def tableau_latex(self, tex=sp.latex) -> str:
+    def tableau_latex(self, tex: Tex = sp.latex) -> str:
         """The partitioned matrix [A U; B V] ([B16] ch. 5), a rule between stages and values."""
         s, r = self.s, self.r
         top = [" & ".join([tex(self.A[i, j]) for j in range(s)] + [tex(self.U[i, j]) for j in range(r)])
@@ -514,21 +529,21 @@ class GeneralLinearMethod(Method):
                 rf"\left[\begin{{array}}{{{'c' * s}|{'c' * r}}} " + r" \\ ".join(top) + r" \\ \hline "
                 + r" \\ ".join(bot) + r" \end{array}\right]")
 
-    def abscissae_latex(self, tex=sp.latex) -> str:
+    def abscissae_latex(self, tex: Tex = sp.latex) -> str:
         """The stage abscissae, c = (c₁, …, c_s)."""
         return r"c = (" + r",\ ".join(tex(x) for x in self.c) + ")"
 
     def _display_math(self) -> str:
         return self.tableau_latex() + r",\qquad " + self.abscissae_latex()
 
-    def matrices(self) -> dict:
+    def matrices(self) -> dict[str, sp.ImmutableMatrix | None]:
         return {"A": self.A, "U": self.U, "B": self.B, "V": self.V, "c": self.c}
 
     def as_glm(self) -> "GeneralLinearMethod":
         return self
 
 
-def _left_eigenvector(V, u, K):
+def _left_eigenvector(V: sp.MatrixBase, u: sp.MatrixBase, K: Any) -> sp.Matrix | None:
     """w with wᵀV = wᵀ and wᵀu = 1, when unique (1 a simple eigenvalue of V)."""
     r = V.rows
     M = to_dm(sp.Matrix.vstack(V.T - sp.eye(r), u.T), K)
@@ -538,12 +553,12 @@ def _left_eigenvector(V, u, K):
     return None if x is None else sp.Matrix([K.to_sympy(v) for v in x])
 
 
-def glm_parts(m: Method) -> tuple:
+def glm_parts(m: Method) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix, sp.Matrix]:
     """(A, U, B, V) of an RK method or a GLM as mutable sympy matrices, without the validation of
     :meth:`as_glm` (a tableau with unknowns need not be consistent yet): an RK method is
     U = 1, B = bᵀ, V = [1]."""
-    if m.kind == "rk":
+    if isinstance(m, RungeKutta):
         return sp.Matrix(m.A), sp.ones(m.s, 1), sp.Matrix(m.b).T, sp.Matrix([[1]])
-    if m.kind == "glm":
-        return tuple(sp.Matrix(X) for X in (m.A, m.U, m.B, m.V))
+    if isinstance(m, GeneralLinearMethod):
+        return sp.Matrix(m.A), sp.Matrix(m.U), sp.Matrix(m.B), sp.Matrix(m.V)
     raise ValueError(f"{m.name}: a partitioned RK method has no single GLM form")

@@ -27,9 +27,15 @@ Matrix([[1, 3/2, -1/2]])
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import sympy as sp
 
-from .methods import GeneralLinearMethod, MethodError
+from .methods import GeneralLinearMethod, Method, MethodError
+
+#: (α₀ … αₖ, β₀ … βₖ) of a linear multistep method
+Coefficients = tuple[list[sp.Expr], list[sp.Expr]]
 
 __all__ = ["lmm", "lmm_coefficients", "as_lmm", "bdf", "adams_bashforth", "adams_moulton", "nystrom",
            "milne_simpson", "FAMILIES"]
@@ -43,7 +49,7 @@ FAMILIES = {
 MAX_STEPS = 30      # k beyond which the coefficients (and any analysis of them) are not worth building
 
 
-def _lagrange_weights(nodes, a, b) -> list:
+def _lagrange_weights(nodes: Sequence[int], a: int, b: int) -> list[sp.Expr]:
     """∫_a^b ℓ_i(t) dt for the Lagrange basis on the integer ``nodes`` (exact)."""
     out = []
     for i, x in enumerate(nodes):
@@ -52,7 +58,7 @@ def _lagrange_weights(nodes, a, b) -> list:
     return out
 
 
-def lmm_coefficients(family: str, k: int) -> tuple[list, list]:
+def lmm_coefficients(family: str, k: int) -> tuple[list[sp.Expr], list[sp.Expr]]:
     """(α₀ … αₖ, β₀ … βₖ) of the k-step method of ``family`` (αₖ = 1), time measured in steps
     with the new point at t = k."""
     if family not in FAMILIES:
@@ -83,7 +89,8 @@ def lmm_coefficients(family: str, k: int) -> tuple[list, list]:
     return alpha, beta
 
 
-def lmm(alpha, beta, *, name: str, source: str = "", **meta) -> GeneralLinearMethod:
+def lmm(alpha: Sequence[Any], beta: Sequence[Any], *, name: str, source: str = "", **meta: Any
+        ) -> GeneralLinearMethod:
     """The GLM of the LMM Σ αⱼ y_{n+j} = h Σ βⱼ f_{n+j} (module docstring); α, β exact, αₖ ≠ 0
     (normalised to 1)."""
     alpha, beta = [sp.sympify(a) for a in alpha], [sp.sympify(b) for b in beta]
@@ -115,7 +122,7 @@ def lmm(alpha, beta, *, name: str, source: str = "", **meta) -> GeneralLinearMet
     return GeneralLinearMethod(A=A, U=U, B=B, V=V, c=sp.Matrix([1]), name=name, source=source, **meta)
 
 
-def as_lmm(m) -> tuple[list, list] | None:
+def as_lmm(m: Method) -> Coefficients | None:
     """(α₀ … αₖ, β₀ … βₖ), αₖ = 1, when the method ``m`` is a linear multistep method written
     as a GLM, else None.
 
@@ -134,12 +141,12 @@ def as_lmm(m) -> tuple[list, list] | None:
     >>> as_lmm(load("adams_bashforth2")), as_lmm(load("leapfrog"))
     (([0, -1, 1], [-1/2, 3/2, 0]), ([-1, 0, 1], [0, 2, 0]))
     """
-    if getattr(m, "kind", None) != "glm" or m.s != 1:
+    if not isinstance(m, GeneralLinearMethod) or m.kind != "glm" or m.s != 1:
         return None
     return _as_built(m) or _stage_values(m)
 
 
-def _stage_values(m) -> tuple[list, list] | None:
+def _stage_values(m: GeneralLinearMethod) -> Coefficients | None:
     """The LMM of the stage values of a one-stage GLM whose stage is the solution (:func:`as_lmm`)."""
     a, U, B, V, r = m.A[0, 0], m.U, m.B, m.V, m.r
     first_output = B[0, 0] == a and V.row(0) == U
@@ -166,7 +173,7 @@ def _stage_values(m) -> tuple[list, list] | None:
     return alpha, beta
 
 
-def _as_built(m) -> tuple[list, list] | None:
+def _as_built(m: GeneralLinearMethod) -> Coefficients | None:
     """(α, β) when ``m`` is exactly the GLM :func:`lmm` builds of them (:func:`as_lmm`)."""
     r, u = m.r, list(m.U.row(0))
     ones = [i for i in range(1, r) if m.B[i, 0] != 0]        # B's column: h f(Y) enters after the ky y values

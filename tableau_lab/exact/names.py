@@ -37,7 +37,7 @@ def _fold(name: str) -> str:
     return re.sub(r"[-_:\s]+", "", name.casefold())
 
 
-def _candidates(typed: str) -> list:
+def _candidates(typed: str) -> list[str]:
     """Every shipped name, every alias and every ``family:N`` of a size the family is built for;
     the families first when the typed name has a colon (``gaus:3`` → ``gauss:3`` rather than
     the file gauss3)."""
@@ -45,13 +45,13 @@ def _candidates(typed: str) -> list:
     return families + library_names() if ":" in typed else library_names() + families
 
 
-def suggestions(typed) -> list:
+def suggestions(typed: object) -> list[str]:
     """Up to :data:`MOST` known names close to ``typed``, the closest first (module docstring)."""
     typed = str(typed)
     if not typed or len(typed) > LONGEST or "/" in typed or typed.lstrip().startswith("{"):
         return []
     names = _candidates(typed)
-    by_fold = {}
+    by_fold: dict[str, str] = {}
     for n in names:
         by_fold.setdefault(_fold(n), n)
     key = _fold(typed)
@@ -59,13 +59,13 @@ def suggestions(typed) -> list:
         return [by_fold[key]]
     close = [by_fold[k] for k in difflib.get_close_matches(key, list(by_fold), n=5 * MOST, cutoff=CUTOFF)]
     inside = [n for k, n in by_fold.items() if len(key) >= 4 and key in k]    # "euler": explicit_euler, …
-    one = {}                                 # a family once: its closest member
+    one: dict[str, str] = {}                                 # a family once: its closest member
     for n in close + inside:
         one.setdefault(n.split(":")[0], n)
     return list(one.values())[:MOST]
 
 
-def did_you_mean(typed) -> str:
+def did_you_mean(typed: object) -> str:
     """``"; did you mean X?"`` (or ``X or Y``) for a message about ``typed``, or ``""``."""
     found = suggestions(typed)
     if not found:

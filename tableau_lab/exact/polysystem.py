@@ -28,7 +28,9 @@ design of methods with few stages, take seconds; large ones can take very long.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy as sp
 from sympy.polys.groebnertools import groebner
@@ -53,10 +55,10 @@ class Branch:
     ``implicit`` lists unknowns given only as a root of a polynomial (no radical form);
     ``real`` is False when a value is a non-real complex number."""
 
-    values: dict
-    free: list = field(default_factory=list)
-    conditions: list = field(default_factory=list)
-    implicit: dict = field(default_factory=dict)
+    values: dict[sp.Symbol, sp.Expr]
+    free: list[sp.Symbol] = field(default_factory=list)
+    conditions: list[sp.Expr] = field(default_factory=list)
+    implicit: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
     real: bool = True
 
 
@@ -64,20 +66,20 @@ class PolynomialSystem:
     """Polynomials in the given unknowns (lex order: first is largest) over the number field
     of the constants that appear (``constants``: expressions whose radicals must be in it)."""
 
-    def __init__(self, unknowns, constants=()):
+    def __init__(self, unknowns: Iterable[sp.Symbol], constants: Iterable[Any] = ()) -> None:
         self.K = field_of([sp.sympify(c) for c in constants] or [sp.Integer(0)])
         if not (self.K.is_QQ or self.K.is_Algebraic):
             raise SystemError_("the constants of a system must be numbers (no free symbols)")
         self._order(unknowns)
 
-    def _order(self, unknowns):
+    def _order(self, unknowns: Iterable[sp.Symbol]) -> None:
         self.unknowns = list(unknowns)
         self.R = PolyRing(self.unknowns, self.K, lex)
         self.F = self.R.to_field()
         self._index = {s: i for i, s in enumerate(self.unknowns)}
 
     # ------------------------------------------------------------ conversion
-    def frac(self, e):
+    def frac(self, e: Any) -> Any:
         """A sympy expression as an element of the fraction field K(unknowns)."""
         e = sp.sympify(e)
         F = self.F
@@ -102,28 +104,31 @@ class PolynomialSystem:
             return base ** int(e.exp) if e.exp >= 0 else F.one / base ** int(-e.exp)
         raise SystemError_(f"{e} is not a rational function of the unknowns")
 
-    def poly(self, e):
+    def poly(self, e: Any) -> Any:
         """The numerator of a rational expression: the polynomial whose zeros are wanted."""
         return self.frac(e).numer
 
-    def expr(self, p) -> sp.Expr:
+    def expr(self, p: Any) -> sp.Expr:
         return p.as_expr()
 
     # ------------------------------------------------------------ solving
-    def groebner(self, polys):
+    def groebner(self, polys: Iterable[Any]) -> list[Any]:
         polys = [p for p in polys if p]
         if not polys:
             return []
         with computing(f"Gröbner basis of {len(polys)} equations in {len(self.R.gens)} unknowns"):
-            return groebner(polys, self.R)
+            basis: list[Any] = groebner(polys, self.R)
+            return basis
 
-    def consistent(self, polys) -> bool:
+    def consistent(self, polys: Iterable[Any]) -> bool:
         return self.groebner(polys) != [self.R.one]
 
-    def components(self, polys) -> list[list]:
+    def components(self, polys: Iterable[Any]) -> list[list[Any]]:
         """Reduced lex Gröbner bases of the components (no factor splits further), minimal:
         none lies inside another."""
-        out, seen, stack = [], set(), [list(polys)]
+        out: list[list[Any]] = []
+        seen: set[tuple[str, ...]] = set()
+        stack = [list(polys)]
         while stack:
             G = self.groebner(stack.pop())
             if G == [self.R.one]:
@@ -144,11 +149,11 @@ class PolynomialSystem:
                 out.append(G)
         return self._minimal(out)
 
-    def _contains(self, big, small) -> bool:
+    def _contains(self, big: list[Any], small: list[Any]) -> bool:
         """V(small) ⊆ V(big): every generator of big reduces to zero modulo small's basis."""
         return all(not g.rem(small) for g in big) if small else not big
 
-    def _minimal(self, comps):
+    def _minimal(self, comps: list[list[Any]]) -> list[list[Any]]:
         keep = []
         for i, c in enumerate(comps):
             inside = any(j != i and self._contains(d, c) and not (self._contains(c, d) and j > i)
@@ -169,14 +174,15 @@ class PolynomialSystem:
                 i += 1
         return cur
 
-    def reorder(self, unknowns) -> "PolynomialSystem":
+    def reorder(self, unknowns: Iterable[sp.Symbol]) -> PolynomialSystem:
         """The same system with another variable order (constants shared)."""
         other = PolynomialSystem.__new__(PolynomialSystem)
         other.K = self.K
         other._order(unknowns)
         return other
 
-    def explicit_parametrisation(self, G, movable) -> tuple["PolynomialSystem", list[Branch]]:
+    def explicit_parametrisation(self, G: list[Any], movable: Iterable[sp.Symbol]
+                                 ) -> tuple[PolynomialSystem, list[Branch]]:
         """Branches of the component G, trying other lex orders (each of ``movable`` made the
         smallest variable in turn) when the first one leaves an unknown implicit (a root of a
         polynomial with parametric coefficients): a curve that is 2:1 over one coordinate can be
@@ -192,10 +198,10 @@ class PolynomialSystem:
                 return other, alt
         return self, branches
 
-    def parametrise(self, G) -> list[Branch]:
+    def parametrise(self, G: list[Any]) -> list[Branch]:
         """Branches of the component with lex basis G (see the module docstring)."""
         gens = self.unknowns
-        lead = {}
+        lead: dict[sp.Symbol, list[Any]] = {}
         for g in G:
             v = min(i for i in range(len(gens)) if any(m[i] for m in g.monoms()))
             lead.setdefault(gens[v], []).append(g)
@@ -207,7 +213,7 @@ class PolynomialSystem:
             branches = nxt
         return branches
 
-    def _solve_for(self, x, polys, br):
+    def _solve_for(self, x: sp.Symbol, polys: list[Any], br: Branch) -> list[Branch]:
         if not br.real:            # a complex branch is reported, not parametrised further
             return [br]
         if not polys:
@@ -234,7 +240,7 @@ class PolynomialSystem:
         if len(roots) < P.degree():
             br.implicit[x] = q
             return [br]
-        out = []
+        out: list[Branch] = []
         real = {r: _is_real(r) for r in dict.fromkeys(roots)}
         for r in sorted(real, key=lambda r: (not real[r], complex(sp.N(r, 30)).real)):
             nb = Branch(values=dict(br.values), free=list(br.free), conditions=list(br.conditions),
@@ -242,7 +248,7 @@ class PolynomialSystem:
             out.extend(self._check(x, _nf(r) if nb.real else r, subs, nb))
         return out
 
-    def _check(self, x, val, subs, br):
+    def _check(self, x: sp.Symbol, val: sp.Expr, subs: list[sp.Expr], br: Branch) -> list[Branch]:
         br.values[x] = val
         if br.real and not br.implicit:     # with an implicit unknown, zero tests need its relation
             for q in subs:
@@ -251,16 +257,16 @@ class PolynomialSystem:
         return [br]
 
 
-def _is_real(r) -> bool:
+def _is_real(r: sp.Expr) -> bool:
     """A root in radicals is real when its imaginary part vanishes (to 50 digits: roots of a
     polynomial over QQ<α> are separated far more widely than that)."""
     return not r.has(sp.I) or abs(complex(sp.N(sp.im(r), 50))) < 1e-40
 
 
-def _zero(e) -> bool:
+def _zero(e: Any) -> bool:
     """Exact zero test (complex branches are never parametrised, so no i reaches here)."""
     return is_zero(sp.sympify(e))
 
 
-def _nf(e):
+def _nf(e: Any) -> sp.Expr:
     return normal_form(sp.sympify(e))

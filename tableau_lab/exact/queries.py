@@ -15,18 +15,21 @@ Method objects stay frozen: nothing is cached on them.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
+from typing import Any
 
 __all__ = ["Queries"]
 
 
-def _top(name: str):
+def _top(name: str) -> Callable[..., Any]:
     """The public function ``tableau_lab.<name>``."""
-    return getattr(importlib.import_module("tableau_lab"), name)
+    function: Callable[..., Any] = getattr(importlib.import_module("tableau_lab"), name)
+    return function
 
 
-def _delegate(name: str, doc: str):
+def _delegate(name: str, doc: str) -> Callable[..., Any]:
     """The method ``name`` of :class:`Queries`: ``tableau_lab.<name>(self, ...)``, with ``doc``."""
-    def method(self, *args, **kw):
+    def method(self: Queries, *args: Any, **kw: Any) -> Any:
         return _top(name)(self, *args, **kw)
     method.__name__ = name
     method.__qualname__ = f"Queries.{name}"
@@ -48,7 +51,8 @@ class Queries:
         6
         """)
 
-    stability = _delegate("stability", """The exact linear-stability analysis (``tl.stability``): P(w, z), R(z), A-stability,
+    stability = _delegate("stability", """The exact linear-stability analysis (``tl.stability``): P(w, z), R(z),
+        A-stability,
         the imaginary-axis radii ([HW96] IV.3, [BHHN14]).
 
         >>> import tableau_lab as tl
@@ -56,7 +60,8 @@ class Queries:
         True
         """)
 
-    imaginary_stability_interval = _delegate("imaginary_stability_interval", """The exact Y with |R(iy)| ≤ 1 for |y| ≤ Y (``tl.imaginary_stability_interval``; NodePy's
+    imaginary_stability_interval = _delegate("imaginary_stability_interval", """The exact Y with |R(iy)| ≤ 1 for |y| ≤ Y
+        (``tl.imaginary_stability_interval``; NodePy's
         ``imaginary_stability_interval``, exact; [HW96] IV.2).
 
         >>> import tableau_lab as tl
@@ -64,7 +69,8 @@ class Queries:
         2*sqrt(2)
         """)
 
-    principal_error_norm = _delegate("principal_error_norm", """‖τ^(p+1)‖₂ of an RK method, exact (``tl.principal_error_norm``; NodePy's
+    principal_error_norm = _delegate("principal_error_norm", """‖τ^(p+1)‖₂ of an RK method, exact
+        (``tl.principal_error_norm``; NodePy's
         ``principal_error_norm``; [HNW93] II.3).
 
         >>> import tableau_lab as tl
@@ -72,7 +78,8 @@ class Queries:
         sqrt(1745)/2880
         """)
 
-    ssp_coefficient = _delegate("ssp_coefficient", """The SSP coefficient (radius of absolute monotonicity) of an RK method, exact
+    ssp_coefficient = _delegate("ssp_coefficient", """The SSP coefficient (radius of absolute monotonicity) of an RK
+        method, exact
         (``tl.ssp_coefficient``; NodePy's ``absolute_monotonicity_radius``; [GKS11] ch. 3).
 
         >>> import tableau_lab as tl
@@ -80,14 +87,16 @@ class Queries:
         6
         """)
 
-    stability_function = _delegate("stability_function", """R(z) = P(z)/Q(z) of an RK method, exact (``tl.stability_function``; [HW96] IV.3).
+    stability_function = _delegate("stability_function", """R(z) = P(z)/Q(z) of an RK method, exact
+        (``tl.stability_function``; [HW96] IV.3).
 
         >>> import tableau_lab as tl
         >>> print(tl.load("implicit_midpoint").stability_function())
         R(z) = (z/2 + 1)/(1 - z/2)
         """)
 
-    modified_equation = _delegate("modified_equation", """The modified equation to trees of order n (``tl.modified_equation(m, n)``; [HLW06] IX.1).
+    modified_equation = _delegate("modified_equation", """The modified equation to trees of order n
+        (``tl.modified_equation(m, n)``; [HLW06] IX.1).
 
         >>> import tableau_lab as tl
         >>> print(tl.load("explicit_euler").modified_equation(3))
@@ -97,7 +106,8 @@ class Queries:
              + h^2 ( 1/12 f''(f, f) + 1/3 f'f'f )
         """)
 
-    modified_hamiltonian = _delegate("modified_hamiltonian", """The modified Hamiltonian H̃ for a Hamiltonian H to order n
+    modified_hamiltonian = _delegate("modified_hamiltonian", """The modified Hamiltonian H̃ for a Hamiltonian H to order
+        n
         (``tl.modified_hamiltonian(m, H, n)``; [HLW06] IX.3).
 
         >>> import tableau_lab as tl, sympy as sp
@@ -114,14 +124,16 @@ class Queries:
         ()
         """)
 
-    g_symplectic = _delegate("g_symplectic", """G-symplecticity: G and D with the three conditions of [BHHN14] (``tl.g_symplectic``).
+    g_symplectic = _delegate("g_symplectic", """G-symplecticity: G and D with the three conditions of [BHHN14]
+        (``tl.g_symplectic``).
 
         >>> import tableau_lab as tl
         >>> tl.load("example4_glm").g_symplectic().holds
         True
         """)
 
-    parasitism = _delegate("parasitism", """The parasitic growth parameters μ of a GLM (``tl.parasitism``; [BHHN14] Sec. 4).
+    parasitism = _delegate("parasitism", """The parasitic growth parameters μ of a GLM (``tl.parasitism``; [BHHN14] Sec.
+        4).
 
         >>> import tableau_lab as tl
         >>> tl.load("example4_glm").parasitism().free
@@ -137,7 +149,8 @@ class Queries:
 
     # the four below call functions of the numeric side and the plots (tl.integrate, …)
 
-    integrate = _delegate("integrate", """Integrate a problem with this method (``tl.integrate(m, f, y0, t_span, h=...)``).
+    integrate = _delegate("integrate", """Integrate a problem with this method (``tl.integrate(m, f, y0, t_span,
+        h=...)``).
 
         >>> import tableau_lab as tl, math
         >>> sol = tl.load("gauss2").integrate(lambda t, y: [y[1], -y[0]], [1, 0], (0, 2 * math.pi), h=0.01,
@@ -146,7 +159,8 @@ class Queries:
         True
         """)
 
-    plot_stability_region = _delegate("plot_stability_region", """The stability region, on matplotlib axes (``tl.plot_stability_region(m, ax=None, window=None)``).
+    plot_stability_region = _delegate("plot_stability_region", """The stability region, on matplotlib axes
+        (``tl.plot_stability_region(m, ax=None, window=None)``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("rk4").plot_stability_region()
@@ -154,7 +168,8 @@ class Queries:
         'Axes'
         """)
 
-    plot_order_star = _delegate("plot_order_star", """The order star |R(z)e^(−z)| > 1 ([HW96] IV.4), on matplotlib axes (``tl.plot_order_star``).
+    plot_order_star = _delegate("plot_order_star", """The order star |R(z)e^(−z)| > 1 ([HW96] IV.4), on matplotlib axes
+        (``tl.plot_order_star``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("gauss2").plot_order_star()
@@ -162,7 +177,8 @@ class Queries:
         'Axes'
         """)
 
-    plot_imaginary_axis = _delegate("plot_imaginary_axis", """The root moduli along the imaginary axis, on matplotlib axes (``tl.plot_imaginary_axis``).
+    plot_imaginary_axis = _delegate("plot_imaginary_axis", """The root moduli along the imaginary axis, on matplotlib
+        axes (``tl.plot_imaginary_axis``).
 
         >>> import tableau_lab as tl
         >>> ax = tl.load("leapfrog").plot_imaginary_axis()
@@ -170,7 +186,8 @@ class Queries:
         'Axes'
         """)
 
-    error_constant = _delegate("error_constant", """The classical error constant C_{p+1} of a linear multistep method (``tl.error_constant``;
+    error_constant = _delegate("error_constant", """The classical error constant C_{p+1} of a linear multistep method
+        (``tl.error_constant``;
         [HNW93] III.2).
 
         >>> import tableau_lab as tl

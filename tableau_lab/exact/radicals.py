@@ -17,18 +17,20 @@ irrational base c·P (c rational) as √c·√P with one generator per P.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import sympy as sp
 
 __all__ = ["Reduction", "reduce_generators", "square_class"]
 
 
-def square_class(n) -> frozenset:
+def square_class(n: Any) -> frozenset[Any]:
     """The primes of odd exponent in a nonzero rational |n|: √a/√b is rational exactly when
     ``square_class(a) == square_class(b)`` (for a, b > 0)."""
     n = sp.Rational(n)
-    out: set = set()
+    out: set[Any] = set()
     for part in (abs(n.p), n.q):
         out ^= {p for p, k in sp.factorint(part).items() if k % 2}
     return frozenset(out)
@@ -38,22 +40,23 @@ def square_class(n) -> frozenset:
 class Reduction:
     """``basis``: the generators to adjoin; ``words``: each original generator g ↦ (q, indices)
     with g = q·Π basis[i] exactly (q rational)."""
-    basis: tuple
-    words: dict
+    basis: tuple[Any, ...]
+    words: dict[Any, tuple[Any, tuple[int, ...]]]
 
 
 class _SquareClasses:
     """Positive rationals' square roots over a growing basis of squarefree integers."""
 
-    def __init__(self, basis: list):
+    def __init__(self, basis: list[Any]) -> None:
         self.basis = basis                 # shared with the caller: generators in adjoin order
-        self.rows: dict = {}               # pivot prime -> (reduced class, set of basis indices)
+        # pivot prime -> (reduced class, set of basis indices)
+        self.rows: dict[Any, tuple[frozenset[Any], set[int]]] = {}
 
-    def word(self, c, adjoin: bool = True) -> tuple:
+    def word(self, c: Any, adjoin: bool = True) -> tuple[Any, tuple[int, ...], Any]:
         """√c = q·Π basis[i]·√n for a positive rational c: n = 1, adjoining √n to the basis if
         needed; with ``adjoin=False`` the basis is left alone and n (squarefree) is what of c's
         class it does not span.  Returns (q, indices, n)."""
-        v, used = set(square_class(c)), set()
+        v, used = set(square_class(c)), set[int]()
         while v:
             pivot = max(v)
             if pivot not in self.rows:
@@ -75,14 +78,14 @@ class _SquareClasses:
         return q, tuple(sorted(used)), n
 
 
-def reduce_generators(gens) -> Reduction:
+def reduce_generators(gens: Iterable[Any]) -> Reduction:
     """Rewrite square roots (of rationals, of irrational bases, and i = √−1) over a basis; other
     generators (roots of polynomials, cos, sin, higher radicals) are kept as they are."""
-    basis: list = []
+    basis: list[Any] = []
     classes = _SquareClasses(basis)
-    words: dict = {}
-    nested: dict = {}
-    imaginary = []
+    words: dict[Any, tuple[Any, tuple[int, ...]]] = {}
+    nested: dict[Any, int] = {}
+    imaginary: list[int] = []
 
     def unit() -> int:
         if not imaginary:
@@ -90,8 +93,8 @@ def reduce_generators(gens) -> Reduction:
             imaginary.append(len(basis) - 1)
         return imaginary[0]
 
-    def rational_root(g) -> bool:
-        return g.is_Pow and g.exp == sp.S.Half and g.base.is_Rational
+    def rational_root(g: Any) -> bool:
+        return bool(g.is_Pow and g.exp == sp.S.Half and g.base.is_Rational)
 
     # square roots of rationals first: a nested root's rational factor is then written over their
     # classes where it can be, and the rest of it stays under the root (√(c·P) = q·Π√nᵢ·√(n·P)):

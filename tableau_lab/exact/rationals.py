@@ -20,28 +20,32 @@ Fraction(1, 3)
 from __future__ import annotations
 
 import heapq
+from collections.abc import Iterator
 from fractions import Fraction
 from math import floor
+from typing import Any
+
+#: what Fraction() takes exactly: an int, a Fraction, a float (its binary value), a decimal string
+Rat = int | float | Fraction | str
 
 __all__ = ["simplest_between", "by_height", "height"]
 
 
-def height(r) -> int:
+def height(r: Any) -> int:
     """max(|numerator|, denominator) of a rational (a Fraction, an int or a sympy Rational)."""
-    r = Fraction(int(r.p), int(r.q)) if hasattr(r, "q") else Fraction(r)
-    return max(abs(r.numerator), r.denominator)
+    f = Fraction(int(r.p), int(r.q)) if hasattr(r, "q") else Fraction(r)
+    return max(abs(f.numerator), f.denominator)
 
 
-def simplest_between(lo, hi=None, *, open_lo: bool = False, open_hi: bool = False) -> Fraction:
+def simplest_between(lo: Rat, hi: Rat | None = None, *, open_lo: bool = False, open_hi: bool = False) -> Fraction:
     """The rational of smallest height in the interval from ``lo`` to ``hi`` (``hi`` None: no upper
     bound), closed at each end unless ``open_lo``/``open_hi``; the ends are converted exactly
     (a float is its binary value).  ValueError for an empty interval."""
-    lo = Fraction(lo)
-    hi = None if hi is None else Fraction(hi)
+    lo, hi = Fraction(lo), None if hi is None else Fraction(hi)
     if hi is not None and not (lo < hi or (lo == hi and not open_lo and not open_hi)):
         raise ValueError(f"empty interval from {lo} to {hi}")
 
-    def inside(x):
+    def inside(x: Fraction | int) -> bool:
         return (lo < x if open_lo else lo <= x) and (hi is None or (x < hi if open_hi else x <= hi))
     if inside(0):
         return Fraction(0)
@@ -52,14 +56,16 @@ def simplest_between(lo, hi=None, *, open_lo: bool = False, open_hi: bool = Fals
     if inside(k):
         return Fraction(k)
     # no integer inside: the interval lies in [n, n + 1]; x = n + 1/y maps it onto an interval of y
+    assert hi is not None                                  # unbounded above, k would lie inside
     y = simplest_between(1 / (hi - n), None if lo == n else 1 / (lo - n), open_lo=open_hi, open_hi=open_lo)
     return n + 1 / y
 
 
-def by_height(lo: Fraction, hi: Fraction, near: float = 0.0):
+def by_height(lo: Fraction, hi: Fraction, near: float = 0.0) -> Iterator[Fraction]:
     """The rationals of the closed interval [lo, hi], smallest height first (ties: nearest to
     ``near`` first), without end: each one found splits its interval in two open at it."""
-    def entry(a, b, oa, ob):
+    def entry(a: Fraction, b: Fraction, oa: bool, ob: bool) -> tuple[int, float, Fraction, Fraction, Fraction,
+                                                                      bool, bool]:
         r = simplest_between(a, b, open_lo=oa, open_hi=ob)
         return (height(r), abs(float(r) - near), r, a, b, oa, ob)
     heap = [entry(Fraction(lo), Fraction(hi), False, False)]

@@ -5,16 +5,18 @@
 Matrix([[1/2]])
 >>> loads(dumps(m)) == m
 True
->>> loads('{"name": "x", "kind": "rk", "A": [[0.5]], "b": [1]}', source="m.json")
+>>> loads('{"name": "x", "kind": "rk", "A": [[0.5]], "b": [1]}', source="m.json")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
-tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.5 is a floating-point number, and tableau entries are exact: write it as a string such as "1/2" or "sqrt(2)/2"
+tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.5 is a floating-point number,
+and tableau entries are exact: write it as a string such as "1/2" or "sqrt(2)/2"
 """
 from __future__ import annotations
 
 import json
 import os
 import re
+from collections.abc import Iterable
 from typing import Any
 
 import sympy as sp
@@ -31,7 +33,8 @@ __all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS",
 
 MAX_BYTES = 1 << 20
 
-KINDS = {
+#: kind → (class, required entries, optional entries), each entry's shape "matrix" or "vector"
+KINDS: dict[str, tuple[type[Method], dict[str, str], dict[str, str]]] = {
     "rk": (RungeKutta, {"A": "matrix", "b": "vector"}, {"c": "vector", "bhat": "vector"}),   # bhat: embedded weights
     "prk": (PartitionedRungeKutta, {"A": "matrix", "b": "vector", "Ahat": "matrix", "bhat": "vector"},
             {"c": "vector", "chat": "vector"}),
@@ -39,7 +42,7 @@ KINDS = {
 }
 
 #: Claims a tableau may make, with the JSON type each takes and the kinds it applies to.
-CLAIMS = {
+CLAIMS: dict[str, tuple[type, tuple[str, ...]]] = {
     "symplectic": (bool, ("rk", "prk")),
     "g_symplectic": (bool, ("rk", "glm")),
     "order": (int, ("rk", "prk", "glm")),
@@ -52,12 +55,14 @@ CLAIMS = {
 META = {"format", "name", "kind", "source", "notes", "claims", "constants"}
 MATRICES = {k for _, req, opt in KINDS.values() for k, shape in {**req, **opt}.items() if shape == "matrix"}
 MAX_CONSTANTS = 64          # named numbers in one file
+#: a file's "constants": the name's symbol → its exact value
+Constants = dict[sp.Symbol, sp.Expr]
 
 
 class TableauError(InputError):
     """A tableau file that cannot be read: names the file and the entry."""
 
-    def __init__(self, source: str, message: str, entry: str | None = None):
+    def __init__(self, source: str, message: str, entry: str | None = None) -> None:
         self.source, self.entry, self.message = source, entry, message
         where = f"{source}: " + (f"entry {entry}: " if entry else "")
         super().__init__(where + message)
@@ -66,34 +71,37 @@ class TableauError(InputError):
 class _Refused:
     """A JSON value kept as text to be refused, with a message naming its entry."""
 
-    def __init__(self, text: str):
+    def __init__(self, text: str) -> None:
         self.text = text
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return self.text
+
+    def message(self) -> str:  # pragma: no cover - overridden
+        raise NotImplementedError
 
 
 class _Float(_Refused):
-    def message(self):
+    def message(self) -> str:
         return (f"{self.text} is a floating-point number, and tableau entries are exact: "
                 f'write it as a string such as "{_hint(self.text)}" or "sqrt(2)/2"')
 
 
 class _Constant(_Refused):
-    def message(self):
+    def message(self) -> str:
         return f"{self.text} is not a number a tableau can hold"
 
 
 class _BigInt(_Refused):
-    def message(self):
+    def message(self) -> str:
         return f"integer with {len(self.text.lstrip('-'))} digits is too long (limit {LIMITS['integer_digits']})"
 
 
-def _int(text: str):
+def _int(text: str) -> int | _BigInt:
     return _BigInt(text) if len(text) > LIMITS["integer_digits"] + 1 else int(text)
 
 
-def entry_name(parts) -> str:
+def entry_name(parts: Iterable[str | int]) -> str:
     """A tableau's one-based name of the JSON entry at ``parts`` (as in every tableau message):
     ``("A", 0, 1)`` → ``A row 1, column 2``, ``("b", 2)`` → ``b[3]``, ``("claims", "order")`` →
     ``claims.order``.
@@ -102,6 +110,7 @@ def entry_name(parts) -> str:
     ('A row 1, column 2', 'b[3]', 'claims.order')
     """
     parts = list(parts)
+    head: str
     if len(parts) >= 3 and isinstance(parts[1], int) and isinstance(parts[2], int) and parts[0] in MATRICES:
         head, rest = f"{parts[0]} row {parts[1] + 1}, column {parts[2] + 1}", parts[3:]
     else:
@@ -111,10 +120,11 @@ def entry_name(parts) -> str:
     return printable(head) or "(top level)"
 
 
-_HOOKS = {"parse_float": _Float, "parse_int": _int, "parse_constant": _Constant, "name": entry_name}
+#: the JSON reader's hooks (:func:`tableau_lab.inputs.parse_json`): floats, NaN and long integers kept to be refused
+_HOOKS: dict[str, Any] = {"parse_float": _Float, "parse_int": _int, "parse_constant": _Constant, "name": entry_name}
 
 
-def _entry(value, source, where, consts=None):
+def _entry(value: Any, source: str, where: str, consts: Constants | None = None) -> sp.Expr:
     if isinstance(value, _Refused):
         raise TableauError(source, value.message(), where)
     if value is None:
@@ -126,7 +136,7 @@ def _entry(value, source, where, consts=None):
     return e.xreplace(consts) if consts and e.free_symbols else e
 
 
-def _constants(value, source) -> dict:
+def _constants(value: Any, source: str) -> Constants:
     """The "constants" object: name → an exact number (an entry without parameters), usable by
     name in every entry of the file (the nodes of an 8-stage Gauss method, SDIRK34's γ)."""
     if not isinstance(value, dict):
@@ -134,7 +144,7 @@ def _constants(value, source) -> dict:
                            "constants")
     if len(value) > MAX_CONSTANTS:
         raise TableauError(source, f"{len(value)} constants: more than the limit of {MAX_CONSTANTS}", "constants")
-    out = {}
+    out: Constants = {}
     for name, text in value.items():
         where = f"constants.{name}"
         if not NAME.match(name) or len(name) > 31 or name in RESERVED:
@@ -150,7 +160,7 @@ def _constants(value, source) -> dict:
 _SMALL_DECIMAL = re.compile(r"-?[0-9]{0,20}(?:\.[0-9]{0,20})?(?:[eE][+-]?[0-9]{1,2})?")
 
 
-def _hint(text):
+def _hint(text: str) -> str:
     """The exact value a JSON float denotes, as a hint: "0.5" → "1/2"; "1/2" where that value
     would be long (1e99999999 has 10⁸ digits: never built).
 
@@ -165,7 +175,7 @@ def _hint(text):
         return "1/2"
 
 
-def _matrix(value, source, key, consts=None):
+def _matrix(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of rows (a list of lists)", key)
     rows = []
@@ -181,7 +191,7 @@ def _matrix(value, source, key, consts=None):
     return sp.ImmutableMatrix(rows)
 
 
-def _vector(value, source, key, consts=None):
+def _vector(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of entries", key)
     out = []
@@ -192,7 +202,7 @@ def _vector(value, source, key, consts=None):
     return sp.ImmutableMatrix(out)
 
 
-def _claims(value, kind, source):
+def _claims(value: Any, kind: str, source: str) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise TableauError(source, "claims must be an object such as {\"g_symplectic\": true}", "claims")
     for k, v in value.items():
@@ -214,27 +224,8 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
     if not isinstance(kind, str) or kind not in KINDS:
         raise TableauError(source, f"unknown or missing kind {kind!r}: use one of {', '.join(KINDS)}", "kind")
     cls, required, optional = KINDS[kind]
-    for key in data:
-        if key not in META and key not in required and key not in optional and not key.startswith("x-"):
-            raise TableauError(source, f"unknown key {key!r} for kind {kind!r} (allowed: "
-                                       f"{', '.join(list(required) + list(optional) + sorted(META))}; "
-                                       "prefix your own keys with 'x-')", key)
-    for key in required:
-        if key not in data:
-            raise TableauError(source, f"kind {kind!r} needs {key!r}", key)
-    name = data.get("name")
-    if not isinstance(name, str) or not name.strip():
-        raise TableauError(source, "name must be a non-empty string", "name")
-    for key in ("source",):
-        if key in data and not isinstance(data[key], str):
-            raise TableauError(source, f"{key} must be a string", key)
-    notes = data.get("notes", [])
-    if isinstance(notes, str):
-        notes = [notes]
-    if not isinstance(notes, list) or not all(isinstance(n, str) for n in notes):
-        raise TableauError(source, "notes must be a string or a list of strings", "notes")
-    if "format" in data and data["format"] != FORMAT:
-        raise TableauError(source, f"format {data['format']!r} is not understood (this is {FORMAT!r})", "format")
+    _check_keys(data, kind, source)
+    name, notes = _metadata(data, source)
     for key in required:                   # the size budget, before any entry is read
         if isinstance(data[key], list) and len(data[key]) > MAX_SIZE:
             raise TableauError(source, f"{len(data[key])} rows: beyond the size budget MAX_SIZE = {MAX_SIZE} stages "
@@ -253,16 +244,46 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
         raise TableauError(source, str(exc)) from None
 
 
+def _check_keys(data: dict[str, Any], kind: str, source: str) -> None:
+    """Every key known for the kind (or a user's 'x-' key), every required one present."""
+    _, required, optional = KINDS[kind]
+    for key in data:
+        if key not in META and key not in required and key not in optional and not key.startswith("x-"):
+            raise TableauError(source, f"unknown key {key!r} for kind {kind!r} (allowed: "
+                                       f"{', '.join(list(required) + list(optional) + sorted(META))}; "
+                                       "prefix your own keys with 'x-')", key)
+    for key in required:
+        if key not in data:
+            raise TableauError(source, f"kind {kind!r} needs {key!r}", key)
+
+
+def _metadata(data: dict[str, Any], source: str) -> tuple[str, list[str]]:
+    """(name, notes) checked, with the source and the format."""
+    name = data.get("name")
+    if not isinstance(name, str) or not name.strip():
+        raise TableauError(source, "name must be a non-empty string", "name")
+    if "source" in data and not isinstance(data["source"], str):
+        raise TableauError(source, "source must be a string", "source")
+    notes = data.get("notes", [])
+    if isinstance(notes, str):
+        notes = [notes]
+    if not isinstance(notes, list) or not all(isinstance(n, str) for n in notes):
+        raise TableauError(source, "notes must be a string or a list of strings", "notes")
+    if "format" in data and data["format"] != FORMAT:
+        raise TableauError(source, f"format {data['format']!r} is not understood (this is {FORMAT!r})", "format")
+    return name, notes
+
+
 FORMAT = "tableau_lab/1"
 MAX_SIZE = 40        # stages, values of a tableau file: exact algebra on a dense 60-stage tableau runs for hours in
                      # FLINT calls that no time budget can interrupt (the families stop at 8 stages, 30 steps)
 
 
-def _error(source, reason, entry):
+def _error(source: str, reason: str, entry: str | None) -> TableauError:
     return TableauError(source, reason, entry)
 
 
-def parse(text: str | bytes, source: str = "<tableau>") -> dict:
+def parse(text: str | bytes, source: str = "<tableau>") -> Any:
     """The JSON object of a tableau text, read by the strict reader of :mod:`~tableau_lab.inputs`
     with the tableau's size limit; floats, NaN and long integers are kept to be refused by entry
     (entries are not parsed yet: :func:`from_dict` does that)."""
@@ -277,12 +298,12 @@ def loads(text: str | bytes, source: str = "<tableau>") -> Method:
     return from_dict(parse(text, source), source)
 
 
-def read(path: str | os.PathLike) -> dict:
+def read(path: str | os.PathLike[str]) -> Any:
     """The JSON object of a tableau file (see :func:`parse`); only a regular file is read."""
     return read_json(path, _error, "tableau", max_bytes=MAX_BYTES, **_HOOKS)
 
 
-def load(path: str | os.PathLike, **size) -> Method:
+def load(path: str | os.PathLike[str], **size: int) -> Method:
     """Read a tableau file; errors name the file and the entry.  A name that is not a file is
     a shipped method (``load("gauss2")``) or a generated family (``load("bdf:5")``,
     ``load("gauss", s=3)``): :mod:`library`; a name close to one of those is answered with
@@ -292,27 +313,28 @@ def load(path: str | os.PathLike, **size) -> Method:
             return family(str(path), **size)
         except FamilyError as exc:
             raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
-    if not path_exists(path) and library_path(path) is not None:
-        return from_dict(read(library_path(path)), str(path))      # a shipped method by name
+    shipped = None if path_exists(path) else library_path(path)
+    if shipped is not None:
+        return from_dict(read(shipped), str(path))      # a shipped method by name
     if not path_exists(path) and did_you_mean(path):
         raise TableauError(str(path), "no such file, shipped method or family" + did_you_mean(path)
                            + " (tableau-lab list shows them all)")
     return from_dict(read(path), str(path))
 
 
-def entries(value, source: str, key: str):
+def entries(value: Any, source: str, key: str) -> sp.ImmutableMatrix:
     """Parse one matrix (list of rows) or vector of entries with the safe grammar."""
     reader = _matrix if isinstance(value, list) and value and isinstance(value[0], list) else _vector
     return reader(value, source, key)
 
 
-def to_dict(m: Method) -> dict:
+def to_dict(m: Method) -> dict[str, Any]:
     """The JSON object of a method (entries written in the grammar)."""
     out: dict[str, Any] = {"format": FORMAT, "name": m.name, "kind": m.kind}
     if m.source:
         out["source"] = m.source
-    names = {}
-    if getattr(m, "conjugate", None) is not None and any(isinstance(x, sp.RootOf) for x in m.c):
+    names: dict[sp.Expr, sp.Symbol] = {}
+    if isinstance(m, RungeKutta) and m.conjugate is not None and any(isinstance(x, sp.RootOf) for x in m.c):
         # nodes that are roots of polynomials: named once (c1, c2, …), the entries polynomials in them
         names = {x: parameter(f"c{i}") for i, x in enumerate(m.c, 1) if isinstance(x, sp.RootOf)}
         out["constants"] = {str(v): format_entry(k) for k, v in names.items()}
@@ -347,7 +369,7 @@ def dumps(m: Method) -> str:
 SAVED_BY = ("Solved by tableau-lab solve", "Found by tableau-lab design")     # the note --save writes
 
 
-def saved_by_tableau_lab(path) -> bool:
+def saved_by_tableau_lab(path: str | os.PathLike[str]) -> bool:
     """Whether the file at ``path`` is a tableau that ``solve --save`` or ``design --save`` wrote
     (a note starting with one of :data:`SAVED_BY`): only such a file is replaced by ``--save``."""
     try:
@@ -358,6 +380,6 @@ def saved_by_tableau_lab(path) -> bool:
     return isinstance(notes, list) and any(isinstance(n, str) and n.startswith(SAVED_BY) for n in notes)
 
 
-def save(m: Method, path: str | os.PathLike) -> None:
+def save(m: Method, path: str | os.PathLike[str]) -> None:
     """Write a tableau file atomically (no half-written file on failure)."""
     atomic_write_text(path, dumps(m))
