@@ -34,7 +34,9 @@ FACTS = {gauss: lambda s: (2 * s, 2 * s, s, s), radau_iia: lambda s: (2 * s - 1,
          lobatto_iiib: lambda s: (2 * s - 2, 2 * s - 2, max(s - 2, 1), s if s > 2 else 1),
          lobatto_iiic: lambda s: (2 * s - 2, 2 * s - 2, s - 1, s - 1),
          lobatto_iiic_star: lambda s: (2 * s - 2, 2 * s - 2, s - 1, s - 1)}
-CASES = [(gauss, s) for s in range(1, 9)] + [(radau_iia, s) for s in range(1, 9)] \
+# up to 7 Gauss stages (order 14): the pin of Gauss 8 (order 16, its order-17 conditions) alone cost
+# a fifth of the suite's exact work; 8 stages are pinned by Radau IIA 8 (order 15) in the same number field degree
+CASES = [(gauss, s) for s in range(1, 8)] + [(radau_iia, s) for s in range(1, 9)] \
     + [(lobatto_iiia, s) for s in range(2, 8)] + [(radau_ia, s) for s in range(1, 7)] \
     + [(f, s) for f in (lobatto_iiib, lobatto_iiic, lobatto_iiic_star) for s in range(2, 7)]
 

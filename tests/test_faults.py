@@ -171,7 +171,8 @@ def test_ctrl_c_at_random_moments(lab, tmp_path):
     Python starts or exits: then nothing written, or the complete set); the runs that finished
     are kept, the set marked incomplete; nothing half-written."""
     rng = random.Random(130)
-    scene = _scene(tmp_path, steps=1_500_000, every=5000)          # runs long enough to be interrupted
+    # runs long enough to be interrupted in the pure loop (several seconds each), records every 40 steps
+    scene = _scene(tmp_path, steps=12_000, every=40)
     t = time.monotonic()
     done = subprocess.run(_run_cmd(scene, tmp_path / "whole"), env=lab["env"], check=False, capture_output=True,
                           timeout=300)
