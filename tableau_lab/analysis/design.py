@@ -453,7 +453,7 @@ def _verify(meth: Method, reqs, values) -> dict:
     orders = [r.value for r in reqs if r.name in ORDER_KEYWORDS]
     o = None
     if orders:
-        if meth.kind == "rk":
+        if isinstance(meth, RungeKutta):
             o = rk_order(meth, max(orders), effective=any(r.name == "effective-order" for r in reqs))
         else:
             o = order(meth, max_order=max(orders))
