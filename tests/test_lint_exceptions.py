@@ -26,3 +26,23 @@ def test_comments_reasons_and_selection(tmp_path):
     assert "| BLE001 | not selected: the comment suppresses nothing | 1 | 1 |" in block
     assert "| C901 | too complex (mccabe > 15) | 1 | 1 |" in block
     assert "- `pkg/a.py`: no reason given" in block and "- `pkg/a.py`: a table of cases" in block
+
+
+def test_type_ignores_listed_with_codes_and_reasons(tmp_path):
+    """Each ``# type: ignore[code]`` comment (mypy's per-line exception) is listed with its codes
+    and the reason after it; one without codes (every error of the line) shows ``*``; one in a
+    string is not a comment."""
+    (tmp_path / "pyproject.toml").write_text('[tool.ruff.lint]\nselect = ["E"]\n')
+    (tmp_path / "pkg").mkdir()
+    (tmp_path / "pkg" / "b.py").write_text(
+        '__hash__ = None  # type: ignore[assignment]  # unhashable, typeshed says a method\n'
+        'x = f()  # type: ignore\n'
+        'text = "# type: ignore[misc] -- not a comment"\n'
+        'y = 1  # noqa: E501 -- long  # type: ignore[misc, arg-type]\n')
+    assert lint.exceptions(tmp_path, lint.TYPE_IGNORE) == [
+        ("pkg/b.py", ("assignment",), "unhashable, typeshed says a method"), ("pkg/b.py", ("*",), ""),
+        ("pkg/b.py", ("misc", "arg-type"), "")]
+    block = lint.make(tmp_path)
+    assert "3 lines carry a `# type: ignore[code]` (mypy), in 1 files:" in block
+    assert "- `pkg/b.py` [assignment]: unhashable, typeshed says a method" in block
+    assert "- `pkg/b.py` [*]: no reason given" in block
