@@ -7,10 +7,15 @@ from conftest import benchmark_script
 lint = benchmark_script("lint_exceptions")
 
 
+def _project(root, select, name, text):
+    """A repository at ``root``: pyproject.toml selecting ``select``, and pkg/``name`` holding ``text``."""
+    (root / "pyproject.toml").write_text(f"[tool.ruff.lint]\nselect = {select!r}\n".replace("'", '"'))
+    (root / "pkg").mkdir()
+    (root / "pkg" / name).write_text(text)
+
+
 def test_comments_reasons_and_selection(tmp_path):
-    (tmp_path / "pyproject.toml").write_text('[tool.ruff.lint]\nselect = ["E", "B", "C90"]\n')
-    (tmp_path / "pkg").mkdir()
-    (tmp_path / "pkg" / "a.py").write_text(
+    _project(tmp_path, ["E", "B", "C90"], "a.py",
         'import os  # noqa: F401 -- re-exported\n'
         'text = "# noqa: E501 -- not a comment"\n'
         'f = lambda x: x  # noqa: E731\n'
@@ -32,9 +37,7 @@ def test_type_ignores_listed_with_codes_and_reasons(tmp_path):
     """Each ``# type: ignore[code]`` comment (mypy's per-line exception) is listed with its codes
     and the reason after it; one without codes (every error of the line) shows ``*``; one in a
     string is not a comment."""
-    (tmp_path / "pyproject.toml").write_text('[tool.ruff.lint]\nselect = ["E"]\n')
-    (tmp_path / "pkg").mkdir()
-    (tmp_path / "pkg" / "b.py").write_text(
+    _project(tmp_path, ["E"], "b.py",
         '__hash__ = None  # type: ignore[assignment]  # unhashable, typeshed says a method\n'
         'x = f()  # type: ignore\n'
         'text = "# type: ignore[misc] -- not a comment"\n'
