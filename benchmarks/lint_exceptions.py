@@ -1,6 +1,7 @@
 """The per-line lint exceptions of the repository, as the block ``lint-exceptions`` of
 docs/development.md: every ``# noqa: CODE`` comment in the Python files ruff checks, grouped by
-rule, with the reason written after it (``# noqa: CODE -- reason``):
+rule, with the reason written after it (``# noqa: CODE -- reason``), then every
+``# type: ignore[code]`` comment (mypy), with its reason (``# type: ignore[code]  # reason``):
 
     python benchmarks/lint_exceptions.py --write docs/development.md
 
@@ -25,6 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # what ruff leaves out (its defaults and pyproject.toml's extend-exclude)
 SKIP = {"reports", "build", "dist", "node_modules", "__pycache__", "venv"}
 NOQA = re.compile(r"#\s*noqa:\s*(?P<codes>[A-Z]+[0-9]+(?:\s*,\s*[A-Z]+[0-9]+)*)(?P<rest>.*)")
+TYPE_IGNORE = re.compile(r"#\s*type:\s*ignore(?:\[(?P<codes>[^\]]*)\])?(?P<rest>.*)")
 RULES = {"E402": "module import not at top of file", "E712": "comparison to True",
          "E731": "lambda assigned to a name", "F401": "imported but unused", "F403": "star import",
          "B018": "useless expression", "B904": "raise without from inside except",
@@ -40,17 +42,18 @@ def python_files(root: Path = ROOT) -> list[Path]:
                              for part in p.relative_to(root).parts[:-1]))
 
 
-def exceptions(root: Path = ROOT) -> list[tuple[str, tuple[str, ...], str]]:
-    """(file, codes, reason) for each ``# noqa: CODES`` comment, in file order."""
+def exceptions(root: Path = ROOT, pattern: re.Pattern[str] = NOQA) -> list[tuple[str, tuple[str, ...], str]]:
+    """(file, codes, reason) for each ``# noqa: CODES`` comment (``pattern`` TYPE_IGNORE: each
+    ``# type: ignore[codes]``; without codes: ``*``, every error of the line), in file order."""
     out = []
     for path in python_files(root):
         with tokenize.open(path) as f:
             comments = [t.string for t in tokenize.generate_tokens(f.readline) if t.type == tokenize.COMMENT]
         for c in comments:
-            m = NOQA.search(c)
+            m = pattern.search(c)
             if m:
-                codes = tuple(x.strip() for x in m["codes"].split(","))
-                reason = m["rest"].strip().lstrip("-—:").strip()
+                codes = tuple(x.strip() for x in m["codes"].split(",")) if m["codes"] else ("*",)
+                reason = m["rest"].strip().lstrip("-—:#").strip()
                 if reason.startswith("(") and reason.endswith(")"):
                     reason = reason[1:-1]
                 out.append((path.relative_to(root).as_posix(), codes, reason))
@@ -94,6 +97,10 @@ def make(root: Path = ROOT) -> str:
         for (file, reason), n in counts.items():
             why = f": {reason}" if reason else ("" if code == "E402" else ": no reason given")
             lines.append(f"- `{file}`" + (f" ×{n}" if n > 1 else "") + why)
+    ignores = exceptions(root, TYPE_IGNORE)
+    lines += ["", f"{len(ignores)} lines carry a `# type: ignore[code]` (mypy), in "
+              f"{len({file for file, _, _ in ignores})} files:", ""]
+    lines += [f"- `{file}` [{', '.join(codes)}]: {reason or 'no reason given'}" for file, codes, reason in ignores]
     return "\n".join(lines)
 
 

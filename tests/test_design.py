@@ -229,3 +229,13 @@ def test_locate_exits_0_when_it_finds_the_entries(capsys):
     assert main(["solve", "methods/glm43_printed.json", "--require", "g-symplectic", "--locate", "--within", "A"]) == 0
     out = capsys.readouterr().out
     assert "located:" in out and "A[2,1]" in out
+
+
+def test_changes_of_a_located_only_repair_says_nothing_was_solved():
+    """A locate run that finds two candidate entries solves no repair (design None): ``changes()``
+    says so with the located entries, instead of an AttributeError on None (found by mypy)."""
+    from tableau_lab.analysis.design import repair
+    r = repair(load("methods/glm43_printed.json"), ["g-symplectic"], locate=True, within=["A"])
+    assert r.design is None and r.located == ("A[1,2]", "A[2,1]")     # the repair doctest's located pair
+    with pytest.raises(ValueError, match=r"no repair was solved \(located: A\[1,2\], A\[2,1\]\)"):
+        r.changes()

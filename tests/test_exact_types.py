@@ -1,6 +1,6 @@
 """The type configuration of issue 31 (part 6) and what typing exact/ strictly turned up.
 
-``mypy`` (no arguments) reads [tool.mypy] in pyproject.toml: exact/ with every flag of --strict,
+``mypy`` (no arguments) reads [tool.mypy] in pyproject.toml: exact/ and render/ with every flag of --strict,
 analysis/ checked, third-party modules without types named one by one (no blanket
 ignore_missing_imports).  The CI runs it (.ci/run); these tests pin the configuration's shape
 without running mypy (seconds of cold start)."""
@@ -21,10 +21,10 @@ def _mypy():
 
 def test_exact_is_strict_and_analysis_checked():
     cfg = _mypy()
-    assert {"tableau_lab/exact", "tableau_lab/analysis"} <= set(cfg["files"])
+    assert {"tableau_lab/exact", "tableau_lab/render", "tableau_lab/analysis"} <= set(cfg["files"])
     assert cfg["check_untyped_defs"] and cfg["warn_unused_ignores"] and cfg["strict_equality"]
     assert "strict" not in cfg              # global-only: it would make analysis/ strict too
-    exact = [o for o in cfg["overrides"] if o["module"] == ["tableau_lab.exact.*"]]
+    exact = [o for o in cfg["overrides"] if {"tableau_lab.exact.*", "tableau_lab.render.*"} <= set(o["module"])]
     assert len(exact) == 1 and all(exact[0].get(flag) is True for flag in STRICT_FLAGS)
 
 

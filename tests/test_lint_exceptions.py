@@ -7,10 +7,15 @@ from conftest import benchmark_script
 lint = benchmark_script("lint_exceptions")
 
 
+def _project(root, select, name, text):
+    """A repository at ``root``: pyproject.toml selecting ``select``, and pkg/``name`` holding ``text``."""
+    (root / "pyproject.toml").write_text(f"[tool.ruff.lint]\nselect = {select!r}\n".replace("'", '"'))
+    (root / "pkg").mkdir()
+    (root / "pkg" / name).write_text(text)
+
+
 def test_comments_reasons_and_selection(tmp_path):
-    (tmp_path / "pyproject.toml").write_text('[tool.ruff.lint]\nselect = ["E", "B", "C90"]\n')
-    (tmp_path / "pkg").mkdir()
-    (tmp_path / "pkg" / "a.py").write_text(
+    _project(tmp_path, ["E", "B", "C90"], "a.py",
         'import os  # noqa: F401 -- re-exported\n'
         'text = "# noqa: E501 -- not a comment"\n'
         'f = lambda x: x  # noqa: E731\n'
@@ -26,3 +31,21 @@ def test_comments_reasons_and_selection(tmp_path):
     assert "| BLE001 | not selected: the comment suppresses nothing | 1 | 1 |" in block
     assert "| C901 | too complex (mccabe > 15) | 1 | 1 |" in block
     assert "- `pkg/a.py`: no reason given" in block and "- `pkg/a.py`: a table of cases" in block
+
+
+def test_type_ignores_listed_with_codes_and_reasons(tmp_path):
+    """Each ``# type: ignore[code]`` comment (mypy's per-line exception) is listed with its codes
+    and the reason after it; one without codes (every error of the line) shows ``*``; one in a
+    string is not a comment."""
+    _project(tmp_path, ["E"], "b.py",
+        '__hash__ = None  # type: ignore[assignment]  # unhashable, typeshed says a method\n'
+        'x = f()  # type: ignore\n'
+        'text = "# type: ignore[misc] -- not a comment"\n'
+        'y = 1  # noqa: E501 -- long  # type: ignore[misc, arg-type]\n')
+    assert lint.exceptions(tmp_path, lint.TYPE_IGNORE) == [
+        ("pkg/b.py", ("assignment",), "unhashable, typeshed says a method"), ("pkg/b.py", ("*",), ""),
+        ("pkg/b.py", ("misc", "arg-type"), "")]
+    block = lint.make(tmp_path)
+    assert "3 lines carry a `# type: ignore[code]` (mypy), in 1 files:" in block
+    assert "- `pkg/b.py` [assignment]: unhashable, typeshed says a method" in block
+    assert "- `pkg/b.py` [*]: no reason given" in block

@@ -130,3 +130,17 @@ def test_parameter_with_radicals_generic_and_special_value():
     assert not res.holds and res.parameters == (th,)
     special = GeneralLinearMethod(A=fam.A.subs(th, (3 + S3) / 6), U=m.U, B=m.B, V=m.V)
     assert g_symplectic(special).holds
+
+
+def test_g_symplectic_of_a_partitioned_method_is_a_clear_type_error():
+    """A partitioned RK method has no GLM form (A, U, B, V): g_symplectic and the residuals say so
+    (TypeError naming the kind, as rk_symplectic does for a GLM) instead of an AttributeError on
+    ``as_glm`` (found by mypy: ``Method`` had no ``as_glm``)."""
+    import pytest
+
+    from tableau_lab.exact.tableau_json import load
+    prk = load("methods/stormer_verlet.json")
+    with pytest.raises(TypeError, match="partitioned Runge–Kutta method has no general linear form"):
+        g_symplectic(prk)
+    with pytest.raises(TypeError, match="no general linear form"):
+        g_symplectic_residuals(prk, [[1]], [[1]])

@@ -38,6 +38,7 @@ precision raised until the minimum is known to 30 digits and its side of π/2 is
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import mpmath
 import sympy as sp
@@ -47,6 +48,9 @@ from sympy.polys.rings import ring
 
 from ..exact.methods import Method
 from ..exact.real_roots import (
+    Field,
+    Interval,
+    RingPoly,
     box,
     cayley_transform,
     coefficients,
@@ -161,10 +165,10 @@ def _abs_arg(s, x, y, ctx):
 
 @dataclass
 class _Locus:
-    K: object
-    G: object            # gcd(X, Y) in K[t]
-    X: object            # X̃, Ỹ: N/G = X̃ + iỸ
-    Y: object
+    K: Field
+    G: RingPoly          # gcd(X, Y) in K[t]
+    X: RingPoly          # X̃, Ỹ: N/G = X̃ + iỸ
+    Y: RingPoly
     A: tuple             # Cayley parts of p₀ (for telling z → 0 from z → ∞)
 
 
@@ -197,8 +201,8 @@ def _without(q, *others):
 
 @dataclass
 class _Candidate:
-    value: object        # an interval (radians), or an exact sympy value
-    t: object            # the point (rational mid of its box, or sp.oo)
+    value: Interval | sp.Expr    # an interval (radians), or an exact sympy value
+    t: Any               # the point (rational mid of its box, or sp.oo)
     where: str
 
 
@@ -210,7 +214,7 @@ class _Boxes:
         self.K = K
         self.ctx = MPIntervalContext()
         self.ctx.prec = bits + 64
-        self._coeffs = {}
+        self._coeffs: dict[int, tuple[RingPoly, list[Interval]]] = {}   # id(p) -> (p kept alive, boxes)
 
     def at(self, p, iv):
         """p(iv) as an interval (0 for the zero polynomial)."""
@@ -244,12 +248,12 @@ def _limits_at_poles(L: _Locus, ev: _Boxes, bits: int) -> list:
     return out
 
 
-def _axis_crossings_and_stationary_points(L: _Locus, ev: _Boxes, bits: int) -> list:
+def _axis_crossings_and_stationary_points(L: _Locus, ev: _Boxes, bits: int) -> list[_Candidate]:
     """Where −z is real (|arg| = 0 or π exactly) and the stationary points of arg(−z)."""
     K, ctx, at = L.K, ev.ctx, ev.at
     t = L.X.ring.gens[0]
     Xt, Yt, G = L.X, L.Y, L.G
-    out = []
+    out: list[_Candidate] = []
     if not Yt:
         return out
     for a, b in real_root_boxes(_without(_sqf(Yt), G), K, bits):

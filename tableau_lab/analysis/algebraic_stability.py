@@ -35,7 +35,7 @@ from itertools import combinations
 import sympy as sp
 
 from ..exact.field import element, field_of, from_dm, to_dm
-from ..exact.grammar import format_matrix
+from ..exact.grammar import format_entry, format_matrix
 from ..exact.methods import Method
 from ..exact.real_roots import sign
 from .results import Result, matrix_latex, matrix_text
@@ -60,8 +60,9 @@ class AlgebraicStabilityResult(Result):
         lines = [f"algebraically stable: {word} — {self.reason}"]
         if self.scope:
             lines.append(f"  scope: {self.scope}")
-        if self.G is not None:
-            lines += ["  G =", matrix_text(self.G), "  D = diag(" + ", ".join(format_matrix(self.D.diagonal().T)) + ")"]
+        if self.G is not None and self.D is not None:
+            diag = ", ".join(str(format_entry(x)) for x in self.D.diagonal())
+            lines += ["  G =", matrix_text(self.G), f"  D = diag({diag})"]
         if self.M is not None:
             lines.append("  M = 0" if self.M.is_zero_matrix else "  M =\n" + matrix_text(self.M))
         return "\n".join(lines)

@@ -41,7 +41,7 @@ from ..budget import SERIES_ORDER
 from ..errors import BudgetError, InputError
 from ..exact.field import FastField
 from . import tree_kinds as _kinds
-from .tree_kinds import PLAIN, TreeKind, partitions
+from .tree_kinds import PLAIN, Coefficients, TreeKind, partitions
 from .trees import TreeError, parse_tree, trees_up_to
 
 __all__ = ["BSeries", "series_like", "exact_flow", "identity", "compose", "inverse", "adjoint", "substitute",
@@ -59,7 +59,7 @@ MAX_SERIES_ORDER = SERIES_ORDER
 
 def stage_derivative(a: dict, max_order: int, one=1) -> dict:
     """a′ with h f(B(a, y)) = B(a′, y) for a(∅) = 1: a′(∅) = 0, a′(τ) = 1, a′([t₁…t_m]) = Π a(tᵢ)."""
-    out = {None: one - one}
+    out: Coefficients = {None: one - one}
     for t in trees_up_to(max_order):
         v = one
         for c in t:
@@ -88,7 +88,7 @@ def compose_coefficients(a: dict, b: dict, max_order: int, one=1, kind: TreeKind
     if a.get(None, one) != one:
         raise ValueError("the inner series of a composition must have a(∅) = 1")
     b0 = b.get(None, one)
-    out = {None: b0}
+    out: Coefficients = {None: b0}
     for t in kind.trees_up_to(max_order):
         v = b0 * a[t]
         for trunk, coef in kept_cuts(t, lambda c: a[c], one, kind).items():
@@ -99,7 +99,7 @@ def compose_coefficients(a: dict, b: dict, max_order: int, one=1, kind: TreeKind
 
 def inverse_coefficients(a: dict, max_order: int, one=1, kind: TreeKind = PLAIN) -> dict:
     """a⁻¹ in the Butcher group (a(∅) = 1): a·a⁻¹ = identity."""
-    beta = {None: one}
+    beta: Coefficients = {None: one}
     for t in kind.trees_up_to(max_order):
         acc = a[t]
         for trunk, coef in kept_cuts(t, lambda c: a[c], one, kind).items():
@@ -110,7 +110,7 @@ def inverse_coefficients(a: dict, max_order: int, one=1, kind: TreeKind = PLAIN)
 
 
 def _substitute(b: dict, a: dict, max_order: int, F, kind: TreeKind) -> dict:
-    out = {None: a[None]}
+    out: Coefficients = {None: a[None]}
     for t in kind.trees_up_to(max_order):
         v = F.zero
         for skeleton, pieces, m in partitions(kind, t):
@@ -125,7 +125,7 @@ def _substitute(b: dict, a: dict, max_order: int, F, kind: TreeKind) -> dict:
 def _solve_substitution(target: dict, outer: dict, max_order: int, F, kind: TreeKind) -> dict:
     """The field b with b ⋆ outer = target, outer(τ) = 1: tree by tree, the partition that keeps
     every edge contributes outer(τ)·b(t); all others involve b on smaller trees."""
-    b = {None: F.zero}
+    b: Coefficients = {None: F.zero}
     for t in kind.trees_up_to(max_order):
         v = target[t]
         for skeleton, pieces, m in partitions(kind, t):
@@ -182,7 +182,7 @@ class BSeries:
     """
 
     field: FastField
-    values: dict                 # tree or None -> element of ``field``
+    values: Coefficients         # tree or None -> element of ``field``
     max_order: int
     label: str = ""
     kind: TreeKind = PLAIN       # BICOLOURED: a P-series of a partitioned method
@@ -194,7 +194,7 @@ class BSeries:
     def from_function(cls, fn, max_order: int, label: str = "", empty=1, K=QQ, kind: TreeKind = PLAIN) -> "BSeries":
         """The series t ↦ fn(t) (exact numbers: int, Rational, algebraic) with a(∅) = ``empty``."""
         from ..exact.field import element, field_of
-        vals = {t: sp.sympify(fn(t)) for t in kind.trees_up_to(max_order)}
+        vals: Coefficients = {t: sp.sympify(fn(t)) for t in kind.trees_up_to(max_order)}
         vals[None] = sp.sympify(empty)
         if K is QQ:
             K = field_of(list(vals.values()))
@@ -232,7 +232,7 @@ class BSeries:
         a, b = _common(self, other)
         return all(a.field.is_zero(a.values[t] - b.values[t]) for t in a.values)
 
-    __hash__ = None
+    __hash__ = None   # type: ignore[assignment]  # unhashable (equal series); typeshed types __hash__ a method, as for list
 
     def truncate(self, n: int) -> "BSeries":
         n = min(n, self.max_order)

@@ -117,7 +117,10 @@ class MethodList(Result):
 
 
 def _file_row(name: str) -> MethodRow:
-    data = read(library_path(name))
+    path = library_path(name)
+    if path is None:                    # library_names lists shipped files only: a file removed meanwhile
+        raise ValueError(f"{name}.json: no longer in the library")
+    data = read(path)
     kind = data.get("kind", "?")
     s = len(data.get("A", ()))
     size = f"s = {s}" + (f", r = {len(data.get('V', ()))}" if kind == "glm" else "")

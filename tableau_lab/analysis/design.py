@@ -43,6 +43,7 @@ from __future__ import annotations
 import re
 import time
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy as sp
 
@@ -52,7 +53,7 @@ from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta, glm_parts
 from ..exact.polysystem import PolynomialSystem, SystemError_
 from ..exact.tableau_json import entries, from_dict, parse, read, to_dict
-from ..render.model import Break, Document, Lead, Math, Paragraph, Plain, Typeset
+from ..render.model import Block, Break, Document, Lead, Math, Paragraph, Plain, Typeset
 from .results import Result
 from .trees import bracket, density, order as tree_order, trees_up_to
 
@@ -189,7 +190,7 @@ class DesignResult(Result):
         """Text: the system, status, solutions and obstruction; typeset: the requirements, the status
         and each solution's values."""
         head, *lines = self._text().split("\n")
-        out = [Paragraph(Lead(self.name), f" Requirements: {', '.join(map(str, self.requirements))}; "
+        out: list[Block] = [Paragraph(Lead(self.name), f" Requirements: {', '.join(map(str, self.requirements))}; "
                          f"status: {self.status}.")]
         for i, sol in enumerate(self.solutions, 1):
             eqs = ", ".join(f"{sp.latex(k)} = {sp.latex(v)}" for k, v in sol.parameters.items())
@@ -243,7 +244,7 @@ class _Problem:
         self.m, self.reqs = m, reqs
         self.params = _unknown_order(m, extra_unknowns)
         self.aux: list = []
-        self.branches = [[]]
+        self.branches: list[list[tuple[str, Any]]] = [[]]   # the extra equations of each branch (symmetric: one per L)
         consts = [x for M in m.matrices().values() if M is not None for x in M]
         consts += [s for _, s in extra_eqs]
         for r in reqs:
@@ -307,9 +308,9 @@ class _Problem:
 
     def _symplectic(self, r):
         m, F = self.m, self.sys.F
-        if m.kind == "rk":
+        if isinstance(m, RungeKutta):
             return _symplectic_rk(self._mat(m.A), self._vec(m.b), F)
-        if m.kind == "prk":
+        if isinstance(m, PartitionedRungeKutta):
             A, b, Ah, bh = self._mat(m.A), self._vec(m.b), self._mat(m.Ahat), self._vec(m.bhat)
             return (_symplectic_rk(A, b, F, hat=(bh, Ah))
                     + [(f"b = bhat, stage {i + 1}", x - y) for i, (x, y) in enumerate(zip(b, bh, strict=False))])
@@ -317,7 +318,7 @@ class _Problem:
 
     def _symmetric(self, r):
         m = self.m
-        if m.kind == "prk":
+        if isinstance(m, PartitionedRungeKutta):
             raise DesignError("symmetric is implemented for RK methods and GLMs, not partitioned methods")
         from .symmetry import symmetry_conditions
         try:
@@ -334,7 +335,7 @@ class _Problem:
 
     def _stage_order(self, r):
         m, F = self.m, self.sys.F
-        if m.kind != "rk":
+        if not isinstance(m, RungeKutta):
             raise DesignError("stage-order is implemented for RK methods (C(q))")
         A, c = self._mat(m.A), self._vec(m.c)
         return [(f"C({k}) stage {i + 1}",
@@ -386,9 +387,9 @@ class _Problem:
 
     def _order(self, P, glm=False, free_theta=True):
         m, F = self.m, self.sys.F
-        if m.kind == "rk" and not glm:
+        if isinstance(m, RungeKutta) and not glm:
             return _rk_weights(self._mat(m.A), self._vec(m.b), P, F, self.sys.frac)
-        if m.kind == "prk":
+        if isinstance(m, PartitionedRungeKutta):
             from .prk_order import order_conditions as prk_conditions
             return [(lab, self.sys.frac(e)) for lab, e in prk_conditions(m, P)]
         from .glm_order import order_conditions
@@ -410,7 +411,7 @@ def _radicals(exprs):
 def _label(m: Method, sol: dict, free) -> str:
     """'irreducible', or the stages that never reach the output (DJ-reducible: b_j = 0 and no
     stage that reaches the output uses stage j) for RK methods."""
-    if m.kind != "rk":
+    if not isinstance(m, RungeKutta):
         return "component"
     s = m.s
     nz = lambda e: sp.sympify(e).subs(sol) != 0  # noqa: E731  (a value with free unknowns counts as nonzero)
@@ -434,11 +435,13 @@ def _rebuild(m: Method, values: dict) -> Method:
         if M.has(sp.nan, sp.zoo, sp.oo, -sp.oo):      # the values make a denominator of the tableau vanish
             raise ValueError("the solution makes a denominator of the tableau vanish")
         return sp.ImmutableMatrix(M.applyfunc(normal_form))
-    meta = dict(name=m.name + " (solved)", source=m.source, notes=m.notes)
-    if m.kind == "rk":
+    meta: dict[str, Any] = dict(name=m.name + " (solved)", source=m.source, notes=m.notes)
+    if isinstance(m, RungeKutta):
         return RungeKutta(A=sub(m.A), b=sub(m.b), **meta)
-    if m.kind == "prk":
+    if isinstance(m, PartitionedRungeKutta):
         return PartitionedRungeKutta(A=sub(m.A), b=sub(m.b), Ahat=sub(m.Ahat), bhat=sub(m.bhat), **meta)
+    if not isinstance(m, GeneralLinearMethod):
+        raise TypeError(f"{m.name}: a method of kind {m.kind!r} cannot be rebuilt")
     return GeneralLinearMethod(A=sub(m.A), U=sub(m.U), B=sub(m.B), V=sub(m.V), **meta)
 
 
@@ -453,21 +456,24 @@ def _verify(meth: Method, reqs, values) -> dict:
     orders = [r.value for r in reqs if r.name in ORDER_KEYWORDS]
     o = None
     if orders:
-        if meth.kind == "rk":
+        if isinstance(meth, RungeKutta):
             o = rk_order(meth, max(orders), effective=any(r.name == "effective-order" for r in reqs))
         else:
             o = order(meth, max_order=max(orders))
     checks = {
         "symplectic": lambda r: rk_symplectic(meth).holds,
         "g-symplectic": lambda r: g_symplectic(meth).holds,
-        "order": lambda r: o.order >= r.value,
-        "identity-start-order": lambda r: getattr(o, "order_identity_start", o.order) >= r.value,     # PRK: classical
-        "effective-order": lambda r: o.effective_order >= r.value,
-        "stage-order": lambda r: o.stage_order >= r.value,
         "parasitism-free": lambda r: growth_parameters(meth).free,
         "symmetric": lambda r: symmetric(meth).holds,
         "equation": lambda r: is_zero(sp.sympify(r.value[0] - r.value[1]).subs(values)),
     }
+    if o is not None:                  # the order requirements (ORDER_KEYWORDS), from the one order analysis
+        checks.update({
+            "order": lambda r: o.order >= r.value,
+            "identity-start-order": lambda r: getattr(o, "order_identity_start", o.order) >= r.value,  # PRK: classical
+            "effective-order": lambda r: o.effective_order >= r.value,
+            "stage-order": lambda r: o.stage_order >= r.value,
+        })
     return {str(r): checks[r.name](r) for r in reqs}
 
 
@@ -500,8 +506,10 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
         raise DesignError(f"{m.name}: the tableau has no unknowns to solve for (write names such as \"b2\" "
                           "in the entries); use `tableau-lab verify` to check a method")
     base = [(lab, f.numer) for lab, f in prob.labelled]
-    solutions, rejected, cores, n_eq = [], [], [], len(base)
-    queue = []
+    solutions: list[Solution] = []
+    rejected: list[Solution] = []
+    cores, n_eq = [], len(base)
+    queue: list[tuple[list[Any], int, str, list[Any] | None]] = []     # (component, depth, note, parent)
     for branch in prob.branches:
         labelled = base + [(lab, sysm.poly(e)) for lab, e in branch]
         comps = sysm.components([p for _, p in labelled])
@@ -509,7 +517,7 @@ def solve(m: Method, requirements, extra_equations=(), extra_unknowns=()) -> Des
             cores.append(sysm.core([(lab, p) for lab, p in labelled if p]))
         queue += [(comp, 0, "", None) for comp in comps]
     params = set(prob.params)
-    covered = []          # (component, condition polynomials) of the families found
+    covered: list[tuple[list[Any], list[Any]]] = []     # (component, condition polynomials) of the families found
     while queue:
         comp, depth, note, parent = queue.pop(0)
         if parent is not None and any(
@@ -682,6 +690,9 @@ class RepairResult(Result):
 
     def changes(self, k: int = 1) -> dict:
         """entry -> (printed, correct) for the entries that repair k changes."""
+        if self.design is None:
+            raise ValueError(f"{self.name}: no repair was solved (located: {', '.join(self.located) or 'none'}); "
+                             "name the suspect entry to repair")
         sol = self.design.solutions[k - 1]
         out = {}
         for e in self.suspects:
@@ -771,7 +782,8 @@ def repair(m: Method, requirements, suspects=(), locate: bool = False, within=No
                           f"{', '.join(map(str, m.parameters))}: use solve)")
     reqs = parse_requirements(requirements)
     printed = {}
-    located, tried, skipped = (), 0, []
+    located: tuple[str, ...] = ()
+    tried, skipped = 0, []
     if locate:
         mats = {k: M for k, M in m.matrices().items() if M is not None and k != "c"}
         bad = [k for k in within or () if k not in mats]
@@ -806,7 +818,9 @@ def repair(m: Method, requirements, suspects=(), locate: bool = False, within=No
         c = _canonical(s, m)
         specs[c] = _entry_spec(m, c)
         key, i, j = specs[c]
-        printed[c] = m.matrices()[key][i, j]
+        M = m.matrices()[key]
+        assert M is not None, "_entry_spec names a matrix of the tableau"
+        printed[c] = M[i, j]
     design = solve(_with_unknowns(m, specs), reqs)
     return RepairResult(m.name, tuple(specs), printed, design, located, tried, tuple(skipped))
 

@@ -67,9 +67,9 @@ class ErrorConstantResult(Result):
 
     method: str
     order: int
-    C: object                  # C_{p+1}, αₖ = 1 (exact)
-    sigma1: object             # σ(1) = Σ βⱼ (αₖ = 1)
-    normalised: object         # C_{p+1}/σ(1); None when σ(1) = 0
+    C: sp.Expr                 # C_{p+1}, αₖ = 1 (exact)
+    sigma1: sp.Expr            # σ(1) = Σ βⱼ (αₖ = 1)
+    normalised: sp.Expr | None  # C_{p+1}/σ(1); None when σ(1) = 0
     alpha: tuple
     beta: tuple
 

@@ -21,7 +21,7 @@ import sympy as sp
 
 from ..errors import InputError
 from ..exact.grammar import format_entry
-from ..exact.methods import Method
+from ..exact.methods import Method, RungeKutta
 from ..render.model import Document, Formula, Typeset
 from .bseries import modified_field
 from .method_series import method_series
@@ -67,7 +67,7 @@ def principal_error_norm(method: Method):
     >>> tl.principal_error_norm(tl.load("explicit_euler"))     # τ([τ]) = (0 − 1/2)/1
     1/2
     """
-    if method.kind != "rk":
+    if not isinstance(method, RungeKutta):
         raise TypeError(f"{method.name}: the principal error norm is defined here for Runge–Kutta methods, "
                         f"not {method.kind!r} (the order analysis m.order() lists the error terms of every kind)")
     result = rk_order(method, effective=False)

@@ -32,16 +32,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import element, field_of, solve_linear, to_dm
 from ..exact.grammar import format_entry
-from ..exact.methods import Method, preconsistency
+from ..exact.methods import Method, RungeKutta, preconsistency
 from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import flow_cuts, inverse_coefficients
 from .results import Result
+from .tree_kinds import Coefficients, Tree
 from .trees import bracket, bracket_tex, density, leaf_removals, order, trees_of_order
 
 __all__ = ["glm_order", "GLMOrderResult", "OrderSolver", "theta_matrix", "order_conditions", "condition_residuals"]
@@ -145,7 +147,10 @@ class OrderSolver:
         if M.rank() < r:
             raise ValueError(f"{g.name}: 1 is not a simple eigenvalue of V; the order theory here needs it")
         self.u = [element(K, x) for x in u]
-        self.w = solve_linear(M, [0] * r + [1])
+        w = solve_linear(M, [0] * r + [1])
+        if w is None:                      # not reached: rank r above makes the system consistent
+            raise ValueError(f"{g.name}: no left eigenvector w of V with wᵀu = 1; the order theory here needs it")
+        self.w = w
         # (I − V) x = q with wᵀx = 0: the particular solution without principal part.
         # P has full column rank r: invert r independent rows once (x = Pinv·[q; 0] when wᵀq = 0).
         self.P = to_dm(sp.Matrix.vstack(sp.eye(r) - g.V, sp.Matrix([[K.to_sympy(x) for x in self.w]])), K)
@@ -195,10 +200,12 @@ class OrderSolver:
         failure; θ is then the least-squares-free left-inverse solution, exact wherever the
         conditions hold (the design module solves them)."""
         K = self.K
-        xi = {None: list(self.u)}          # None is the empty tree
-        eta, etaD, theta = {}, {}, {}
+        xi: Coefficients = {None: list(self.u)}          # None is the empty tree
+        eta: Coefficients = {}
+        etaD: Coefficients = {}
+        theta: Coefficients = {}
         p, errors = 0, {}
-        nonzero = set()                    # trees whose ξ(t) is not the zero vector
+        nonzero: set[Tree] = set()         # trees whose ξ(t) is not the zero vector
         for k in range(1, max_order + (1 if collect is not None else 2)):
             Tk = trees_of_order(k)
 
@@ -309,7 +316,7 @@ def glm_order(m: Method, max_order: int = 8) -> GLMOrderResult:
     c0 = [a + b for a, b in zip(solver.mat(solver.A, ones), solver.mat(solver.U, x0 or [K.zero] * g.r), strict=False)]
     shift = solver.c[0] - c0[0] if x0 is not None else K.zero
     p0, xi0, eta0, theta0, errors0 = solver.run(max_order, False, shift)
-    bound = m.order_bound if m.kind == "rk" else None
+    bound = m.order_bound if isinstance(m, RungeKutta) else None
     if bound is not None and p0 >= bound:
         # For RK methods the order with any starting method is at most the order of the
         # stability function R(z) (on y' = λy the starting method is a scalar factor that
@@ -362,8 +369,12 @@ def condition_residuals(m: Method, starting: dict, upto: int) -> tuple[dict, boo
     g = m.as_glm()
     K = field_of([g.A, g.U, g.B, g.V, g.c])
     solver = OrderSolver(g, K)
-    xi = {None: list(solver.u)}
-    eta, etaD, nonzero, out, missing = {}, {}, set(), {}, []
+    xi: Coefficients = {None: list(solver.u)}
+    eta: Coefficients = {}
+    etaD: Coefficients = {}
+    nonzero: set[Tree] = set()
+    out: dict[str, Any] = {}
+    missing: list[tuple[Tree, Any]] = []     # (tree, wᵀR(t)) of the trees whose ξ(t) is not given
     for k in range(1, upto + 1):
         for t in trees_of_order(k):
             q = solver.defect(t, eta, xi, etaD, nonzero)

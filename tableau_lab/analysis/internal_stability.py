@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..exact.grammar import format_entry
-from ..exact.methods import Method
+from ..exact.methods import Method, RungeKutta
 from .results import Result
 
 __all__ = ["internal_stability", "InternalStabilityResult"]
@@ -39,8 +39,8 @@ _Z = sp.Symbol("z")
 class InternalStabilityResult(Result):
     method: str
     functions: tuple          # Qⱼ(z), exact rational functions (polynomials for explicit methods)
-    interval: object          # β of the real interval the maximum is taken on (oo: not bounded)
-    amplification: object     # max_j max_{x ∈ [−β, 0]} |Qⱼ(x)|, exact; None when not computed
+    interval: sp.Expr | None          # β of the real interval the maximum is taken on (oo: not bounded)
+    amplification: sp.Expr | None     # max_j max_{x ∈ [−β, 0]} |Qⱼ(x)|, exact; None when not computed
     reason: str = ""
 
     def __str__(self):
@@ -64,7 +64,7 @@ class InternalStabilityResult(Result):
         return f"Internal stability functions ${rows}${tail}."
 
 
-def _functions(m: Method) -> tuple:
+def _functions(m: RungeKutta) -> tuple:
     """Qⱼ = z·(bᵀ adj(I − zA))ⱼ / det(I − zA) in lowest terms, from the adjugate and determinant of
     I − zA over K[z] (a ``DomainMatrix``: 0.2 s for NodePy's 17-stage DC(4), where sympy's symbolic
     ``Matrix.adjugate`` took minutes)."""
@@ -87,7 +87,7 @@ def _functions(m: Method) -> tuple:
 
 def internal_stability(m: Method) -> InternalStabilityResult:
     """Qⱼ(z) and their largest modulus on the real stability interval (module docstring)."""
-    if m.kind != "rk":
+    if not isinstance(m, RungeKutta):
         return InternalStabilityResult(m.name, (), None, None, f"defined here for Runge–Kutta methods, not {m.kind}")
     from .real_interval import real_stability_interval
     Q = _functions(m)

@@ -36,14 +36,14 @@ import sympy as sp
 
 from ..exact.field import FastField, field_of
 from ..exact.grammar import format_entry
-from ..exact.methods import Method, PartitionedRungeKutta
+from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .bseries import BSeries, check_series_order, kept_cuts
 from .glm_order import OrderSolver
 from .prk_order import weight_function as prk_weights
 from .results import Result
 from .rk_order import weight_function
-from .tree_kinds import BICOLOURED
+from .tree_kinds import BICOLOURED, Coefficients
 from .trees import bracket, density, symmetry, trees_of_order, trees_up_to
 
 __all__ = ["method_series", "MethodSeries", "error_terms"]
@@ -99,9 +99,9 @@ def glm_series(A, U, B, u, w, Pinv, max_order: int, zero, one) -> tuple:
             out.append(acc)
         return out
     s = len(A)
-    xi = {None: list(u)}
-    phi = {None: one}
-    eta = {}
+    xi: Coefficients = {None: list(u)}
+    phi: Coefficients = {None: one}
+    eta: Coefficients = {}
     for t in trees_up_to(max_order):
         d = [one] * s
         for c in t:
@@ -131,10 +131,10 @@ def method_series(m: Method, max_order: int) -> MethodSeries:
     if isinstance(m, PartitionedRungeKutta):        # a P-series over bicoloured trees
         K = field_of([m.A, m.b, m.Ahat, m.bhat])
         F, phi_of = FastField(K), prk_weights(m, K)
-        values = {t: F.lift(phi_of(t)) for t in BICOLOURED.trees_up_to(max_order)}
+        values: Coefficients = {t: F.lift(phi_of(t)) for t in BICOLOURED.trees_up_to(max_order)}
         values[None] = F.one
         return MethodSeries(m.name, "prk", BSeries(F, values, max_order, m.name, BICOLOURED), {}, (1,), (1,))
-    if m.kind == "rk":
+    if isinstance(m, RungeKutta):
         F, phi_of = weight_function(m)
         values = {t: phi_of(t) for t in trees_up_to(max_order)}
         values[None] = F.one

@@ -9,7 +9,7 @@ RK → :func:`rk_order` (elementary weights, simplifying assumptions), partition
 """
 from __future__ import annotations
 
-from ..exact.methods import Method
+from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from .glm_order import glm_order
 from .prk_order import prk_order
 from .rk_order import rk_order
@@ -38,8 +38,8 @@ def order(m: Method, max_order: int | None = None):
     >>> int(tl.order(tl.load("bdf:3"))), int(tl.order(tl.load("stormer_verlet")))
     (3, 2)
     """
-    if m.kind == "rk":
+    if isinstance(m, RungeKutta):
         return rk_order(m, max_order)
-    if m.kind == "prk":
+    if isinstance(m, PartitionedRungeKutta):
         return prk_order(m) if max_order is None else prk_order(m, max_order)
     return glm_order(m) if max_order is None else glm_order(m, max_order)

@@ -36,6 +36,7 @@ import sympy as sp
 
 from ..exact.methods import Method
 from .results import Result
+from .zero_stability import ZeroStabilityResult, zero_stability
 
 __all__ = ["parametric_stability", "ParametricStability", "NEEDS_NUMBERS"]
 
@@ -60,7 +61,7 @@ class ParametricStability(Result):
     order_of_r: int | None = None                 # RK: R(z) = e^z + O(z^(p+1)) identically
     r_at_infinity: sp.Expr | None = None          # RK: lim R(z) as z → ∞ (None: R unbounded)
     v_polynomial: sp.Expr | None = None           # GLM: det(wI − V)
-    zero: Result | None = None                    # GLM with V free of parameters: zero-stability
+    zero: ZeroStabilityResult | None = None       # GLM with V free of parameters: zero-stability
     needs_numbers: tuple = NEEDS_NUMBERS
 
     def __str__(self):
@@ -69,6 +70,7 @@ class ParametricStability(Result):
                  "parameter values where its denominators do not vanish):",
                  f"  P(w, {self.variable}) = {self.polynomial}"]
         if self.stability_function is not None:
+            assert self.order_of_r is not None, "set with the stability function (RK)"
             lines += [f"  R(z) = {self.stability_function}",
                       f"  E(y) = |D(iy)|² − |N(iy)|² = {self.e_polynomial}",
                       f"  R(z) − e^z = O(z^{self.order_of_r + 1}) for every parameter value (order {self.order_of_r})",
@@ -135,7 +137,6 @@ def parametric_stability(m: Method) -> ParametricStability:
         V = sp.Matrix(m.as_glm().V)
         zero = None
         if not V.free_symbols:
-            from .zero_stability import zero_stability
             zero = zero_stability(m)
         return ParametricStability(**common, v_polynomial=sp.factor((w * sp.eye(V.rows) - V).det()), zero=zero)
     return ParametricStability(**common)

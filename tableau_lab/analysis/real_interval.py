@@ -30,7 +30,7 @@ _X = sp.Dummy("x")          # not a name that a CRootOf in the coefficients may 
 @dataclass(frozen=True)
 class RealIntervalResult(Result):
     method: str
-    beta: object            # exact (sympy number or oo); None when not computed
+    beta: sp.Expr | None    # exact (sympy number or oo); None when not computed
     reason: str = ""
 
     def __str__(self):

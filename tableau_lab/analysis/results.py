@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from typing import ClassVar
 
 from ..exact.render import markdown_literal, matrix_latex, matrix_text
 from ..render.displayed import Displayed
@@ -152,7 +153,7 @@ class Result(Displayed):
     displays are its LaTeX translated (:func:`latex_markdown`)."""
 
     latex_math = False     # not yet moved: True when to_latex() is one formula (math mode, no delimiters)
-    int_field = None       # the field that int(result) gives ("order" for the order analyses), or None
+    int_field: ClassVar[str | None] = None   # the field int(result) gives ("order" for the order analyses), or None
 
     def __int__(self) -> int:
         """``int(tl.order(m))`` is the order: the field :attr:`int_field` of a result that has one."""

@@ -117,6 +117,11 @@ class RKOrderResult(Result):
         generic = " (for generic parameter values)" if sp.sympify(r).free_symbols else ""
         return f"order-1 condition Σbᵢ = 1 fails{generic}: Σbᵢ − 1 = {format_entry(r)}"
 
+    @property
+    def _effective_gain(self) -> bool:
+        """The effective order (with a starting method) exceeds the classical order."""
+        return self.effective_order is not None and self.effective_order > self.order
+
     def _text(self) -> str:
         cap = " (at least: cap reached)" if self.capped else ""
         head = f"{self.method}: classical order {self.order}{cap}"
@@ -142,7 +147,7 @@ class RKOrderResult(Result):
                 f"; the error estimate's principal part ‖τ̂^({e.order + 1})‖₂ = {format_entry(e.principal_error_norm)}"
                 f" ≈ {sp.N(e.principal_error_norm, 6)}")
             out.append(f"  embedded b̂: order {e.order}{norm}")
-        if self.effective is not None and self.effective_order > self.order:
+        if self.effective is not None and self._effective_gain:
             out.append("  starting method for the effective order (y0 ↦ B(ξ, y0)), θ(t) = ξ(t):")
             out.extend(f"    {t:10s} {format_entry(v)}" for t, v in self.effective.theta.items())
         return "\n".join(out)
@@ -158,7 +163,7 @@ class RKOrderResult(Result):
                                        else s(self.embedded.principal_error_norm)),
                "residuals": {k: s(v) for k, v in self.residuals.items()},
                "error_coefficients": {k: s(v) for k, v in self.error_coefficients.items()}}
-        if self.effective is not None and self.effective_order > self.order:
+        if self.effective is not None and self._effective_gain:
             eff = self.effective.to_json()
             out["starting_method"] = {t: v[0] for t, v in eff["starting_method"].items()}
             out["finishing_method"] = eff["finishing_method"]

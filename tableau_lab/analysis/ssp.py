@@ -28,7 +28,7 @@ import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from ..exact.grammar import format_entry
-from ..exact.methods import Method
+from ..exact.methods import Method, RungeKutta
 from .results import Result
 
 __all__ = ["ssp_coefficient", "SSPResult", "SSP_MAX_STAGES", "SSP_MAX_EXPLICIT_STAGES"]
@@ -44,7 +44,7 @@ _R = sp.Symbol("r", nonnegative=True)
 @dataclass(frozen=True)
 class SSPResult(Result):
     method: str
-    R: object                  # exact SSP coefficient (sympy number, or oo), None when not computed
+    R: sp.Expr | None          # exact SSP coefficient (sympy number, or oo), None when not computed
     reason: str = ""           # which condition bounds R, or why it was not computed
 
     def __str__(self):
@@ -77,7 +77,7 @@ def ssp_coefficient(m: Method) -> SSPResult:
     >>> tl.ssp_coefficient(tl.load("ssp104")).R, tl.load("ssprk:3").ssp_coefficient().R   # Ketcheson 2008; Shu–Osher
     (6, 1)
     """
-    if m.kind != "rk":
+    if not isinstance(m, RungeKutta):
         return SSPResult(m.name, None, f"defined here for Runge–Kutta methods, not {m.kind}")
     if m.parameters:
         return SSPResult(m.name, None, "the tableau has free parameters")

@@ -60,6 +60,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import reduce
+from typing import Any
 
 import sympy as sp
 from sympy import QQ
@@ -68,9 +69,12 @@ from sympy.polys.rings import ring
 
 from ..exact.field import field_of, to_dm
 from ..exact.grammar import format_entry
-from ..exact.methods import Method
+from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from ..exact.rationals import simplest_between
 from ..exact.real_roots import (
+    Field,
+    Pair,
+    RingPoly,
     all_in_upper_half,
     all_roots_right,
     cayley_transform,
@@ -109,7 +113,7 @@ def characteristic_polynomial(m: Method, parametric: bool = False):
     if m.parameters and not parametric:
         raise ValueError(f"{m.name}: this stability analysis needs numbers for the free parameters "
                          f"{', '.join(map(str, m.parameters))}")
-    if m.kind == "prk":
+    if isinstance(m, PartitionedRungeKutta):
         K = field_of([m.A, m.b, m.Ahat, m.bhat])
         R = K["w", "x"]
         w, x = R.gens
@@ -148,7 +152,7 @@ def stability_function(m: Method):
     >>> N.as_expr(), D.as_expr()
     (z/2 + 1, 1 - z/2)
     """
-    if m.kind != "rk":
+    if not isinstance(m, RungeKutta):
         raise TypeError(f"the stability function R(z) is for RK methods, not {m.kind!r}")
     s = m.s
     if m.conjugate is not None:            # similar matrices in ℚ (exact.conjugate): V⁻¹AV = Ã, V⁻¹1bᵀV = e₀b̃
@@ -180,10 +184,10 @@ def _i_power(c, n, yn, zero):
 class _Axis:
     """P on the axis: F = F_R + i F_I in K[t, y] (roots w = (1 + it)/(1 − it)), r, and the
     leading coefficient and the value at w = −1 as (re, im) pairs in K[y]."""
-    K: object
+    K: Field
     r: int
-    FR: object
-    FI: object
+    FR: RingPoly
+    FI: RingPoly
     lc: tuple
     at_minus_one: tuple
 
@@ -194,7 +198,7 @@ def _axis(P, K, imaginary: bool) -> _Axis:
     zero = Rty.zero
     w = P.ring.gens[0]
     r = P.degree(w)
-    coeff = {}                       # k -> Q_k(y) = coefficient of w^k at z = iy (or x = y)
+    coeff: dict[int, Pair] = {}      # k -> Q_k(y) = coefficient of w^k at z = iy (or x = y)
     for (k, n), c in P.terms():          # c·w^k·z^n
         part = _i_power(c, n, y ** n, zero) if imaginary else (y ** n * c, zero)
         old = coeff.get(k, (zero, zero))
@@ -524,7 +528,7 @@ class StabilityResult(Result):
 
     def to_json(self):
         Ystar = self.imaginary_interval
-        out = {
+        out: dict[str, Any] = {
             "kind": self.kind,
             "variable": self.variable,
             "characteristic_polynomial": _text(self.polynomial),
@@ -577,7 +581,7 @@ def _radii(ax: _Axis):
         C, ivs = None, []
     points = [(0, 0)] + ivs
     samples = []
-    radii = [None, None]
+    radii: list[tuple[Any, Any] | None] = [None, None]   # per test (|w| = 1, |w| ≤ 1): the first interval failing it
     for k, (a, b) in enumerate(points):
         hi = ivs[k][0] if k < len(ivs) else None
         y0 = simplest_between(b, hi, open_lo=True, open_hi=True)
@@ -586,7 +590,7 @@ def _radii(ax: _Axis):
         for i, ok in enumerate((eq, le)):
             if radii[i] is None and not ok:
                 radii[i] = (a, b)
-    values = {}
+    values: dict[tuple[Any, Any], Any] = {}
     for iv_ in {r for r in radii if r is not None}:
         values[iv_] = 0 if iv_ == (0, 0) else _root_value(C, *iv_)
     Yeq, Yle = (sp.oo if r is None else values[r] for r in radii)

@@ -15,17 +15,17 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..exact.methods import Method
-from .a_alpha import a_alpha
-from .algebraic_stability import algebraic_stability
-from .internal_stability import internal_stability
-from .parametric_stability import parametric_stability
-from .parasitism import growth_parameters
-from .real_interval import real_stability_interval
+from .a_alpha import AAlphaResult, a_alpha
+from .algebraic_stability import AlgebraicStabilityResult, algebraic_stability
+from .internal_stability import InternalStabilityResult, internal_stability
+from .parametric_stability import ParametricStability, parametric_stability
+from .parasitism import ParasitismResult, growth_parameters
+from .real_interval import RealIntervalResult, real_stability_interval
 from .results import Result
-from .ssp import ssp_coefficient
+from .ssp import SSPResult, ssp_coefficient
 from .stability import StabilityResult, stability
 from .symplectic import g_symplectic
-from .zero_stability import zero_stability
+from .zero_stability import ZeroStabilityResult, zero_stability
 
 __all__ = ["StabilityReport", "stability_report"]
 
@@ -37,13 +37,13 @@ class StabilityReport(Result):
 
     method: str
     linear: StabilityResult
-    algebraic: Result
-    parasitism: Result | None = field(default=None)
-    zero: Result | None = field(default=None)          # zero_stability.ZeroStabilityResult (GLMs)
-    sector: Result | None = field(default=None)        # a_alpha.AAlphaResult (GLMs)
-    real: Result | None = field(default=None)          # real_interval.RealIntervalResult (RK)
-    ssp: Result | None = field(default=None)           # ssp.SSPResult (RK)
-    internal: Result | None = field(default=None)      # internal_stability.InternalStabilityResult (RK)
+    algebraic: AlgebraicStabilityResult
+    parasitism: ParasitismResult | None = field(default=None)          # GLMs
+    zero: ZeroStabilityResult | None = field(default=None)             # GLMs
+    sector: AAlphaResult | None = field(default=None)                  # A(α), GLMs
+    real: RealIntervalResult | None = field(default=None)              # RK
+    ssp: SSPResult | None = field(default=None)                        # RK
+    internal: InternalStabilityResult | None = field(default=None)     # RK
 
     def _parts(self):
         return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.internal,
@@ -70,7 +70,7 @@ class StabilityReport(Result):
         return "\n".join(p.to_latex() for p in self._parts())
 
 
-def stability_report(m: Method) -> StabilityReport:
+def stability_report(m: Method) -> StabilityReport | ParametricStability:
     """Everything ``tableau-lab stability`` prints (``tl.stability_report``): linear stability
     (:func:`stability`), algebraic stability and, for RK methods, the real-axis interval, the SSP
     coefficient and the internal stability functions; for GLMs zero-stability, the A(α) angle and

@@ -23,16 +23,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from itertools import product
+from typing import Any
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from ..exact.field import field_of, from_dm, nullspace, to_dm
-from ..exact.grammar import format_matrix
+from ..exact.grammar import format_entry, format_matrix
 from ..exact.methods import Method, PartitionedRungeKutta, RungeKutta
 from ..exact.render import matrix_latex, matrix_text
-from ..render.model import Document, Formula, Paragraph, Plain, Typeset
+from ..render.model import Block, Document, Formula, Paragraph, Plain, Typeset
 from .results import Result
+
+Pair = tuple[DomainMatrix, DomainMatrix]     # (G, D) over the method's field
 
 __all__ = ["rk_symplectic", "g_symplectic", "g_symplectic_residuals", "g_symplectic_residuals_dm", "RKSymplecticResult",
            "GSymplecticResult"]
@@ -97,8 +100,9 @@ def rk_symplectic(m: Method) -> RKSymplecticResult:
     else:
         raise TypeError(f"rk_symplectic applies to RK and partitioned RK methods, not {m.kind!r}")
     s = A.rows
-    if getattr(m, "conjugate", None) is not None:      # in ℚ: VᵀMV (exact.conjugate)
-        form = sp.ImmutableMatrix(m.conjugate.symplecticity_form())
+    conjugate = m.conjugate if isinstance(m, RungeKutta) else None
+    if conjugate is not None:      # in ℚ: VᵀMV (exact.conjugate)
+        form = sp.ImmutableMatrix(conjugate.symplecticity_form())
         return RKSymplecticResult(m.name, m.kind, form, form.is_zero_matrix, True, form.is_zero_matrix, congruent=True)
     K = field_of([A, b, Ah, bh])
     raw = sp.Matrix(s, s, lambda i, j: b[i] * Ah[i, j] + bh[j] * A[j, i] - b[i] * bh[j])
@@ -166,8 +170,8 @@ class GSymplecticResult(Result):
 
     def display(self) -> Document:
         head, *lines = self._text().split("\n")
-        out = [Paragraph(f"Solution family of dimension {self.dimension}.")]
-        if self.G is not None:
+        out: list[Block] = [Paragraph(f"Solution family of dimension {self.dimension}.")]
+        if self.G is not None and self.D is not None:
             out.append(Formula(f"G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)}"))
             out += [Formula(f"{tex} = {matrix_latex(R)}")
                     for R, tex in zip(self.residuals.values(), RESIDUAL_LATEX, strict=False)]
@@ -182,8 +186,9 @@ class GSymplecticResult(Result):
         if self.parameters:
             lines.append("  generic in the parameters " + ", ".join(map(str, self.parameters))
                          + " (special values may behave differently)")
-        if self.G is not None:
-            lines += ["  G =", matrix_text(self.G), "  D = diag(" + ", ".join(format_matrix(self.D.diagonal().T)) + ")"]
+        if self.G is not None and self.D is not None:
+            diag = ", ".join(str(format_entry(x)) for x in self.D.diagonal())
+            lines += ["  G =", matrix_text(self.G), f"  D = diag({diag})"]
             if self.definite is not None:
                 lines.append(f"  G is {'definite' if self.definite else 'indefinite'}")
         for name, R in self.residuals.items():
@@ -207,7 +212,7 @@ class GSymplecticResult(Result):
         }
 
 
-def _unknown_basis(r, s, K):
+def _unknown_basis(r: int, s: int, K: Any) -> list[Pair]:
     """Unit (G, D) pairs, one per unknown: g_ij (i ≤ j, symmetric) then d_i."""
     units = []
     for i in range(r):
@@ -223,19 +228,19 @@ def _unknown_basis(r, s, K):
     return units
 
 
-def _combine(units, coeffs, K):
+def _combine(units: list[Pair], coeffs: list[Any], K: Any) -> Pair:
     G = sum((u[0] * c for u, c in zip(units, coeffs, strict=False) if not K.is_zero(c)), units[0][0] * K.zero)
     D = sum((u[1] * c for u, c in zip(units, coeffs, strict=False) if not K.is_zero(c)), units[0][1] * K.zero)
     return G, D
 
 
-def _normalise(G, D, K):
+def _normalise(G: DomainMatrix, D: DomainMatrix, K: Any) -> Pair:
     flat = [x for row in G.to_list() for x in row] + [x for row in D.to_list() for x in row]
     lead = next(x for x in flat if not K.is_zero(x))
     return G * (K.one / lead), D * (K.one / lead)
 
 
-def _nonsingular_member(family, K):
+def _nonsingular_member(family: list[Pair], K: Any) -> Pair | None:
     """A member of the span of the G's with det ≠ 0, or None when det vanishes identically."""
     d = len(family)
     for G, D in family:
@@ -292,7 +297,7 @@ def g_symplectic(m: Method) -> GSymplecticResult:
     units = _unknown_basis(r, s, K)
     columns = []
     for G, D in units:
-        col = []
+        col: list[Any] = []
         for R in g_symplectic_residuals_dm(A, U, B, V, G, D):
             col.extend(x for row in R.to_list() for x in row)
         columns.append(col)

@@ -27,12 +27,13 @@ from functools import lru_cache
 from math import factorial
 from typing import Any
 
-__all__ = ["TreeKind", "PLAIN", "BICOLOURED", "Tree", "children", "order", "density", "symmetry", "forests",
-           "bicoloured_trees", "plain_differential", "SUPERSCRIPTS", "labelled", "rebuild", "partitions",
+__all__ = ["TreeKind", "PLAIN", "BICOLOURED", "Tree", "Coefficients", "children", "order", "density", "symmetry",
+           "forests", "bicoloured_trees", "plain_differential", "SUPERSCRIPTS", "labelled", "rebuild", "partitions",
            "kept_cuts", "graft"]
 
 
 Tree = tuple   # a plain tree: the sorted tuple of its children; bicoloured: (colour, sorted children)
+Coefficients = dict[Tree | None, Any]   # a series' coefficients {tree: value}, None the empty tree ∅
 
 
 def forests(m: int, trees_of: Callable[[int], tuple], bound: tuple | None = None) -> Iterator[tuple]:

@@ -9,11 +9,12 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy as sp
 
 from ..exact.grammar import format_entry
-from ..exact.methods import Method
+from ..exact.methods import GeneralLinearMethod, Method
 from ..exact.multistep import as_lmm
 from ..render.model import Document, Paragraph, Plain, Typeset
 from .error_constant import ErrorConstantResult, error_constant
@@ -151,8 +152,10 @@ class VerifyResult(Result):
 
     def _order_json(self):
         o = self.order
+        assert o is not None, "called with an order"
         full = o.to_json()
-        if self.kind == "prk":
+        out: dict[str, Any]
+        if isinstance(o, PRKOrderResult):
             out = {"order": o.order}
         else:
             out = {"order": o.order, "order_identity_start": o.order_identity_start, "stage_order": o.stage_order}
@@ -197,7 +200,7 @@ def verify(m: Method) -> VerifyResult:
         order = None
         unchecked.update(dict.fromkeys(("order", "stage_order", "effective_order", "identity_start_order"), str(exc)))
     par = None
-    if m.kind == "glm":
+    if isinstance(m, GeneralLinearMethod):
         if m.V.free_symbols:
             names = ", ".join(sorted(map(str, m.V.free_symbols)))
             unchecked["parasitism_free"] = (f"V holds the free parameter(s) {names}, so its eigenvalues on the unit "

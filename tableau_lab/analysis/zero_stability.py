@@ -200,6 +200,7 @@ def zero_stability(m: Method) -> ZeroStabilityResult:
                   + (f", the largest {big}" if n > 1 else f": {big}"))
     elif defective:
         f = defective[0]
+        assert f.kernel is not None, "computed for every factor on the circle with multiplicity > 1"
         roots = ", ".join(_show(z) for z in f.circle_roots) or f"the roots of {f.factor}"
         reason = (f"the eigenvalue{'s' if f.on > 1 else ''} {roots} on |w| = 1 of algebraic multiplicity "
                   f"{f.multiplicity} {'have' if f.on > 1 else 'has'} only {f.kernel // f.degree} "

@@ -181,6 +181,11 @@ class Method(Queries):
         """The number of stages."""
         raise NotImplementedError
 
+    def as_glm(self) -> "GeneralLinearMethod":
+        """The method as a general linear method (A, U, B, V); a kind without that form (partitioned
+        RK) raises TypeError, as the analyses that need it do for a kind they do not apply to."""
+        raise TypeError(f"a {_KIND_NAMES.get(self.kind, self.kind)} has no general linear form (A, U, B, V)")
+
     def field(self) -> Any:
         """The exact field of the tableau's entries."""
         return field_of(self.matrices().values())

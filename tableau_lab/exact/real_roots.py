@@ -91,7 +91,8 @@ __all__ = ["enclose", "sign", "sign_at", "rational_between", "last_good_cut", "d
            "count_real_roots", "half_plane_counts", "all_in_upper_half", "all_roots_right", "cayley_transform",
            "primitive_part", "over_coefficient_field", "norm_to_rationals", "coefficients", "disc_counts",
            "self_reciprocal", "exact_circle_roots", "unit_circle_eigenvalues", "RootDisc", "outside_roots",
-           "real_root_boxes", "box", "poly_box", "lower", "upper", "complex_text"]
+           "real_root_boxes", "box", "poly_box", "lower", "upper", "complex_text", "Field", "Element", "RingPoly",
+           "Interval", "Pair"]
 
 _PRECISIONS = (64, 160, 400, 1000, 2500, 6000)      # bits tried by :func:`sign`, in turn
 

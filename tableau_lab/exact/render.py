@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import sympy as sp
 
@@ -46,13 +46,13 @@ class Notation(NamedTuple):
     """How a sum is written: ``number`` writes an exact value, ``times`` stands between a
     coefficient and its term, ``left``/``right`` enclose a coefficient that is a sum, ``minus``
     leads a sum whose first term is negative."""
-    number: Callable
+    number: Callable[[Any], str]
     times: str
     left: str
     right: str
     minus: str
 
-    def using(self, number: Callable) -> "Notation":
+    def using(self, number: Callable[[Any], str]) -> "Notation":
         """The same notation with another writer of values (the report's named constants)."""
         return self._replace(number=number)
 
@@ -81,7 +81,7 @@ def is_sum(text: str) -> bool:
     return False
 
 
-def signed_term(c, term: str | None, notation: Notation = TEXT) -> tuple[bool, str]:
+def signed_term(c: Any, term: str | None, notation: Notation = TEXT) -> tuple[bool, str]:
     """(negative, body): the term c·``term`` as its sign and the rest — the magnitude elided when
     it is 1 (unless there is no term), parenthesised when it prints as a sum (without a term: when
     a minus sign stands before it)."""
@@ -96,8 +96,8 @@ def signed_term(c, term: str | None, notation: Notation = TEXT) -> tuple[bool, s
     return negative, text if term is None else f"{text}{notation.times}{term}"
 
 
-def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = None, newline: str = "",
-              most: int | None = None, more: str = r"\dots") -> str:
+def exact_sum(pairs: Iterable[tuple[Any, str | None]], notation: Notation = TEXT, per_row: int | None = None,
+              newline: str = "", most: int | None = None, more: str = r"\dots") -> str:
     """Σ c·term for ``pairs`` of (exact coefficient, rendered term or None), zero terms dropped;
     "0" when none is left.  ``per_row`` terms per row, rows joined by ``newline`` (LaTeX
     ``\\\\ &\\qquad``); ``most``: at most this many terms, then ``+ more``."""
@@ -118,23 +118,22 @@ def exact_sum(pairs: Iterable, notation: Notation = TEXT, per_row: int | None = 
     return "".join(out)
 
 
-def matrix_text(M, indent: str = "    ") -> str:
+def matrix_text(M: Any, indent: str = "    ") -> str:
     """A small exact matrix as aligned text rows, entries in the tableau grammar.
 
     >>> print(matrix_text([[1, sp.Rational(-1, 2)], [sp.sqrt(3), 0]]))
         [       1     -1/2 ]
         [ sqrt(3)        0 ]
     """
-    rows = format_matrix(sp.Matrix(M))
-    if rows and not isinstance(rows[0], list):
-        rows = [[x] for x in rows]
+    flat = format_matrix(sp.Matrix(M))
+    rows = [x if isinstance(x, list) else [x] for x in flat]
     width = max((len(x) for r in rows for x in r), default=1)
     return "\n".join(indent + "[ " + "  ".join(x.rjust(width) for x in r) + " ]" for r in rows)
 
 
-def matrix_latex(M) -> str:
+def matrix_latex(M: Any) -> str:
     r"""A small exact matrix in LaTeX math, ``\begin{pmatrix}``-like: ``\left(\begin{matrix}…``."""
-    return sp.latex(sp.Matrix(M), mat_delim="(", mat_str="matrix")
+    return str(sp.latex(sp.Matrix(M), mat_delim="(", mat_str="matrix"))
 
 
 # ------------------------------------------------------------------ plain text, literally
