@@ -122,10 +122,16 @@ def _depth(text: str) -> int:
     return max(accumulate(1 if c in "[{" else -1 for c in brackets), default=0)
 
 
+def _note(seen: set, key) -> bool:
+    """Add ``key`` to ``seen``; False (so that ``key in seen or _note(seen, key)`` finds the first repeat)."""
+    seen.add(key)
+    return False
+
+
 def _check(value, source, error, name=json_path):
     """Duplicate keys, refused numbers and bad characters, with the JSON path of the first
     (``name``: parts → entry name; a tableau names its entries its own one-based way)."""
-    path = []
+    path: list[str | int] = []
 
     def walk(v):
         if isinstance(v, str):
@@ -176,8 +182,9 @@ def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int =
     def pairs(items):
         out = dict(items)
         if len(out) < len(items):
-            seen = set()
-            out, dup = _Dict(out), next(k for k, _ in items if k in seen or seen.add(k))
+            seen: set = set()
+            dup = next(k for k, _ in items if k in seen or _note(seen, k))
+            out = _Dict(out)
             out.dup = dup
             duplicates.append(dup)
         return out
@@ -277,7 +284,7 @@ class MapOf:
     """A schema: a JSON object of at most ``most`` keys (any text), each value ``item``."""
 
     def __init__(self, item, most: int):
-        self.item, self.most = item, most
+        self.item, self.most, self.least = item, most, 0
 
 
 _TYPE_NAMES = {float: "a number", int: "an integer", str: "text", bool: "true or false", dict: "an object",
@@ -345,7 +352,7 @@ def check_schema(value, schema, source, error, path=()):
             check_schema(value[key], sub, source, error, path + [key])
     elif isinstance(match, (ListOf, MapOf)):
         n = len(value)
-        if n > match.most or n < getattr(match, "least", 0):
+        if n > match.most or n < match.least:
             bound = (f"at most {match.most}" if n > match.most else f"at least {match.least}")
             entries = "entry" if bound.endswith(" 1") else "entries"
             raise _fail(error, printable(source), f"must hold {bound} {entries}, it holds {n}", json_path(path))
