@@ -1,10 +1,9 @@
-import re
-
 """Double-double arithmetic (numeric/ddmath.py) and its code printer (numeric/ddcode.py) against
 mpmath at 50 digits: the primitives compiled by numba on random and adversarial inputs
 (cancellation, magnitudes from 1e-290 to 1e290, arguments near multiples of pi/2), the same
 primitives run as Python (bit for bit the same), and the generated f and Jacobian of the
 built-in problems."""
+import re
 from fractions import Fraction
 
 import mpmath
@@ -154,8 +153,9 @@ def test_arithmetic_is_accurate(lo, hi):
     x, y = exact(a), exact(b)
     yd = [Fraction(v) for v in b[:, 0]]
     bounds = {"add": 3, "sub": 3, "mul": 8, "div": 16, "mul_d": 4, "add_d": 2}
-    refs = [[p + q for p, q in zip(x, y, strict=False)], [p - q for p, q in zip(x, y, strict=False)], [p * q for p, q in zip(x, y, strict=False)],
-            [p / q for p, q in zip(x, y, strict=False)], [p * q for p, q in zip(x, yd, strict=False)], [p + q for p, q in zip(x, yd, strict=False)]]
+    refs = [[p + q for p, q in zip(x, y, strict=False)], [p - q for p, q in zip(x, y, strict=False)],
+            [p * q for p, q in zip(x, y, strict=False)], [p / q for p, q in zip(x, y, strict=False)],
+            [p * q for p, q in zip(x, yd, strict=False)], [p + q for p, q in zip(x, yd, strict=False)]]
     for k, (name, bound) in enumerate(bounds.items()):
         assert error(out[k], refs[k]) <= bound, name
 

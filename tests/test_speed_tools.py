@@ -117,7 +117,8 @@ def test_speed_doc_workprecision_block_is_the_saved_sweep():
     block = benchmark_script("wp_block")
     root = Path(__file__).resolve().parents[1]
     assert benchmark_script("doc_blocks").read_block(root / "docs" / "speed.md", "wp-kepler") == block.make()
-    pts = [{"nfev": 10, "invariant_error": 1e-5}, {"nfev": 20, "invariant_error": 1e-7}, {"nfev": 40, "invariant_error": 1e-9}]
+    pts = [{"nfev": 10, "invariant_error": 1e-5}, {"nfev": 20, "invariant_error": 1e-7},
+           {"nfev": 40, "invariant_error": 1e-9}]
     assert [block.cheapest(pts, "nfev", t) for t in (1e-6, 1e-8, 1e-10)] == [20, 40, None]
 
 
