@@ -164,16 +164,9 @@ def _exact(x) -> Fraction:
         with mpmath.workprec(300):
             return _binary(x._mpf_)
     if isinstance(x, str):
-        number = _NUMBER.fullmatch(x)
-        if number:                          # a decimal or a ratio: exact, beyond the parser's limits
-            if abs(int(number.group(1) or 0)) > 1000:
-                raise ValueError(f"to_dd: {x!r} is outside the double range")
-            return Fraction(x)
-        from .expressions import ExpressionError, exact_number
-        try:
-            x = exact_number(x)
-        except ExpressionError as exc:
-            raise ValueError(f"to_dd: {exc}") from None
+        x = _exact_text(x)
+        if isinstance(x, Fraction):
+            return x
     if is_exact(x):                             # sympy only when given a sympy number
         import sympy as sp
         if x.free_symbols or not x.is_number:
@@ -185,6 +178,21 @@ def _exact(x) -> Fraction:
             raise ValueError(f"to_dd: {x} is not a finite real number")
         return _binary(v._mpf_)
     raise ValueError(f"to_dd: cannot convert {x!r} (a {type(x).__name__}) exactly")
+
+
+def _exact_text(x: str):
+    """A number written as text: a decimal or a ratio as its exact Fraction (beyond the
+    expression parser's limits), else the exact sympy number of the safe parser."""
+    number = _NUMBER.fullmatch(x)
+    if number:
+        if abs(int(number.group(1) or 0)) > 1000:
+            raise ValueError(f"to_dd: {x!r} is outside the double range")
+        return Fraction(x)
+    from .expressions import ExpressionError, exact_number
+    try:
+        return exact_number(x)
+    except ExpressionError as exc:
+        raise ValueError(f"to_dd: {exc}") from None
 
 
 def _binary(mpf_value) -> Fraction:
@@ -427,8 +435,8 @@ def two_sqr(a):
     (1.0000000018626451, 8.673617379884035e-19)
     """
     p = a * a
-    h, l = _split(a)
-    return p, ((h * h - p) + 2.0 * h * l) + l * l
+    hi, lo = _split(a)
+    return p, ((hi * hi - p) + 2.0 * hi * lo) + lo * lo
 
 
 # -- dd arithmetic -------------------------------------------------------------------------------

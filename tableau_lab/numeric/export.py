@@ -8,8 +8,9 @@ q-component.  Coefficients are rounded once from their exact values (``sympy.N``
 precision plus guard digits), never through an intermediate float.
 
 For GLMs, and for RK methods whose effective order exceeds their classical order, the
-starting method ξ(t) and the finishing method α⁻¹(t) of the order analysis are exported too, so that a run can start with y^[0]_k = u_k y₀ + Σ_t ξ_k(t) h^|t|/σ(t) F(t)(y₀)
-and report z + Σ_t α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n].
+starting method ξ(t) and the finishing method α⁻¹(t) of the order analysis are exported too,
+so that a run can start with y^[0]_k = u_k y₀ + Σ_t ξ_k(t) h^|t|/σ(t) F(t)(y₀) and report
+z + Σ_t α⁻¹(t) h^|t|/σ(t) F(t)(z), z = wᵀy^[n].
 
 >>> from tableau_lab.exact.tableau_json import load
 >>> nm = to_numeric(load("methods/gauss2.json"))
@@ -120,9 +121,10 @@ def to_numeric(m: Method, precision: str = "float64", starting: bool = True) -> 
     if not all(sp.Matrix(X)[i, j] == 0 for X in (Aq, Ap) for i in range(len(c)) for j in range(i, len(c))):
         E, Aqi, Api = _newton_data(Aq, Ap, list(c), a, getattr(m, "conjugate", None))
     with a.context():
-        return NumericMethod(E=E, Aq_inv=Aqi, Ap_inv=Api, name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq), Ap=a.matrix(Ap), U=a.matrix(U),
-                             Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V), c=a.array(list(c)),
-                             u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi, finishing=beta, exact=m, modes=modes,
+        return NumericMethod(E=E, Aq_inv=Aqi, Ap_inv=Api, name=m.name, kind=m.kind, arith=a, Aq=a.matrix(Aq),
+                             Ap=a.matrix(Ap), U=a.matrix(U), Bq=a.matrix(Bq), Bp=a.matrix(Bp), V=a.matrix(V),
+                             c=a.array(list(c)), u=a.array(list(u)), w=a.array(list(w)), order=order, starting=xi,
+                             finishing=beta, exact=m, modes=modes,
                              order_identity=order if order_identity is None else order_identity)
 
 

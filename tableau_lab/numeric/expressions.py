@@ -8,10 +8,10 @@ initial value) are data.  They are read by the one safe parser of
 functions in ``FUNCTIONS`` of any argument, and only declared names (state variables,
 parameters); exponents are rational constants of modest size.
 
->>> parse_expression("__import__('os')")
+>>> parse_expression("__import__('os')")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-tableau_lab.numeric.expressions.ExpressionError: names must start with a letter, not '_' (at position 1 of "__import__('os')")
+tableau_lab.numeric.expressions.ExpressionError: names must start with a letter, not '_' (at position 1 of ...)
 >>> parse_expression("0.005/2"), parse_expression("-2^2"), parse_expression("2^3^2")
 (1/400, -4, 512)
 >>> q, p = sp.symbols("q p", real=True)

@@ -284,8 +284,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
     Records every ``record_every`` steps (and the last): time, invariant errors, and states
     if ``record_states``; memory grows with the records only.  The largest |I − I(y₀)| of the
     invariants and projected invariants is also tracked every ``track_every`` steps (default
-    ``limits.TRACK_EVERY``; 1 for every step; ``Run.tracked``).  ``compensated=False`` turns the Kahan summation of the
-    principal increment off, ``predict=False`` the predicted start of the stage iteration (to
+    ``limits.TRACK_EVERY``; 1 for every step; ``Run.tracked``).  ``compensated=False`` turns the
+    Kahan summation of the principal increment off, ``predict=False`` the predicted start of the stage iteration (to
     measure what they buy).  ``solver``: the stage iteration, "auto", "newton" or "fixedpoint"
     (:func:`stage_iteration`).
     ``kernel``: "compiled" runs the step loop compiled (:mod:`kernels`), "python" the same
@@ -305,14 +305,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         y0 = np.array(list(y0), dtype=a.dtype)
         d = len(y0)
         masks = component_masks(prob, d) if masks is None else masks
-        if isinstance(h, int) or is_exact(h):
-            h = a.number(h)                        # exact step sizes (1/100) are rounded once, here
-        elif a.dtype is object and not hasattr(h, "_mpf_"):
-            from fractions import Fraction
-
-            import mpmath
-            q = Fraction(repr(float(h)))           # a float: the decimal it prints as, rounded once
-            h = mpmath.mpf(q.numerator) / q.denominator
+        h = _step_size(a, h)
         run = Run(nm.name, problem_name, a.name, float(h), steps,
                   start if (nm.r > 1 or nm.starting) else "identity", tuple(project))
         names = tuple(dict.fromkeys(tuple(invariants) + tuple(project)))
@@ -331,11 +324,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                           index=kernels.invariant_index(prob))
         compiled = _use_kernel(kernel, a, prob)
         if compiled and kernel == "cost" and a.name == "float64":
-            shape = kernels.run_shape(pk)
-            compiled, run.loop_why = limits.choose_loop(
-                steps, limits.python_step_seconds(nm.s, nm.r, d, nm.explicit),
-                kernels.compile_state(prob.problem, "f64", shape, disk=False)
-                or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
+            compiled, run.loop_why = _cheaper_loop(nm, prob, pk, steps, d)
         run.loop = "compiled" if compiled else "python"
         loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()
@@ -360,7 +349,8 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
 
         def settle(out):
             run.nfev, run.newton_iterations = out.nfev, out.sweeps
-            run.projection_iterations, run.completed, run.tracked = out.projection_iterations, out.completed, out.tracked
+            run.projection_iterations, run.completed = out.projection_iterations, out.completed
+            run.tracked = out.tracked
             run.velocity_evaluations, run.fallbacks = out.nvel, out.fallbacks
             run.compile_seconds = out.compile_seconds
             run.seconds = time.perf_counter() - t0 - run.compile_seconds
@@ -376,13 +366,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
                     settle(exc.outcome)
                 raise
             settle(out)
-            n, t = out.step, out.step * h
-            if out.status == 1:
-                raise stages_failed(n, t, h, out.last_correction, pk.tol)
-            if out.status == 2:
-                raise not_finite(n, t)
-            if out.status == 3:
-                raise projection_failed(project, n, t, out.projection_residual)
+            _raise_status(out, h, pk.tol, project)
         except KeyboardInterrupt as exc:
             run.even_records()
             exc.partial = run                      # the records so far, for a valid incomplete file
@@ -390,16 +374,57 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         except IntegrationError as exc:
             exc.partial = run
             if nm.r > 1 and len(run.parasitic) > 1 and not isinstance(exc, ParasiticBoundExceeded):
-                k = int(np.argmin(run.parasitic))
-                err = IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
-                                       f"{run.parasitic[k]:.2e} at t = {run.times[k]:.4g}, "
-                                       f"{run.parasitic[-1]:.2e} at t = {run.times[-1]:.4g}"
-                                       + (" (growing: parasitism?)" if run.parasitic[-1] > 10 * run.parasitic[k] else ""))
-                err.partial = run
-                raise err from None
+                raise _with_parasitic_components(exc, run) from None
             raise
         run.final = principal(out.Y)
     return run
+
+
+def _step_size(a, h):
+    """h at the working precision: an exact step size (1/100) rounded once, here; a float given
+    for an mpmath run taken as the decimal it prints as, rounded once."""
+    if isinstance(h, int) or is_exact(h):
+        return a.number(h)
+    if a.dtype is object and not hasattr(h, "_mpf_"):
+        from fractions import Fraction
+
+        import mpmath
+        q = Fraction(repr(float(h)))
+        return mpmath.mpf(q.numerator) / q.denominator
+    return h
+
+
+def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
+    """(compiled?, why) for kernel="cost": the loop predicted to finish first
+    (:func:`~.limits.choose_loop`)."""
+    shape = kernels.run_shape(pk)
+    return limits.choose_loop(
+        steps, limits.python_step_seconds(nm.s, nm.r, d, nm.explicit),
+        kernels.compile_state(prob.problem, "f64", shape, disk=False)
+        or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
+
+
+def _raise_status(out, h, tol, project) -> None:
+    """The loop's failure status (:mod:`stepcore`) as the error naming the step and time."""
+    n, t = out.step, out.step * h
+    if out.status == 1:
+        raise stages_failed(n, t, h, out.last_correction, tol)
+    if out.status == 2:
+        raise not_finite(n, t)
+    if out.status == 3:
+        raise projection_failed(project, n, t, out.projection_residual)
+
+
+def _with_parasitic_components(exc, run) -> IntegrationError:
+    """``exc`` with the sizes of a GLM's non-principal input components (smallest and last
+    recorded): a failure that follows their growth is parasitism."""
+    k = int(np.argmin(run.parasitic))
+    growing = " (growing: parasitism?)" if run.parasitic[-1] > 10 * run.parasitic[k] else ""
+    err = IntegrationError(f"{exc}. Non-principal input components max|y^[n]_k|, k ≥ 2: "
+                           f"{run.parasitic[k]:.2e} at t = {run.times[k]:.4g}, "
+                           f"{run.parasitic[-1]:.2e} at t = {run.times[-1]:.4g}" + growing)
+    err.partial = run
+    return err
 
 
 def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):

@@ -14,15 +14,22 @@ modules, defined once (the generated modules import them; the pure loop's are no
 * ``alloc`` — the workspace, allocated once per run (reference counting on).
 * ``cold`` — a problem's functions that are not inlined (large f, Jacobians, invariants).
 
-``noalias`` is a flag of numba's compiler (``Flags.noalias``) that ``njit`` does not expose;
-:func:`_expose_noalias` maps it as numba maps its other options, if this numba has it.
+``noalias`` is a flag of numba's compiler (``numba.core.compiler.Flags.noalias``: the
+lowering then marks every pointer argument of the function ``noalias``) that ``njit`` does not
+expose; :func:`expose_noalias` maps it as numba maps its other options (``CPUTargetOptions``
+attributes of type ``TargetOptions.Mapping``, which ``TargetOptions.parse_as_flags`` copies onto
+the flags), if this numba has it.  tests/test_kernel_records.py pins these
+internals and the effect (the attribute in the compiled IR): a numba upgrade that breaks them
+fails there, not silently slower here.
 """
 from numba import njit
 
-__all__ = ["kernel", "helper", "prim", "alloc", "cold"]
+__all__ = ["kernel", "helper", "prim", "alloc", "cold", "expose_noalias", "KERNEL_OPTIONS"]
 
 
-def _expose_noalias() -> dict:
+def expose_noalias() -> dict:
+    """``{"noalias": True}`` once ``njit(noalias=True)`` sets numba's ``Flags.noalias`` (an
+    option added to ``CPUTargetOptions``), or {} on a numba without that flag."""
     try:
         from numba.core.compiler import Flags
         from numba.core.cpu import CPUTargetOptions
@@ -37,8 +44,9 @@ def _expose_noalias() -> dict:
 
 
 _BASE = dict(cache=True, error_model="numpy")
+KERNEL_OPTIONS = dict(_BASE, _nrt=False, **expose_noalias())   # an entry point: no refcounts, no aliasing
 
-kernel = njit(**_BASE, _nrt=False, **_expose_noalias())
+kernel = njit(**KERNEL_OPTIONS)
 helper = njit(**_BASE, _nrt=False, forceinline=True)
 prim = njit(**_BASE, _nrt=False)
 alloc = njit(**_BASE)

@@ -58,7 +58,7 @@ PROJECTION_ACCEPT = 1e4     # after the last sweep, a residual below this many e
 
 DEGRADED = 1e-2            # a run that ends with an invariant error, or a parasitic component, this large relative
                            # to |I(y0)| (or to max |y0_i|) failed in substance: "degraded" (integrate.Run.degraded)
-HUGE = 1e300               # a value beyond this is overflow at every precision (mpmath has none of its own; results are float64)
+HUGE = 1e300               # beyond this: overflow at every precision (mpmath has none of its own; results are float64)
 TRACK_EVERY = 1             # default stride of the invariant tracking: every step (its cost: docs/speed.md)
 INLINE_LINEAR_ALGEBRA = 16  # s·d up to which a compiled loop inlines (unrolls) the Newton matrix's LU
 INLINE_PROBLEM_DIMENSION = 12   # d up to which f (and the q-, p-rates) are inlined into the loop
@@ -152,8 +152,8 @@ def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
     (False, 'the Python loop: 629 steps predicted at 0.1 s in Python, less than the compile (about 8 s)')
     >>> choose_loop(10**6, 160e-6, lambda: "cold")[0], choose_loop(629, 160e-6, "loaded")[0]
     (True, True)
-    >>> choose_loop(100, 160e-6, lambda: 1 / 0)[1]       # not asked: less than even a load from the cache
-    'the Python loop: 100 steps predicted at 0.016 s in Python, less than loading the cached compiled loop (about 0.5 s)'
+    >>> print(choose_loop(100, 160e-6, lambda: 1 / 0)[1])       # not asked: less than even a cache load
+    the Python loop: 100 steps predicted at 0.016 s in Python, less than loading the cached compiled loop (about 0.5 s)
     """
     python = steps * python_step
     if callable(compile_state):

@@ -66,13 +66,13 @@ class NumericGLM:
 
     def vectors(self):
         r = self.r
-        I = np.eye(r)
-        u = np.linalg.lstsq(np.vstack([self.V - I, self.U]), np.r_[np.zeros(r), np.ones(self.s)], rcond=None)[0]
+        eye = np.eye(r)
+        u = np.linalg.lstsq(np.vstack([self.V - eye, self.U]), np.r_[np.zeros(r), np.ones(self.s)], rcond=None)[0]
         vals, left = np.linalg.eig(self.V.T)
         k = int(np.argmin(abs(vals - 1)))
         w = left[:, k].real
         w = w / (w @ u)
-        P = np.vstack([I - self.V, w])
+        P = np.vstack([eye - self.V, w])
         return u, w, np.linalg.pinv(P)
 
 
@@ -108,7 +108,8 @@ def _interval(g: NumericGLM, direction: complex) -> float:
     if r > 1 and end > 1:
         with np.errstate(all="ignore"):
             gap = np.min([np.abs(ev[:, i] - ev[:, j]) for i in range(r) for j in range(i + 1, r)], axis=0)
-        near = [i for i in range(1, end - 1) if gap[i] < COLLISION_GAP and gap[i] <= gap[i - 1] and gap[i] <= gap[i + 1]]
+        near = [i for i in range(1, end - 1)
+                if gap[i] < COLLISION_GAP and gap[i] <= gap[i - 1] and gap[i] <= gap[i + 1]]
         for i in near:
             fine = np.linspace(ys[i - 1], ys[i + 1], FINE_POINTS)
             with np.errstate(all="ignore"):

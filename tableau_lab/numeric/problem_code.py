@@ -94,9 +94,9 @@ def problem_source(problem, invariant_names, dd: bool = False, hot: str | None =
         parts += [source("fq_", f[:k], list(range(k)), row=True), source("fp_", f[k:], list(range(k, 2 * k)), row=True)]
     disp_inv, disp_grad = [], []
     for k, name in enumerate(invariant_names):
-        I = problem.invariants[name]
-        parts.append(source(f"inv{k}_", [I]))
-        parts.append(source(f"grad{k}_", [sp.diff(I, x) for x in state], row=True))
+        invariant = problem.invariants[name]
+        parts.append(source(f"inv{k}_", [invariant]))
+        parts.append(source(f"grad{k}_", [sp.diff(invariant, x) for x in state], row=True))
         disp_inv.append(f"    if k == {k}:\n        inv{k}_(y, c, out)")
         disp_grad.append(f"    if k == {k}:\n        grad{k}_(y, c, out, i)")
     parts.append(f"{cold or _DECO}def inv_(k, y, c, out):\n" + "\n".join(disp_inv) + "\n    return\n")

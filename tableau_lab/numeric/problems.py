@@ -15,10 +15,10 @@ and f(y) = (∂H/∂p, −∂H/∂q).
 >>> c = compile_problem(kepler)
 >>> c.f([1.0, 0.0, 0.0, 1.0])[2], c.invariant("L", c.y0) == 3 ** 0.5 / 2
 (np.float64(-1.0075), True)
->>> get_problem("kepler", e=2)
+>>> get_problem("kepler", e=2)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler': the initial value p0[2] = sqrt(3)*I is not a finite real number
+tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler': the initial value p0[2] = sqrt(3)*I is not a ...
 """
 from __future__ import annotations
 
@@ -173,10 +173,10 @@ class Problem:
         >>> get_problem("kepler").check_projection(["H", "L"])
         ('H', 'L')
         >>> problem_from_dict({"name": "c", "y": ["x"], "f": ["-x"], "y0": [1], "invariants": {"C": "2"}}
-        ...                   ).check_projection(["C"])
+        ...                   ).check_projection(["C"])  # doctest: +ELLIPSIS
         Traceback (most recent call last):
         ...
-        tableau_lab.numeric.problem_functions.ProblemError: problem 'c': projection onto C: C = 2 is constant (it does not depend on x): every state lies on its level set, there is nothing to project onto; leave it out of the projection
+        tableau_lab.numeric.problem_functions.ProblemError: problem 'c': projection onto C: C = 2 is constant ...
         """
         names = tuple(names)
         unknown = [k for k in names if k not in self.invariants]
@@ -185,7 +185,8 @@ class Problem:
                                f"of it (its invariants: {', '.join(self.invariants) or 'none'})")
         for k in names:
             if not (self.invariants[k].free_symbols & set(self.state)):
-                raise ProblemError(f"problem {self.name!r}: projection onto {k}: {k} = {self.invariants[k]} is constant "
+                raise ProblemError(f"problem {self.name!r}: projection onto {k}: {k} = {self.invariants[k]} "
+                                   "is constant "
                                    f"(it does not depend on {', '.join(map(str, self.state))}): every state lies on "
                                    "its level set, there is nothing to project onto; leave it out of the projection")
         return names
@@ -224,8 +225,10 @@ class Problem:
                   for i in range(len(getattr(self, n)))]
         for label, v in zip(labels, y0, strict=False):
             if v.has(sp.zoo, sp.nan, sp.oo, -sp.oo) or not v.is_real:
-                raise ProblemError(f"problem {self.name!r}: the initial value {label} = {v} is not a finite real number")
-        subs = {**dict(zip(self.state, y0, strict=False)), **{s: self.parameters[k] for k, s in self.parameter_symbols.items()}}
+                raise ProblemError(f"problem {self.name!r}: the initial value {label} = {v} "
+                                   "is not a finite real number")
+        subs = {**dict(zip(self.state, y0, strict=False)),
+                **{s: self.parameters[k] for k, s in self.parameter_symbols.items()}}
         for name, e in [*self.invariants.items(), *((f"f[{i + 1}]", e) for i, e in enumerate(self.f_expr))]:
             value = e.evalf(20, subs=subs)
             if not (value.is_real and value.is_finite):
@@ -346,10 +349,10 @@ def get_problem(name, **overrides) -> Problem:
 
     >>> get_problem("pendulum", q0=0, p0=1).initial_state()       # the seed's second case
     (0, 1)
-    >>> get_problem("kepler", ee=1)
+    >>> get_problem("kepler", ee=1)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler' has no parameter or initial value 'ee'; known: delta, e, p0, q0
+    tableau_lab.numeric.problem_functions.ProblemError: problem 'kepler' has no parameter or initial value 'ee'; ...
     """
     if isinstance(name, Problem):
         problem = name
@@ -400,18 +403,9 @@ def valid_name(n) -> bool:
     return isinstance(n, str) and bool(NAME.match(n)) and n not in FUNCTIONS and n.lower() not in NOT_NAMES
 
 
-def problem_from_dict(d: dict) -> Problem:
-    """A user-defined problem from a scene file's entry; every text is read by the safe parser
-    of ``expressions.py`` (numbers, declared names, + − * / ^, whitelisted functions).
-
-    >>> problem_from_dict({"name": "osc", "q": ["x"], "p": ["v"], "H": "v^2/2 + k*x^2/2",
-    ...                    "parameters": {"k": "4"}, "q0": ["1"], "p0": [0]}).f_expr
-    (v, -k*x)
-    >>> problem_from_dict({"name": "bad", "y": ["y"], "f": ["y.real"], "y0": [1]})
-    Traceback (most recent call last):
-    ...
-    tableau_lab.numeric.problem_functions.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' (at position 2 of 'y.real')
-    """
+def _label_and_kind(d) -> tuple:
+    """(name, "hamiltonian" or "general") of a problem entry whose keys are those of its kind
+    (:data:`DEFINE_KEYS`), else the error naming the key."""
     label = d.get("name") if isinstance(d, dict) else None
     if not isinstance(label, str) or not 0 < len(label) <= LABEL_LENGTH:
         raise ProblemError(f"a problem is an object with a 'name' (a string of at most {LABEL_LENGTH} characters)")
@@ -420,6 +414,22 @@ def problem_from_dict(d: dict) -> Problem:
     for key in [k for k in d if k not in allowed] + [k for k in _KEYS[kind] if k not in d]:
         raise ProblemError(f"problem {label!r}, entry {key!r}: {'missing' if key in allowed else 'unknown key'}; "
                            f"a {kind} problem has the keys {', '.join(allowed)}")
+    return label, kind
+
+
+def problem_from_dict(d: dict) -> Problem:
+    """A user-defined problem from a scene file's entry; every text is read by the safe parser
+    of ``expressions.py`` (numbers, declared names, + − * / ^, whitelisted functions).
+
+    >>> problem_from_dict({"name": "osc", "q": ["x"], "p": ["v"], "H": "v^2/2 + k*x^2/2",
+    ...                    "parameters": {"k": "4"}, "q0": ["1"], "p0": [0]}).f_expr
+    (v, -k*x)
+    >>> problem_from_dict({"name": "bad", "y": ["y"], "f": ["y.real"], "y0": [1]})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    tableau_lab.numeric.problem_functions.ProblemError: problem 'bad', entry 'f[1]': unexpected character '.' ...
+    """
+    label, kind = _label_and_kind(d)
 
     def fail(key, msg):
         return ProblemError(f"problem {label!r}, entry {key!r}: {msg}")
