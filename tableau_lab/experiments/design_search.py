@@ -926,4 +926,3 @@ def _certify_partial(family: Family, c: Candidate, constraints, p, key: str) -> 
         if tried >= PARTIAL_ATTEMPTS:
             break
     return False
-

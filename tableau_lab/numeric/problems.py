@@ -475,4 +475,3 @@ def problem_from_dict(d: dict) -> Problem:
                       parameters={k: read(f"parameters.{k}", v, {}) for k, v in items("parameters", True).items()})
     problem.check_initial_state()
     return problem
-
