@@ -9,6 +9,7 @@ NodePy is not a dependency of tableau-lab; without it this script says so and st
 """
 from __future__ import annotations
 
+import importlib.util
 import json
 import math
 import sys
@@ -133,9 +134,7 @@ def compare(rkm, name):
 
 
 def main(out=ROOT / "reports" / "nodepy"):
-    try:
-        import nodepy  # noqa: F401
-    except ImportError:
+    if importlib.util.find_spec("nodepy") is None:
         print("NodePy is not installed: pip install nodepy", file=sys.stderr)
         return 2
     from nodepy_set import rk_methods

@@ -130,15 +130,18 @@ class Solution:
     implicit: dict = field(default_factory=dict)
 
     def to_json(self):
-        s = lambda x: str(format_entry(x)) if not sp.sympify(x).has(sp.I) else str(x)  # noqa: E731
+        def text(x):                             # sympy's form for complex values (no grammar form)
+            return str(x) if sp.sympify(x).has(sp.I) else str(format_entry(x))
+
         out = {"label": self.label,
-               "parameters": {k: s(v) for k, v in self.parameters.items()},
+               "parameters": {k: text(v) for k, v in self.parameters.items()},
                "free": [str(x) for x in self.free],
-               "conditions": [f"{s(c)} != 0" for c in self.conditions],
+               "conditions": [f"{text(c)} != 0" for c in self.conditions],
                "real": self.real, "verified": dict(self.verified),
                "method": None if self.method is None else to_dict(self.method)}
         if self.auxiliary:
-            out["auxiliary"] = {k: [[s(x) for x in M.row(i)] for i in range(M.rows)] for k, M in self.auxiliary.items()}
+            out["auxiliary"] = {k: [[text(x) for x in M.row(i)] for i in range(M.rows)]
+                                for k, M in self.auxiliary.items()}
         if self.implicit:
             out["implicit"] = {str(k): f"root of {v}" for k, v in self.implicit.items()}
         return out
@@ -414,11 +417,14 @@ def _label(m: Method, sol: dict, free) -> str:
     if not isinstance(m, RungeKutta):
         return "component"
     s = m.s
-    nz = lambda e: sp.sympify(e).subs(sol) != 0  # noqa: E731  (a value with free unknowns counts as nonzero)
-    used = {i for i in range(s) if nz(m.b[i])}
+
+    def nonzero(e):                              # a value with free unknowns counts as nonzero
+        return sp.sympify(e).subs(sol) != 0
+
+    used = {i for i in range(s) if nonzero(m.b[i])}
     grew = True
     while grew:
-        new = {j for i in used for j in range(s) if nz(m.A[i, j])} - used
+        new = {j for i in used for j in range(s) if nonzero(m.A[i, j])} - used
         grew = bool(new)
         used |= new
     idle = [j + 1 for j in range(s) if j not in used]

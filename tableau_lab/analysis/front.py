@@ -166,7 +166,10 @@ def _canonical_pairs(H, q, p):
             raise InputError(f"modified_hamiltonian: H = {H}: name the positions and momenta q, p (or q1, p1, …), "
                              f"or pass q=(...), p=(...)" + (f"; H also has {', '.join(other)}" if other else ""))
         return qs, ps
-    as_tuple = lambda v: tuple(v) if isinstance(v, (list, tuple)) else (v,)  # noqa: E731
+
+    def as_tuple(v):                             # one symbol or a list/tuple of them
+        return tuple(v) if isinstance(v, (list, tuple)) else (v,)
+
     return as_tuple(q), as_tuple(p)
 
 

@@ -96,16 +96,18 @@ class GLMOrderResult(Result):
         return "\n".join(lines)
 
     def to_json(self):
-        s = lambda x: str(format_entry(x))  # noqa: E731
+        def text(x):
+            return str(format_entry(x))
+
         return {
             "order": self.order, "order_identity_start": self.order_identity_start,
             "stage_order": self.stage_order, "capped": self.capped,
-            "u": [s(x) for x in self.u], "w": [s(x) for x in self.w],
-            "starting_method": {t: [s(x) for x in xi] for t, xi in self.starting.items()},
-            "theta": {t: s(x) for t, x in self.theta.items()},
-            "finishing_method": {t: s(x) for t, x in self.finishing.items()},
-            "error_terms": {t: s(x) for t, x in self.errors.items()},
-            "error_terms_identity_start": {t: s(x) for t, x in self.errors_identity_start.items()},
+            "u": [text(x) for x in self.u], "w": [text(x) for x in self.w],
+            "starting_method": {t: [text(x) for x in xi] for t, xi in self.starting.items()},
+            "theta": {t: text(x) for t, x in self.theta.items()},
+            "finishing_method": {t: text(x) for t, x in self.finishing.items()},
+            "error_terms": {t: text(x) for t, x in self.errors.items()},
+            "error_terms_identity_start": {t: text(x) for t, x in self.errors_identity_start.items()},
         }
 
     def display(self) -> Document:

@@ -73,10 +73,12 @@ class MethodSeries(Result):
         return "\n".join(lines)
 
     def to_json(self):
-        s = lambda x: str(format_entry(x))  # noqa: E731
+        def text(x):
+            return str(format_entry(x))
+
         return {"method": self.method, "kind": self.kind, "max_order": self.phi.max_order,
-                "phi": self.phi.to_json(), "u": [s(x) for x in self.u], "w": [s(x) for x in self.w],
-                "starting_method": {bracket(t): [s(x) for x in xi] for t, xi in self.starting.items()}}
+                "phi": self.phi.to_json(), "u": [text(x) for x in self.u], "w": [text(x) for x in self.w],
+                "starting_method": {bracket(t): [text(x) for x in xi] for t, xi in self.starting.items()}}
 
     def display(self) -> Document:
         """Text: Φ(t) (and ξ(t)) tree by tree; typeset: one formula, the (t, Φ(t)) array."""

@@ -153,16 +153,18 @@ class RKOrderResult(Result):
         return "\n".join(out)
 
     def to_json(self):
-        s = lambda x: str(format_entry(x))  # noqa: E731
+        def text(x):
+            return str(format_entry(x))
+
         out = {"order": self.order, "order_identity_start": self.order, "stage_order": self.stage_order,
                "effective_order": self.effective_order, "B": self.B, "C": self.C, "D": self.D,
                "capped": self.capped, "error_coefficients_partial": self.errors_partial,
-               "principal_error_norm": None if self.principal_error_norm is None else s(self.principal_error_norm),
+               "principal_error_norm": None if self.principal_error_norm is None else text(self.principal_error_norm),
                "embedded_order": None if self.embedded is None else self.embedded.order,
                "embedded_error_norm": (None if self.embedded is None or self.embedded.principal_error_norm is None
-                                       else s(self.embedded.principal_error_norm)),
-               "residuals": {k: s(v) for k, v in self.residuals.items()},
-               "error_coefficients": {k: s(v) for k, v in self.error_coefficients.items()}}
+                                       else text(self.embedded.principal_error_norm)),
+               "residuals": {k: text(v) for k, v in self.residuals.items()},
+               "error_coefficients": {k: text(v) for k, v in self.error_coefficients.items()}}
         if self.effective is not None and self._effective_gain:
             eff = self.effective.to_json()
             out["starting_method"] = {t: v[0] for t, v in eff["starting_method"].items()}
@@ -195,9 +197,15 @@ def simplifying_assumptions(m: RungeKutta, K=None) -> tuple[int, int, int]:
     A = [[F.lift(x) for x in row] for row in to_dm(m.A, K).to_list()]
     b = [F.lift(element(K, x)) for x in m.b]
     c = [F.lift(element(K, x)) for x in m.c]
-    frac = lambda k: F.rational(sp.Rational(1, k))  # noqa: E731
-    dot = lambda xs, ys: sum((x * y for x, y in zip(xs, ys, strict=False)), F.zero)  # noqa: E731
-    pw = lambda x, k: power(F, x, k)  # noqa: E731
+
+    def frac(k):                                 # 1/k in F
+        return F.rational(sp.Rational(1, k))
+
+    def dot(xs, ys):
+        return sum((x * y for x, y in zip(xs, ys, strict=False)), F.zero)
+
+    def pw(x, k):
+        return power(F, x, k)
 
     def holds_B(k):
         return F.is_zero(dot(b, [pw(ci, k - 1) for ci in c]) - frac(k))
@@ -249,12 +257,20 @@ def _conjugate_assumptions(alg) -> tuple[int, int, int]:
     pw = [one]
     for _ in range(2 * s + 1):
         pw.append(pw[-1] * x)
-    q = lambda k: sp.Rational(1, k)  # noqa: E731
-    rat = lambda v: sp.Rational(int(v.p), int(v.q))  # noqa: E731
-    holds_B = lambda k: rat(b * pw[k - 1]) == q(k)  # noqa: E731
-    holds_C = lambda k: alg.is_zero(A * pw[k - 1] - _scaled(pw[k], q(k)))  # noqa: E731
-    holds_D = lambda k: all(rat(b * (pw[k - 1] * (A * pw[m]))) == (rat(b * pw[m]) - rat(b * pw[m + k])) * q(k)  # noqa: E731
-                            for m in range(s))
+
+    def rational(v):                             # an element of ℚ (p/q) as a sympy Rational
+        return sp.Rational(int(v.p), int(v.q))
+
+    def holds_B(k):
+        return rational(b * pw[k - 1]) == sp.Rational(1, k)
+
+    def holds_C(k):
+        return alg.is_zero(A * pw[k - 1] - _scaled(pw[k], sp.Rational(1, k)))
+
+    def holds_D(k):
+        return all(rational(b * (pw[k - 1] * (A * pw[m])))
+                   == (rational(b * pw[m]) - rational(b * pw[m + k])) * sp.Rational(1, k) for m in range(s))
+
     return _largest(holds_B, 2 * s + 1), _largest(holds_C, s + 1), _largest(holds_D, s + 1)
 
 

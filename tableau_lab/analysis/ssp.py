@@ -107,7 +107,10 @@ def ssp_coefficient(m: Method) -> SSPResult:
     Mdm = Kdm * adj
     e = DomainMatrix([[ring.one] for _ in range(s + 1)], (s + 1, 1), ring)
     vdm = e * det_dm - Mdm * e * ring.from_sympy(_R)
-    poly = lambda x: sp.Poly(ring.to_sympy(x), _R, domain=K)  # noqa: E731
+
+    def poly(x):                                 # an element of K[r] as a sympy Poly in r
+        return sp.Poly(ring.to_sympy(x), _R, domain=K)
+
     det = poly(det_dm)
     named = [(f"K(I + rK)⁻¹ entry ({i + 1}, {j + 1})", Mdm[i, j].element) for i in range(s + 1) for j in range(s + 1)]
     named += [(f"e − rK(I + rK)⁻¹e entry {i + 1}", vdm[i, 0].element) for i in range(s + 1)]

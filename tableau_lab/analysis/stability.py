@@ -454,7 +454,7 @@ def _text(x) -> str:
         return "inf"
     try:
         return str(format_entry(x))
-    except Exception:  # noqa: BLE001 - CRootOf and complex values have no tableau-grammar form
+    except Exception:  # CRootOf and complex values have no tableau-grammar form
         return str(x)
 
 

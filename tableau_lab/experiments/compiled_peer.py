@@ -30,7 +30,7 @@ MAX_STEPS = 10 ** 8
 
 def available() -> bool:
     try:
-        import numbalsoda  # noqa: F401
+        import numbalsoda  # noqa: F401 - imported, not looked up: a numbalsoda whose library fails to load is missing too
     except ImportError:
         return False
     return True

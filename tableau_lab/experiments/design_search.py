@@ -381,17 +381,24 @@ def check_constraints(constraints) -> tuple:
     return tuple(out)
 
 
+def _names(v) -> tuple:
+    """One objective name, a sequence of names, or None, as a tuple of names."""
+    return (v,) if isinstance(v, str) else tuple(v or ())
+
+
 def _objectives(maximize, minimize) -> tuple:
-    names = tuple(maximize or ()) + tuple(minimize or ())
+    """The objective names (each a name, a sequence of names, or None), checked."""
+    maximize, minimize = _names(maximize), _names(minimize)
+    names = maximize + minimize
     if not 1 <= len(names) <= 2:
         raise SearchError(f"one objective, or two for a Pareto front, from {', '.join(OBJECTIVES)}; got {names}")
     for n in names:
         if n not in OBJECTIVES:
             raise SearchError(f"unknown objective {n!r}: use {', '.join(OBJECTIVES)}")
-    for n in maximize or ():
+    for n in maximize:
         if OBJECTIVES[n][0] < 0:
             raise SearchError(f"{n} is minimised, not the other way")
-    for n in minimize or ():
+    for n in minimize:
         if OBJECTIVES[n][0] > 0:
             raise SearchError(f"{n} is maximised, not the other way")
     return names
@@ -520,9 +527,7 @@ def search(family: Family, maximize=None, minimize=None, constraints=(), box=(-2
     from scipy.stats import qmc
 
     from .executor import executor
-
-    as_tuple = lambda v: (v,) if isinstance(v, str) else tuple(v or ())  # noqa: E731
-    names = _objectives(as_tuple(maximize), as_tuple(minimize))
+    names = _objectives(maximize, minimize)
     constraints = check_constraints(constraints)
     if not family.free:
         raise SearchError(f"{family.name}: no free parameters to search")

@@ -94,7 +94,7 @@ class Executor:
             for i, get in outcomes:
                 try:
                     results[i] = get()
-                except Exception as exc:    # noqa: BLE001 — the task's own exception, named
+                except Exception as exc:    # the task's own exception, named
                     what = describe(items[i]) if describe else _short(repr(items[i]))
                     raise _named(exc, f"task {i + 1} of {len(items)} ({what})") from exc
                 if on_result is not None:
@@ -264,7 +264,7 @@ def _named(exc: BaseException, where: str) -> BaseException:
         new = type(exc)(msg)
         if str(new) == msg:
             return new
-    except Exception:           # noqa: BLE001 — constructors with other signatures
+    except Exception:           # constructors with other signatures
         pass
     return TaskError(f"{where}: {type(exc).__name__}: {exc}")
 

@@ -380,7 +380,9 @@ def _exactly(nm64, a):
     """nm64 in the arithmetic ``a``: every float64 coefficient converted exactly (no new
     rounding from the exact tableau, no second order analysis)."""
     with a.context():
-        conv = lambda X: np.vectorize(lambda x: mpmath.mpf(float(x)), otypes=[object])(X)  # noqa: E731
+        def conv(X):                             # float64 array -> array of mpf, each value exactly
+            return np.vectorize(lambda x: mpmath.mpf(float(x)), otypes=[object])(X)
+
         return dataclasses.replace(
             nm64, arith=a, Aq=conv(nm64.Aq), Ap=conv(nm64.Ap), U=conv(nm64.U), Bq=conv(nm64.Bq), Bp=conv(nm64.Bp),
             V=conv(nm64.V), c=conv(nm64.c), u=conv(nm64.u), w=conv(nm64.w),

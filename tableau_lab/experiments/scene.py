@@ -193,7 +193,7 @@ def _modified_energy(sc: Scene, m, nm, r, arrays) -> dict:
             _MODIFIED[key] = modified_energy_expression(m, sc.problem, sc.h, sc.modified_energy)
         except ValueError as exc:                  # no H̃ (RK4), or not within the series' orders
             _MODIFIED[key] = printable(str(exc)) or "no modified energy"
-        except Exception as exc:                   # noqa: BLE001 - an optional plot never stops the scene
+        except Exception as exc:                   # an optional plot never stops the scene
             _MODIFIED[key] = printable(f"H̃ not computed ({type(exc).__name__}: {exc})")
     found = _MODIFIED[key]
     states = arrays.get("y", np.zeros((0, sc.problem.dimension)))
@@ -208,7 +208,7 @@ def _modified_energy(sc: Scene, m, nm, r, arrays) -> dict:
     corr, H, Ht = found
     try:
         eH, eT = energy_errors(sc.problem, [H, Ht], states)
-    except Exception as exc:                       # noqa: BLE001 - e.g. a derivative numpy cannot evaluate
+    except Exception as exc:                       # e.g. a derivative numpy cannot evaluate
         eH, = energy_errors(sc.problem, [H], states)
         arrays["modified_H"] = eH
         return {"terms": sc.modified_energy, "none": printable(f"H̃ not evaluated ({type(exc).__name__}: {exc})"),

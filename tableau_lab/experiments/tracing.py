@@ -235,7 +235,7 @@ def trace_callable(fn, d: int, *, timed: bool = True, names=None) -> tuple:
             exprs.append(_checked(sp.sympify(e), (t, *ys), i))
     except NotTraceable as exc:
         return None, str(exc)
-    except Exception as exc:                # noqa: BLE001 - whatever the user's code raises on symbols: not traceable
+    except Exception as exc:                # whatever the user's code raises on symbols: not traceable
         first = str(exc).strip().splitlines()
         return None, f"f(t, y) raised {type(exc).__name__} on symbols ({first[0][:120] if first else ''})"
     return tuple(exprs), ""
@@ -274,7 +274,7 @@ def agrees(traced, fn, t0: float, y0, scale=None) -> str:
         try:
             with np.errstate(all="ignore"):
                 want = np.asarray(fn(t, y.copy()), dtype=float).reshape(-1)
-        except Exception as exc:            # noqa: BLE001 - f undefined there (a perturbed point): not a check
+        except Exception as exc:            # f undefined there (a perturbed point): not a check
             if k == 0:
                 return f"f(t0, y0) raised {type(exc).__name__} when called again (f has hidden state?)"
             continue

@@ -319,7 +319,7 @@ def _first_call(f, a, y0, t0) -> tuple:
         tt = a.number(t0)
         try:
             first = f(tt, y.copy())
-        except Exception as exc:                 # noqa: BLE001 - the user's f failing at the start is bad input
+        except Exception as exc:                 # the user's f failing at the start is bad input
             raise InputError(f"integrate: f(t0, y0) raised {type(exc).__name__}"
                              f"{'' if a.dtype is float else ' in ' + a.name}: {str(exc)[:200]}") from exc
     d = len(y)

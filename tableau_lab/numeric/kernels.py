@@ -118,7 +118,10 @@ def dense_matrices(pk: "Pack") -> tuple:
     selecting on) them; 0 for the others, tested coefficient by coefficient when the step runs.
     (Per-coefficient masks, tried, cost a shift and a test where LLVM does not unroll the loop:
     docs/speed.md.)  Double-double coefficients are zero when their leading part is."""
-    lead = (lambda M: np.asarray(M)[..., 0]) if pk.kind == "dd" else np.asarray     # noqa: E731
+
+    def lead(M):                                 # the leading parts of a double-double array
+        return np.asarray(M)[..., 0] if pk.kind == "dd" else np.asarray(M)
+
     return tuple(int(bool(np.all(lead(M) != 0))) for M in (pk.A, pk.B, pk.U, pk.V))
 
 

@@ -53,8 +53,11 @@ class NumericGLM:
     @classmethod
     def of(cls, m) -> "NumericGLM":
         g = m.as_glm()
-        f = lambda M: np.array(M.evalf(20).tolist(), dtype=float)  # noqa: E731
-        return cls(f(g.A), f(g.U), f(g.B), f(g.V))
+
+        def floats(M):                           # an exact sympy matrix as a float array
+            return np.array(M.evalf(20).tolist(), dtype=float)
+
+        return cls(floats(g.A), floats(g.U), floats(g.B), floats(g.V))
 
     @property
     def s(self) -> int:

@@ -310,14 +310,17 @@ def _outer_solar_system():
     potential = sum(m[i] * m[j] / sp.sqrt(sum((a - b)**2 for a, b in zip(q[i], q[j], strict=False)))
                     for i in range(6) for j in range(i + 1, 6))
     L = [sum(q[i][a] * p[i][b] - q[i][b] * p[i][a] for i in range(6)) for a, b in ((1, 2), (2, 0), (0, 1))]
-    num = lambda text: [parse_expression(v) for v in text.split()]  # noqa: E731
+
+    def numbers(text):                           # the space-separated numbers of a table row
+        return [parse_expression(v) for v in text.split()]
+
     return Problem(
         "outer_solar_system", "hamiltonian", q=sum(q, ()), p=sum(p, ()), hamiltonian=kinetic - G * potential,
         invariants=dict(zip(("Lx", "Ly", "Lz"), L, strict=False)),
         parameters={"G": parse_expression("2.95912208286e-4"),
                     **{f"m_{b}": parse_expression(_SOLAR[b][0]) for b in _BODIES}},
-        q0=tuple(v for b in _BODIES for v in num(_SOLAR[b][1])),
-        p0=tuple(mi * v for b, mi in zip(_BODIES, m, strict=False) for v in num(_SOLAR[b][2])),
+        q0=tuple(v for b in _BODIES for v in numbers(_SOLAR[b][1])),
+        p0=tuple(mi * v for b, mi in zip(_BODIES, m, strict=False) for v in numbers(_SOLAR[b][2])),
         source=f"{HLW06}, I.2.4 and Table I.2.1 (outer solar system; p = m v)")
 
 

@@ -166,9 +166,11 @@ def _g_section(m: Method, res, C: _Constants, facts: dict) -> str:
         return "\n".join(out)
     G, D = sp.Matrix(res.G), sp.Matrix(res.D)
     A, U, B, V = (sp.Matrix(x) for x in (g.A, g.U, g.B, g.V))
-    nf = lambda M: M.applyfunc(lambda x: normal_form(sp.expand(x)))  # noqa: E731
-    VtGV, DU = nf(V.T * G * V), nf(D * U)
-    DA, BtGB = nf(D * A + A.T * D), nf(B.T * G * B)
+    def normal(M):                               # each entry in its exact normal form
+        return M.applyfunc(lambda x: normal_form(sp.expand(x)))
+
+    VtGV, DU = normal(V.T * G * V), normal(D * U)
+    DA, BtGB = normal(D * A + A.T * D), normal(B.T * G * B)
     facts.update(G=[[str(format_entry(x)) for x in G.row(i)] for i in range(r)],
                  D=[str(format_entry(D[i, i])) for i in range(s)],
                  BtGB=[[str(format_entry(x)) for x in BtGB.row(i)] for i in range(s)],
@@ -295,7 +297,10 @@ def _glm_order_proof(m: Method, o, C: _Constants, facts: dict) -> list:
     facts["order_identity_start"] = o.order_identity_start
     values, repairable = condition_residuals(m, o.starting_exact, p + 1)
     orders = {bracket(t): k for k in range(1, p + 2) for t in trees_of_order(k)}
-    vec = lambda v: "0" if _all_zero(v) else r"\bigl(" + ", ".join(C.tex(x) for x in v) + r"\bigr)"  # noqa: E731
+
+    def vec(v):                                  # a vector in LaTeX, 0 for the zero vector
+        return "0" if _all_zero(v) else r"\bigl(" + ", ".join(C.tex(x) for x in v) + r"\bigr)"
+
     out = [r"Butcher's algebraic order theory ([B16] Sec.~53; analysis.glm\_order): the starting method is "
            r"$y^{[0]}_i = B(\xi_i, y_0)$ with $\xi(\emptyset) = u = " + vec(o.u)
            + r"$, the stages of a step from it are B-series with coefficients $\eta$, "
