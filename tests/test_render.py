@@ -19,8 +19,11 @@ from tableau_lab.render import latex, markdown, text
 from tableau_lab.render.model import Document
 
 PKG = Path(__file__).resolve().parents[1] / "tableau_lab"
-# the modules whose results render through the layer (the stability family follows next round)
-MOVED = ["analysis/verify.py", "analysis/rk_order.py", "analysis/prk_order.py", "analysis/glm_order.py",
+# the modules whose results render through the layer: all of them (the stability family moved last)
+MOVED = ["analysis/results.py", "analysis/stability.py", "analysis/stability_report.py", "analysis/a_alpha.py",
+         "analysis/algebraic_stability.py", "analysis/internal_stability.py", "analysis/parametric_stability.py",
+         "analysis/parasitism.py", "analysis/real_interval.py", "analysis/ssp.py", "analysis/zero_stability.py",
+         "analysis/verify.py", "analysis/rk_order.py", "analysis/prk_order.py", "analysis/glm_order.py",
          "analysis/symplectic.py", "analysis/modified.py", "analysis/modified_hamiltonian.py",
          "analysis/series_structure.py", "analysis/method_series.py", "analysis/error_constant.py",
          "analysis/front.py", "analysis/catalog.py", "analysis/design.py", "analysis/symmetry.py",
@@ -78,7 +81,9 @@ def test_a_new_format_is_one_file(results):
     assert {"VerifyResult", "RKOrderResult", "GLMOrderResult", "GSymplecticResult", "RKSymplecticResult",
             "ModifiedEquation", "ModifiedHamiltonian", "MethodSeries", "SeriesStructure", "PSeriesStructure",
             "SymmetryResult", "DesignResult", "RepairResult", "SearchResult", "MethodList", "StabilityFunction",
-            "MethodHamiltonian", "ErrorConstantResult"} <= kinds
+            "MethodHamiltonian", "ErrorConstantResult", "StabilityResult", "StabilityReport", "AAlphaResult",
+            "AlgebraicStabilityResult", "InternalStabilityResult", "ParametricStability", "ParasitismResult",
+            "RealIntervalResult", "SSPResult", "ZeroStabilityResult"} <= kinds
     for r in moved:
         doc = r.display()
         page = html_format.render(doc)

@@ -224,8 +224,9 @@ class Combined(Result):
     def __init__(self, parts: tuple, keys: tuple = ()):
         self.parts, self.keys = tuple(parts), tuple(keys) or tuple(f"part{i}" for i in range(len(parts)))
 
-    def __str__(self):
-        return "\n".join(str(p) for p in self.parts)
+    def display(self) -> Document:
+        """The parts' displays one after the other (each with its heading in text)."""
+        return Document(None, tuple(p.display() for p in self.parts))
 
     def _parts(self) -> list:
         return list(self.parts)
@@ -235,6 +236,3 @@ class Combined(Result):
         for k, p in zip(self.keys[1:], self.parts[1:], strict=False):
             out[k] = p.to_json()
         return out
-
-    def to_latex(self) -> str:
-        return "\n\n".join(p.to_latex() for p in self.parts)
