@@ -162,3 +162,25 @@ def test_a_math_document_is_one_formula_in_latex_and_display_math_in_a_notebook(
     assert latex.render(doc) == r.to_latex() and not r.to_latex().startswith("\\[")
     assert r._repr_latex_() == f"$${r.to_latex()}$$" == markdown.display_math(doc)
     assert str(r) == text.render(doc) == doc.heading
+
+
+FAMILY = {"StabilityResult", "StabilityReport", "AAlphaResult", "AlgebraicStabilityResult", "InternalStabilityResult",
+          "ParametricStability", "ParasitismResult", "RealIntervalResult", "SSPResult", "ZeroStabilityResult"}
+_MATH = re.compile(r"\\\[.*?\\\]|(?<!\\)\$.*?(?<!\\)\$", re.S)
+_ESCAPED = re.compile(r"\\[_{}$%&#]|\\text(?:backslash|asciitilde|asciicircum)\{\}")
+
+
+def test_the_stability_family_writes_text_mode_latex_with_its_math_delimited(results):
+    """The LaTeX of every stability-family result is text mode: outside ``\\[ … \\]`` and ``$…$``
+    no math markup and no bare brace is left (on 98a80bf a GLM's stability report carried the
+    parasitism array bare in text mode, a LaTeX error, and an algebraic-stability reason its
+    braces raw, which LaTeX drops: "rows {1}")."""
+    shown = [r for r in results if type(r).__name__ in FAMILY]
+    assert FAMILY == {type(r).__name__ for r in shown}
+    for r in shown:
+        if type(r).__name__ == "ParasitismResult":     # one formula (the (ζ, μ) array): math mode by contract
+            assert r.to_latex().startswith(r"\begin{array}") and f"\\[ {r.to_latex()} \\]" in " ".join(
+                p.to_latex() for p in results if type(p).__name__ == "StabilityReport")
+            continue
+        prose = _ESCAPED.sub("", _MATH.sub("", r.to_latex()))
+        assert not re.search(r"[_^{}$]|\\begin|\\end|\\frac", prose), (type(r).__name__, prose)
