@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from tableau_lab.analysis.results import Combined, Result, latex_markdown
+from tableau_lab.analysis.results import Combined
 from tableau_lab.exact.library import family, library_path
 from tableau_lab.exact.methods import RungeKutta
 from tableau_lab.exact.render import markdown_literal
@@ -191,35 +191,10 @@ def test_rk_order_conditions_become_a_markdown_table():
     assert "simplifying assumptions $B(4)$, $C(1)$, $D(1)$." in md and "tabular" not in md
 
 
-def test_prose_becomes_markdown_and_a_row_starting_with_a_bracket_is_no_dimension():
-    md = latex_markdown(r"\paragraph{a_b} x \texttt{imaginary\_interval} \par 2*3 < 4, a[1] \( y \)"
-                        "\n" + r"\[ \begin{array}{c} t \\" + "\n" + r"[\tau] \end{array} \]")
-    assert md.startswith(r"**a\_b** x `imaginary_interval`" + "\n\n" + r"2\*3 \< 4, a\[1\] $y$")
-    assert md.endswith(r"$$\begin{array}{c} t \\{} [\tau] \end{array}$$") and not markdown_problems(md)
-    assert (latex_markdown(r"\begin{align*} a &= b \\ &= c \end{align*}")
-            == r"$$\begin{aligned}a &= b \\ &= c\end{aligned}$$")
-
-
 def test_combined_shows_its_parts(results):
     both = results[-2]
     assert both._repr_latex_().startswith(r"$$\begin{gathered}") and not math_problems(both._repr_latex_())
     assert both._repr_markdown_() == "\n\n".join(p._repr_markdown_() for p in both.parts)
-
-
-def test_a_result_without_its_own_display_gets_the_generic_one():
-    class Plain(Result):
-        def __str__(self):
-            return "plain: yes\nmore"
-
-        def to_latex(self):
-            return r"The matrix \[ M = 0 \] vanishes; $x$ too."
-
-    class Blocks(Plain):
-        def to_latex(self):
-            return r"\[ M = 0 \]" + "\n" + r"\[ N = 1 \]"
-    assert Plain()._repr_latex_() is None
-    assert Plain()._repr_markdown_() == "**plain: yes**\n\nThe matrix\n\n$$M = 0$$\n\nvanishes; $x$ too."
-    assert Blocks()._repr_latex_() == r"$$\begin{gathered}M = 0 \\ N = 1\end{gathered}$$"
 
 
 # ------------------------------------------------------------------ methods

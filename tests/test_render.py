@@ -13,18 +13,16 @@ import pytest
 import sympy as sp
 from test_displays import _results
 
-from tableau_lab.analysis.results import Combined, Result
+from tableau_lab.analysis.results import Result
 from tableau_lab.exact.render import latex_text, markdown_literal
 from tableau_lab.render import latex, markdown, text
 from tableau_lab.render.model import Document
 
 PKG = Path(__file__).resolve().parents[1] / "tableau_lab"
-# the modules whose results render through the layer (the stability family follows next round)
-MOVED = ["analysis/verify.py", "analysis/rk_order.py", "analysis/prk_order.py", "analysis/glm_order.py",
-         "analysis/symplectic.py", "analysis/modified.py", "analysis/modified_hamiltonian.py",
-         "analysis/series_structure.py", "analysis/method_series.py", "analysis/error_constant.py",
-         "analysis/front.py", "analysis/catalog.py", "analysis/design.py", "analysis/symmetry.py",
-         "experiments/design_search.py"]
+# the modules whose results render through the layer: every module that declares a result (the
+# stability family moved last)
+MOVED = sorted(str(p.relative_to(PKG)) for p in PKG.rglob("*.py")
+               if re.search(r"^class \w+\((?:\w+, )*Result\b", p.read_text(), re.M))
 FACES = ("__str__", "to_latex", "_repr_markdown_", "_repr_latex_")
 
 
@@ -33,13 +31,12 @@ def results():
     return _results()
 
 
-def _moved(results):
-    return [r for r in results if not isinstance(r, Combined) and r.display() is not None]
-
-
 def test_moved_results_render_only_through_the_layer():
     """No result class of the moved modules writes a format itself: each has ``display()`` and
-    none of ``__str__``/``to_latex``/``_repr_markdown_``/``_repr_latex_`` (on 66067b6 all did)."""
+    none of ``__str__``/``to_latex``/``_repr_markdown_``/``_repr_latex_`` (on 66067b6 all did; the
+    stability family and ``Combined`` until they moved)."""
+    assert {"analysis/stability.py", "analysis/stability_report.py", "analysis/a_alpha.py", "analysis/results.py",
+            "analysis/zero_stability.py", "analysis/ssp.py", "experiments/design_search.py"} <= set(MOVED), MOVED
     own, missing = [], []
     for rel in MOVED:
         for node in ast.parse((PKG / rel).read_text()).body:
@@ -73,12 +70,14 @@ class _Tags(HTMLParser):
 def test_a_new_format_is_one_file(results):
     """The toy HTML format of tests/html_format.py renders every kind of moved result; its
     sentences and formulas are those of the other typeset formats (the same document)."""
-    moved = _moved(results)
+    moved = results
     kinds = {type(r).__name__ for r in moved}
     assert {"VerifyResult", "RKOrderResult", "GLMOrderResult", "GSymplecticResult", "RKSymplecticResult",
             "ModifiedEquation", "ModifiedHamiltonian", "MethodSeries", "SeriesStructure", "PSeriesStructure",
             "SymmetryResult", "DesignResult", "RepairResult", "SearchResult", "MethodList", "StabilityFunction",
-            "MethodHamiltonian", "ErrorConstantResult"} <= kinds
+            "MethodHamiltonian", "ErrorConstantResult", "StabilityResult", "StabilityReport", "AAlphaResult",
+            "AlgebraicStabilityResult", "InternalStabilityResult", "ParametricStability", "ParasitismResult",
+            "RealIntervalResult", "SSPResult", "ZeroStabilityResult", "Combined"} <= kinds
     for r in moved:
         doc = r.display()
         page = html_format.render(doc)
@@ -143,16 +142,16 @@ def test_each_renderer_writes_every_node():
         assert all(callable(getattr(cls, n, None)) for n in nodes), module.__name__
 
 
-def test_a_result_not_yet_moved_keeps_its_own_faces():
-    """A result without ``display()`` (the stability family this round) renders as before."""
-    class Old(Result):
-        def __str__(self):
-            return "old: yes"
-
-        def to_latex(self):
-            return r"Old, $x$."
-    assert Old().display() is None and Old()._repr_markdown_() == "**old: yes**\n\nOld, $x$."
-    assert Old()._repr_latex_() is None
+def test_a_result_is_shown_only_through_its_display():
+    """No fallback guesses a result's faces from its LaTeX any more (the regex translation of
+    finished LaTeX to Markdown is gone): a result without ``display()`` has no faces."""
+    class Bare(Result):
+        def to_json(self):
+            return {}
+    for face in (str, Result.to_latex, Result._repr_markdown_, Result._repr_latex_):
+        with pytest.raises(NotImplementedError):
+            face(Bare())
+    assert Bare().dumps() == "{}"
 
 
 def test_a_math_document_is_one_formula_in_latex_and_display_math_in_a_notebook(results):
@@ -163,3 +162,25 @@ def test_a_math_document_is_one_formula_in_latex_and_display_math_in_a_notebook(
     assert latex.render(doc) == r.to_latex() and not r.to_latex().startswith("\\[")
     assert r._repr_latex_() == f"$${r.to_latex()}$$" == markdown.display_math(doc)
     assert str(r) == text.render(doc) == doc.heading
+
+
+FAMILY = {"StabilityResult", "StabilityReport", "AAlphaResult", "AlgebraicStabilityResult", "InternalStabilityResult",
+          "ParametricStability", "ParasitismResult", "RealIntervalResult", "SSPResult", "ZeroStabilityResult"}
+_MATH = re.compile(r"\\\[.*?\\\]|(?<!\\)\$.*?(?<!\\)\$", re.S)
+_ESCAPED = re.compile(r"\\[_{}$%&#]|\\text(?:backslash|asciitilde|asciicircum)\{\}")
+
+
+def test_the_stability_family_writes_text_mode_latex_with_its_math_delimited(results):
+    """The LaTeX of every stability-family result is text mode: outside ``\\[ … \\]`` and ``$…$``
+    no math markup and no bare brace is left (on 98a80bf a GLM's stability report carried the
+    parasitism array bare in text mode, a LaTeX error, and an algebraic-stability reason its
+    braces raw, which LaTeX drops: "rows {1}")."""
+    shown = [r for r in results if type(r).__name__ in FAMILY]
+    assert FAMILY == {type(r).__name__ for r in shown}
+    for r in shown:
+        if type(r).__name__ == "ParasitismResult":     # one formula (the (ζ, μ) array): math mode by contract
+            assert r.to_latex().startswith(r"\begin{array}") and f"\\[ {r.to_latex()} \\]" in " ".join(
+                p.to_latex() for p in results if type(p).__name__ == "StabilityReport")
+            continue
+        prose = _ESCAPED.sub("", _MATH.sub("", r.to_latex()))
+        assert not re.search(r"[_^{}$]|\\begin|\\end|\\frac", prose), (type(r).__name__, prose)

@@ -63,6 +63,7 @@ from ..exact.real_roots import (
     sign,
     upper,
 )
+from ..render.model import Document, Formula, Math, Paragraph, Plain, Typeset
 from .results import Result
 from .stability import characteristic_polynomial
 
@@ -96,11 +97,12 @@ class AAlphaResult(Result):
             return None
         return str(sp.N(sp.deg(self.alpha), digits))
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         if self.status in ("not computed", "not applicable"):
-            return f"A(α): {self.status} ({self.reason})"
+            return [f"A(α): {self.status} ({self.reason})"]
         if self.status == "none":
-            return f"A(α): {'none' if self.alpha is None else 'no sector (α = 0)'} — {self.reason}"
+            return [f"A(α): {'none' if self.alpha is None else 'no sector (α = 0)'} — {self.reason}"]
         a = self.degrees
         if self.alpha == sp.pi / 2:
             head = "A(α): α = 90° — the boundary locus does not enter the sector |arg(−z)| < 90°"
@@ -109,7 +111,7 @@ class AAlphaResult(Result):
         lines = [head]
         if self.locus is not None:
             lines.append(f"  boundary locus z(w) = {self.locus}, w = e^(iθ); checked: " + "; ".join(self.conditions))
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         out = {"status": self.status, "reason": self.reason, "degree_in_z": self.degree,
@@ -124,14 +126,22 @@ class AAlphaResult(Result):
                "conditions": list(self.conditions)}
         return out
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: the boundary locus and α in a sentence."""
+        head, *lines = self._lines()
+        plain = Plain(*map(Paragraph, lines))
         if self.status in ("not computed", "not applicable"):
-            return f"$A(\\alpha)$: {self.status} ({self.reason.replace('|', '')})."
+            return Document(head, (plain, Typeset(Paragraph(Math(r"A(\alpha)"),
+                                                            f": {self.status} ({self.reason.replace('|', '')})."))))
         if self.status == "none":
-            return r"No sector $|\arg(-z)| < \alpha$ with $\alpha > 0$ lies in the stability region."
-        where = f" (attained at $\\theta = {self.theta:.4f}^\\circ$)" if self.theta is not None else ""
-        loc = f"\\[ z(w) = {sp.latex(self.locus)}, \\quad w = e^{{i\\theta}} \\]\n" if self.locus is not None else ""
-        return loc + f"The method is $A(\\alpha)$-stable with $\\alpha = {self.degrees:.2f}^\\circ${where}."
+            return Document(head, (plain, Typeset(Paragraph("No sector ", Math(r"|\arg(-z)| < \alpha"), " with ",
+                                                            Math(r"\alpha > 0"), " lies in the stability region."))))
+        assert self.degrees is not None, "a computed angle"
+        where = () if self.theta is None else (" (attained at ", Math(f"\\theta = {self.theta:.4f}^\\circ"), ")")
+        locus = () if self.locus is None else (Formula(f"z(w) = {sp.latex(self.locus)}, \\quad w = e^{{i\\theta}}"),)
+        return Document(head, (plain, Typeset(*locus, Paragraph(
+            "The method is ", Math(r"A(\alpha)"), "-stable with ", Math(f"\\alpha = {self.degrees:.2f}^\\circ"),
+            *where, "."))))
 
 
 # ------------------------------------------------------------------ intervals

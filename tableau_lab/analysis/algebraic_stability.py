@@ -38,6 +38,7 @@ from ..exact.field import element, field_of, from_dm, to_dm
 from ..exact.grammar import format_entry, format_matrix
 from ..exact.methods import Method
 from ..exact.real_roots import sign
+from ..render.model import Block, Document, Formula, Paragraph, Plain, Typeset
 from .results import Result, matrix_latex, matrix_text
 from .symplectic import g_symplectic_residuals_dm
 
@@ -55,7 +56,8 @@ class AlgebraicStabilityResult(Result):
     D: sp.ImmutableMatrix | None = None
     M: sp.ImmutableMatrix | None = None
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         word = {True: "yes", False: "no", None: "undecided" if self.kind != "prk" else "not applicable"}[self.holds]
         lines = [f"algebraically stable: {word} — {self.reason}"]
         if self.scope:
@@ -65,7 +67,7 @@ class AlgebraicStabilityResult(Result):
             lines += ["  G =", matrix_text(self.G), f"  D = diag({diag})"]
         if self.M is not None:
             lines.append("  M = 0" if self.M.is_zero_matrix else "  M =\n" + matrix_text(self.M))
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         return {"algebraically_stable": self.holds, "reason": self.reason, "scope": self.scope,
@@ -73,15 +75,18 @@ class AlgebraicStabilityResult(Result):
                 "D": None if self.D is None else format_matrix(self.D),
                 "M": None if self.M is None else format_matrix(self.M)}
 
-    def to_latex(self):
-        out = []
-        if self.G is not None:
-            out.append(f"\\[ G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)} \\]")
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: G, D and M, and the verdict with its reason."""
+        typeset: list[Block] = []
+        if self.G is not None and self.D is not None:
+            typeset.append(Formula(f"G = {matrix_latex(self.G)}, \\qquad D = {matrix_latex(self.D)}"))
         if self.M is not None:
-            out.append(f"\\[ M = {matrix_latex(self.M)} \\]")
-        out.append({True: "The method is algebraically stable.", False: "The method is not algebraically stable.",
-                    None: "Algebraic stability is undecided."}[self.holds] + " " + self.reason)
-        return "\n".join(out)
+            typeset.append(Formula(f"M = {matrix_latex(self.M)}"))
+        typeset.append(Paragraph({True: "The method is algebraically stable.",
+                                  False: "The method is not algebraically stable.",
+                                  None: "Algebraic stability is undecided."}[self.holds] + " " + self.reason))
+        head, *lines = self._lines()
+        return Document(head, (Plain(*map(Paragraph, lines)), Typeset(*typeset)))
 
 
 def stability_matrix(m: Method, G, D) -> sp.ImmutableMatrix:

@@ -28,6 +28,7 @@ import sympy as sp
 
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, RungeKutta
+from ..render.model import Document, Math, Paragraph, Typeset
 from .results import Result
 
 __all__ = ["internal_stability", "InternalStabilityResult"]
@@ -43,7 +44,8 @@ class InternalStabilityResult(Result):
     amplification: sp.Expr | None     # max_j max_{x ∈ [−β, 0]} |Qⱼ(x)|, exact; None when not computed
     reason: str = ""
 
-    def __str__(self):
+    def _line(self) -> str:
+        """The plain face, one line."""
         head = "internal stability: Qⱼ(z) = z bᵀ(I − zA)⁻¹eⱼ"
         if self.amplification is None:
             return f"{head}; the largest |Qⱼ| on the real interval: not computed ({self.reason})"
@@ -57,11 +59,12 @@ class InternalStabilityResult(Result):
                 "internal_amplification_float": None if self.amplification is None else float(self.amplification),
                 "internal_reason": self.reason}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """The plain face: the line above; the typeset face: the Qⱼ and their largest modulus."""
         rows = ", ".join(f"Q_{{{j + 1}}} = {sp.latex(q)}" for j, q in enumerate(self.functions))
-        tail = ("" if self.amplification is None
-                else f"; $\\max|Q_j| = {sp.latex(self.amplification)}$ on $[-\\beta, 0]$")
-        return f"Internal stability functions ${rows}${tail}."
+        tail = (() if self.amplification is None
+                else ("; ", Math(f"\\max|Q_j| = {sp.latex(self.amplification)}"), " on ", Math(r"[-\beta, 0]")))
+        return Document(self._line(), (Typeset(Paragraph("Internal stability functions ", Math(rows), *tail, ".")),))
 
 
 def _functions(m: RungeKutta) -> tuple:

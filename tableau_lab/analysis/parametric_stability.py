@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..exact.methods import Method
+from ..render.model import Block, Document, Formula, Math, Paragraph, Plain, Typeset
 from .results import Result
 from .zero_stability import ZeroStabilityResult, zero_stability
 
@@ -64,7 +65,8 @@ class ParametricStability(Result):
     zero: ZeroStabilityResult | None = None       # GLM with V free of parameters: zero-stability
     needs_numbers: tuple = NEEDS_NUMBERS
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         names = ", ".join(str(p) for p in self.parameters)
         lines = [f"linear stability over {self.field} (free parameters {names}; every formula holds for all "
                  "parameter values where its denominators do not vanish):",
@@ -81,7 +83,7 @@ class ParametricStability(Result):
             lines.append("  " + str(self.zero).replace("\n", "\n  "))
         lines.append("needs numbers for the parameters (decided per value; give them values, e.g. with "
                      "`tableau-lab solve`): " + ", ".join(self.needs_numbers))
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         return {"parametric": True, "parameters": [str(p) for p in self.parameters], "field": self.field,
@@ -94,14 +96,19 @@ class ParametricStability(Result):
                 "zero_stable": None if self.zero is None else self.zero.holds,
                 "needs_numbers": list(self.needs_numbers)}
 
-    def to_latex(self):
-        out = [f"Free parameters ${', '.join(sp.latex(p) for p in self.parameters)}$; over ${self.field}$:",
-               f"\\[ P(w,{self.variable}) = {sp.latex(self.polynomial)} \\]"]
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: P(w, z) (R(z) and E(y) for RK) over the
+        parameters' field, and what needs numbers."""
+        typeset: list[Block] = [
+            Paragraph("Free parameters ", Math(", ".join(sp.latex(p) for p in self.parameters)), "; over ",
+                      Math(self.field), ":"),
+            Formula(f"P(w,{self.variable}) = {sp.latex(self.polynomial)}")]
         if self.stability_function is not None:
-            out.append(f"\\[ R(z) = {sp.latex(self.stability_function)}, "
-                       f"\\qquad E(y) = {sp.latex(self.e_polynomial)} \\]")
-        out.append("Needs numbers: " + ", ".join(self.needs_numbers) + ".")
-        return "\n".join(out)
+            typeset.append(Formula(f"R(z) = {sp.latex(self.stability_function)}, "
+                                   f"\\qquad E(y) = {sp.latex(self.e_polynomial)}"))
+        typeset.append(Paragraph("Needs numbers: " + ", ".join(self.needs_numbers) + "."))
+        head, *lines = self._lines()
+        return Document(head, (Plain(*map(Paragraph, lines)), Typeset(*typeset)))
 
 
 def _order_of_r(N, D) -> int:

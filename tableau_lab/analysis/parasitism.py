@@ -40,6 +40,7 @@ from ..exact.field import field_of, normal_form
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
 from ..exact.real_roots import unit_circle_eigenvalues as _unit_circle_eigenvalues
+from ..render.model import Document, Formula, Paragraph, Plain, Typeset
 from .growth import NumericMode, growth_rate
 from .results import Result
 
@@ -57,8 +58,6 @@ class Parasitic:
 
 @dataclass(frozen=True)
 class ParasitismResult(Result):
-    latex_math = True           # to_latex: the (ζ, μ) array, a formula
-
     method: str
     items: tuple
     note: str = ""
@@ -68,21 +67,25 @@ class ParasitismResult(Result):
         """True when every growth parameter is exactly zero."""
         return all(p.mu == 0 for p in self.items)
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         if not self.items:
-            return f"parasitism: none (V has no eigenvalue ≠ 1 on the unit circle){self.note}"
+            return [f"parasitism: none (V has no eigenvalue ≠ 1 on the unit circle){self.note}"]
         lines = ["parasitism: " + ("controlled to first order (all μ = 0)" if self.free
                                    else "growth parameters are not all zero")]
         lines += [f"  ζ = {_show(p.zeta)}: μ = {_show(p.mu)}" for p in self.items]
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         return {"parasitism_free": self.free,
                 "parasitism": [{"zeta": _show(p.zeta), "mu": _show(p.mu)} for p in self.items]}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: the (ζ, μ) array, one formula."""
         rows = " \\\\ ".join(f"{sp.latex(p.zeta)} & {sp.latex(p.mu)}" for p in self.items)
-        return r"\begin{array}{c|c} \zeta & \mu \\ \hline " + rows + r" \end{array}"
+        head, *lines = self._lines()
+        return Document(head, (Plain(*map(Paragraph, lines)), Typeset(Formula(
+            r"\begin{array}{c|c} \zeta & \mu \\ \hline " + rows + r" \end{array}"))), math=True)
 
 
 def _show(x):

@@ -20,6 +20,7 @@ import sympy as sp
 
 from ..exact.grammar import format_entry
 from ..exact.methods import Method
+from ..render.model import Document, Math, Paragraph, Typeset
 from .results import Result
 
 __all__ = ["real_stability_interval", "RealIntervalResult"]
@@ -33,7 +34,8 @@ class RealIntervalResult(Result):
     beta: sp.Expr | None    # exact (sympy number or oo); None when not computed
     reason: str = ""
 
-    def __str__(self):
+    def _line(self) -> str:
+        """The plain face, one line."""
         if self.beta is None:
             return f"real-axis interval: not computed ({self.reason})"
         if self.beta == sp.oo:
@@ -46,10 +48,12 @@ class RealIntervalResult(Result):
         return {"real_interval": exact, "real_interval_float": None if self.beta is None else float(self.beta),
                 "real_interval_reason": self.reason}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """The plain face: the line above; the typeset face: β in a sentence."""
         if self.beta is None:
-            return f"Real-axis interval not computed ({self.reason})."
-        return r"Real-axis stability interval $[-\beta, 0]$, $\beta = " + sp.latex(self.beta) + "$."
+            return Document(self._line(), (Typeset(Paragraph(f"Real-axis interval not computed ({self.reason}).")),))
+        return Document(self._line(), (Typeset(Paragraph("Real-axis stability interval ", Math(r"[-\beta, 0]"), ", ",
+                                                         Math(r"\beta = " + sp.latex(self.beta)), ".")),))
 
 
 def real_stability_interval(m: Method) -> RealIntervalResult:

@@ -29,6 +29,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from ..exact.grammar import format_entry
 from ..exact.methods import Method, RungeKutta
+from ..render.model import Document, Math, Paragraph, Typeset
 from .results import Result
 
 __all__ = ["ssp_coefficient", "SSPResult", "SSP_MAX_STAGES", "SSP_MAX_EXPLICIT_STAGES"]
@@ -47,7 +48,8 @@ class SSPResult(Result):
     R: sp.Expr | None          # exact SSP coefficient (sympy number, or oo), None when not computed
     reason: str = ""           # which condition bounds R, or why it was not computed
 
-    def __str__(self):
+    def _line(self) -> str:
+        """The plain face, one line."""
         if self.R is None:
             return f"SSP coefficient: not computed ({self.reason})"
         approx = "" if self.R in (0, sp.oo) or self.R.is_Rational else f" ≈ {sp.N(self.R, 8)}"
@@ -59,10 +61,12 @@ class SSPResult(Result):
                 "ssp_coefficient_float": None if self.R is None else float(self.R),
                 "ssp_reason": self.reason}
 
-    def to_latex(self):
+    def display(self) -> Document:
+        """The plain face: the line above; the typeset face: R in a sentence, with what bounds it."""
         if self.R is None:
-            return f"SSP coefficient not computed ({self.reason})."
-        return f"SSP coefficient $R = {sp.latex(self.R)}$." + (f" {self.reason}." if self.reason else "")
+            return Document(self._line(), (Typeset(Paragraph(f"SSP coefficient not computed ({self.reason}).")),))
+        return Document(self._line(), (Typeset(Paragraph("SSP coefficient ", Math(f"R = {sp.latex(self.R)}"),
+                                                         "." + (f" {self.reason}." if self.reason else ""))),))
 
 
 def ssp_coefficient(m: Method) -> SSPResult:

@@ -85,6 +85,7 @@ from ..exact.real_roots import (
     primitive_part,
     sign,
 )
+from ..render.model import Block, Document, Formula, Math, Paragraph, Plain, Typeset
 from .results import Result
 
 __all__ = ["stability", "StabilityResult", "EndpointRoot", "characteristic_polynomial", "stability_function",
@@ -501,7 +502,8 @@ class StabilityResult(Result):
     def _axis_letter(self):
         return "y" if self.variable == "z" else "x"
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         head = {"rk": "RK", "glm": "GLM", "prk": "partitioned RK"}[self.kind]
         lines = [f"linear stability ({head}, r = {self.r}):",
                  f"  P(w, {self.variable}) = {_text(self.polynomial)}"]
@@ -524,7 +526,7 @@ class StabilityResult(Result):
                 f"w = {e.root} (|w| = {e.modulus:.15g}"
                 f"{f', multiplicity {e.multiplicity}' if e.multiplicity > 1 else ''})"
                 for e in self.endpoint_roots))
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         Ystar = self.imaginary_interval
@@ -552,20 +554,20 @@ class StabilityResult(Result):
             out["E_polynomial"] = _text(self.e_polynomial)
         return out
 
-    def to_latex(self):
-        v = self.variable
-        out = [f"\\[ P(w,{v}) = {sp.latex(self.polynomial)} \\]"]
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: P(w, z) (R(z) and E(y) for RK) and the
+        reported interval in a sentence."""
+        v, a = self.variable, self._axis_letter
+        typeset: list[Block] = [Formula(f"P(w,{v}) = {sp.latex(self.polynomial)}")]
         if self.numerator is not None:
-            out.append(f"\\[ R(z) = {sp.latex(self.stability_function)}, \\qquad "
-                       f"E(y) = {sp.latex(self.e_polynomial)} \\]")
-        Ystar = self.imaginary_interval
-        rel = "= 1" if self.symplectic else r"\le 1"
-        a = self._axis_letter
-        out.append(f"Every root has $|w| {rel}$ for $|{a}| < {sp.latex(Ystar)}$"
-                   + (" ($z = iy$). " if v == "z" else " ($x = h\\omega$, harmonic oscillator). ")
-                   + {True: "The method is A-stable.", False: "The method is not A-stable.",
-                      None: ""}[self.a_stable])
-        return "\n".join(out)
+            typeset.append(Formula(f"R(z) = {sp.latex(self.stability_function)}, \\qquad "
+                                   f"E(y) = {sp.latex(self.e_polynomial)}"))
+        axis = (" (", Math("z = iy"), "). ") if v == "z" else (" (", Math(r"x = h\omega"), ", harmonic oscillator). ")
+        verdict = {True: "The method is A-stable.", False: "The method is not A-stable.", None: ""}[self.a_stable]
+        typeset.append(Paragraph("Every root has ", Math("|w| = 1" if self.symplectic else r"|w| \le 1"), " for ",
+                                 Math(f"|{a}| < {sp.latex(self.imaginary_interval)}"), *axis, verdict))
+        head, *lines = self._lines()
+        return Document(head, (Plain(*map(Paragraph, lines)), Typeset(*typeset)))
 
 
 # ------------------------------------------------------------------ the analyses

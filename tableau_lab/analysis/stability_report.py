@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..exact.methods import Method
+from ..render.model import Document
 from .a_alpha import AAlphaResult, a_alpha
 from .algebraic_stability import AlgebraicStabilityResult, algebraic_stability
 from .internal_stability import InternalStabilityResult, internal_stability
@@ -49,8 +50,9 @@ class StabilityReport(Result):
         return [p for p in (self.linear, self.real, self.zero, self.sector, self.algebraic, self.ssp, self.internal,
                             self.parasitism) if p is not None]
 
-    def __str__(self):
-        return "\n".join(str(p) for p in self._parts())
+    def display(self) -> Document:
+        """The parts' displays one after the other (each with its heading in text)."""
+        return Document(None, tuple(p.display() for p in self._parts()))
 
     def to_json(self):
         out = dict(self.linear.to_json())
@@ -65,9 +67,6 @@ class StabilityReport(Result):
         out["algebraic_stability"] = alg
         out["parasitism"] = self.parasitism.to_json()["parasitism"] if self.parasitism is not None else []
         return out
-
-    def to_latex(self):
-        return "\n".join(p.to_latex() for p in self._parts())
 
 
 def stability_report(m: Method) -> StabilityReport | ParametricStability:

@@ -38,6 +38,7 @@ from sympy.polys.rings import ring
 from ..exact.field import field_of, to_dm
 from ..exact.methods import Method
 from ..exact.real_roots import coefficients, complex_text, disc_counts, exact_circle_roots, outside_roots
+from ..render.model import Block, Document, Formula, Math, Paragraph, Plain, Typeset
 from .results import Result
 
 __all__ = ["zero_stability", "ZeroStabilityResult", "EigenFactor"]
@@ -104,12 +105,13 @@ class ZeroStabilityResult(Result):
         """The certified roots of det(wI − V) outside the unit circle (largest first)."""
         return tuple(sorted((d for f in self.factors for d in f.outside_roots), key=lambda d: -d.modulus[0]))
 
-    def __str__(self):
+    def _lines(self) -> list[str]:
+        """The plain face, a line each."""
         lines = [f"zero-stable: {'yes' if self.holds else 'no'} — {self.reason}"]
         if self.factors:
             lines.append(f"  det(wI − V) = {sp.factor(self.polynomial)}; its irreducible factors:")
             lines += [f.describe() for f in self.factors]
-        return "\n".join(lines)
+        return lines
 
     def to_json(self):
         return {"zero_stable": self.holds, "reason": self.reason, "characteristic_polynomial_V": str(self.polynomial),
@@ -123,23 +125,35 @@ class ZeroStabilityResult(Result):
                                                 "radius": d.radius} for d in f.outside_roots]}
                             for f in self.factors]}
 
-    def to_latex(self):
-        out = f"\\[ \\det(wI - V) = {sp.latex(sp.factor(self.polynomial))} \\]\n" if self.factors else ""
+    def display(self) -> Document:
+        """The plain face: the lines above; the typeset face: det(wI − V) factored and the verdict."""
+        typeset: list[Block] = []
+        if self.factors:
+            typeset.append(Formula(f"\\det(wI - V) = {sp.latex(sp.factor(self.polynomial))}"))
+        typeset.append(self._verdict())
+        head, *lines = self._lines()
+        return Document(head, (Plain(*map(Paragraph, lines)), Typeset(*typeset)))
+
+    def _verdict(self) -> Paragraph:
+        """The verdict in a sentence: the eigenvalues on the circle, or the largest outside it, or
+        the defective ones."""
         circle = [z for f in self.factors for z in f.circle_roots]
         on = ", ".join(f"w = {sp.latex(z)}" for z in circle)
         if self.holds:
-            return out + ("The method is zero-stable: every eigenvalue of $V$ lies in $|w| \\le 1$"
-                          + (f", and those on $|w| = 1$ (${on}$) are semisimple." if on else "."))
+            return Paragraph("The method is zero-stable: every eigenvalue of ", Math("V"), " lies in ",
+                             Math(r"|w| \le 1"), *((", and those on ", Math("|w| = 1"), " (", Math(on),
+                                                     ") are semisimple.") if on else (".",)))
         big = self.outside
         if big:
             d = big[0]
-            return out + (f"The method is not zero-stable: $V$ has {len(big)} eigenvalue{'s' if len(big) > 1 else ''} "
-                          f"outside the unit circle, the largest $w \\approx {complex_text(d.center)}$ with "
-                          f"$|w| = {mpmath.nstr(d.modulus[0], 9)}$.")
+            return Paragraph("The method is not zero-stable: ", Math("V"),
+                             f" has {len(big)} eigenvalue{'s' if len(big) > 1 else ''} outside the unit circle, "
+                             "the largest ", Math(f"w \\approx {complex_text(d.center)}"), " with ",
+                             Math(f"|w| = {mpmath.nstr(d.modulus[0], 9)}"), ".")
         bad = [f for f in self.factors if f.on and not f.semisimple]
         roots = ", ".join(sp.latex(z) for f in bad for z in f.circle_roots) or sp.latex(bad[0].factor)
-        return out + (f"The method is not zero-stable: the eigenvalue(s) ${roots}$ of $V$ on $|w| = 1$ "
-                      "are not semisimple.")
+        return Paragraph("The method is not zero-stable: the eigenvalue(s) ", Math(roots), " of ", Math("V"), " on ",
+                         Math("|w| = 1"), " are not semisimple.")
 
 
 def _char_poly(V):

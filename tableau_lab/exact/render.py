@@ -147,19 +147,17 @@ def _visible(ch: str) -> str:
     return {"\n": r"\n", "\t": r"\t", "\r": r"\r"}.get(ch) or repr(ch)[1:-1]
 
 
-def markdown_literal(text: str, lines: bool = False, line_start: bool = True) -> str:
+def markdown_literal(text: str, line_start: bool = True) -> str:
     """Plain text as Markdown that renders as exactly that text, with nothing live: the characters
     that are markup anywhere (``\\ ` * _ [ ] < > & ~ | # $``) backslash-escaped (CommonMark),
     the backslash and ``$`` once more so that the HTML holds ``\\\\`` and ``\\$``, MathJax's
     literal backslash and dollar (``processEscapes``); what would open a block at the start of a
     line (``-``, ``+``, ``1.``, ``>``, …) escaped there.  Control characters are shown as their
-    escapes — newlines too, unless ``lines`` (prose keeps its lines); ``line_start`` False: the
-    text continues a line (its first character is not at a line start)."""
+    escapes, newlines too; ``line_start`` False: the text continues a line (its first character is
+    not at a line start)."""
     out = []
     for ch in str(text):
-        if lines and ch == "\n":
-            out.append(ch)
-        elif not (ch.isprintable() or ch == " "):
+        if not (ch.isprintable() or ch == " "):
             out.append(markdown_literal(_visible(ch)))
         elif ch == "\\":
             out.append(r"\\\\")
