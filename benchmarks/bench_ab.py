@@ -1,0 +1,74 @@
+"""Two checkouts side by side on the rows of ``tableau-lab bench``: is any row slower?
+
+    python benchmarks/bench_ab.py OLD_CHECKOUT NEW_CHECKOUT [--rounds 3] [--reps 5] [--json FILE]
+
+Each round runs every case once in each checkout (``tableau-lab bench --method … --json``, a
+fresh process each, the checkout on PYTHONPATH, each checkout with its own compile cache under
+a temporary folder, so the two never share a compiled loop), alternating which goes first, and
+prints per case the minimum and the median over the rounds of the bench's own median µs/step,
+and the new/old ratios.  Interference from other work only adds time, so on a shared machine
+the ratio of the minima is the steadier; the medians show the scatter.  A benchmark, not a test.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+#: method, problem, h, precision: the rows of docs/speed.md's bench table
+CASES = [("gauss2", "pendulum", "1/100", "float64"), ("gauss2", "kepler", "1/100", "float64"),
+         ("gauss3", "pendulum", "1/100", "float64"), ("gauss3", "kepler", "1/100", "float64"),
+         ("implicit_midpoint", "pendulum", "1/100", "float64"), ("implicit_midpoint", "kepler", "1/100", "float64"),
+         ("rk4", "pendulum", "1/100", "float64"), ("rk4", "kepler", "1/100", "float64"),
+         ("glm43", "pendulum", "1/100", "float64"), ("glm43", "kepler", "1/100", "float64"),
+         ("example4_glm", "pendulum", "1/100", "float64"),
+         ("gauss2", "fpu", "1/1000", "float64"), ("gauss2", "outer_solar_system", "10", "float64"),
+         ("gauss2", "pendulum", "1/100", "dd"), ("gauss2", "kepler", "1/100", "dd")]
+
+
+def bench_once(tree: Path, cache: Path, case: tuple, reps: int) -> float:
+    """The bench's median µs/step of ``case`` in checkout ``tree`` (10⁵ steps; dd 2·10⁴)."""
+    method, problem, h, precision = case
+    steps = "20000" if precision == "dd" else "100000"
+    env = dict(os.environ, PYTHONPATH=str(tree), TABLEAU_LAB_CACHE=str(cache))
+    done = subprocess.run([sys.executable, "-m", "tableau_lab", "bench", "--method", f"methods/{method}.json",
+                           "--problem", problem, "--h", h, "--precision", precision, "--steps", steps,
+                           "--reps", str(reps), "--no-memory", "--json", "--out", str(cache / "out")],
+                          cwd=tree, env=env, capture_output=True, text=True, check=True)
+    return float(json.loads(done.stdout)["us_per_step"])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("old", type=Path)
+    ap.add_argument("new", type=Path)
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--json", type=Path, help="also write the raw times here")
+    args = ap.parse_args(argv)
+    trees = {"old": args.old.resolve(), "new": args.new.resolve()}
+    times: dict = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for rnd in range(args.rounds):
+            for i, case in enumerate(CASES):
+                for who in (("old", "new") if (rnd + i) % 2 == 0 else ("new", "old")):
+                    us = bench_once(trees[who], Path(tmp) / who, case, args.reps)
+                    times.setdefault(" ".join(case), {}).setdefault(who, []).append(us)
+    if args.json:
+        args.json.write_text(json.dumps(times, indent=1))
+    print("| case | old µs/step min / median | new µs/step min / median | new/old min | new/old median |")
+    print("|---|---|---|---|---|")
+    for key, t in times.items():
+        o, n = t["old"], t["new"]
+        print(f"| {key} | {min(o):.4f} / {statistics.median(o):.4f} | {min(n):.4f} / {statistics.median(n):.4f} "
+              f"| {min(n) / min(o):.3f} | {statistics.median(n) / statistics.median(o):.3f} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
