@@ -89,35 +89,3 @@ def test_work_precision_block_is_current():
     assert {m["label"]: m["steps"] for m in scene["methods"]} == \
         {k: [p["steps"] for p in v] for k, v in data["series"].items()}
     assert benchmark_script("doc_blocks").read_block(ROOT / "docs" / "design.md", wp.BLOCK) == wp.text(data)
-
-
-def test_moonshot_member_is_certified():
-    """Issue 18's moonshot: methods/glm6_moonshot.json (GLM6M; benchmarks/moonshot_member.py) is G-symplectic,
-    parasitism-free, of order 4 with θ ≡ 0 (its claims, checked by test_library), diagonally implicit with
-    every a_ii > 0, and has an exact Y* ≥ 2 (analysis.stability), which an independent float64 scan of
-    ρ(M(iy)) on a grid of 1e-5 confirms: stable (to round-off) below Y* and unstable just above it.
-    The script regenerates the file's matrices exactly."""
-    import sympy as sp
-
-    from tableau_lab.analysis.stability import stability
-    from tableau_lab.exact.tableau_json import load
-    from tableau_lab.numeric.objectives import _radii, imaginary_interval
-    m = load(ROOT / "methods" / "glm6_moonshot.json")
-    A = m.A
-    assert all(A[i, j] == 0 for i in range(6) for j in range(i + 1, 6))
-    assert all(float(A[i, i]) > 0.06 for i in range(6))
-    Y = stability(m).imaginary_interval
-    assert sp.N(Y, 30) > 2
-    assert f"Y\\* = 8ρ = {sp.N(Y, 15)}…" in (ROOT / "docs" / "design.md").read_text()      # the quoted value
-    from tableau_lab.numeric.objectives import NumericGLM
-    g = NumericGLM.of(m)
-    y = np.arange(0.0, float(Y) - 1e-5, 1e-5)
-    assert np.max(_radii(g, 1j * y)) <= 1 + 1e-9
-    assert _radii(g, np.array([1j * (float(Y) + 2e-5)]))[0] > 1 + 1e-9
-    assert abs(imaginary_interval(g) - float(Y)) < 1e-8          # the search objective finds the thin band
-    mm = benchmark_script("moonshot_member")
-    d1, d2 = sp.Rational(-4, 15), sp.Rational(1, 2)
-    c = [6851, -8265, 3241, 0, 0]
-    assert mm.mu_cone(d1, d2, c) == 0
-    lam = mm.lambdas(d1, d2, c)[0]
-    assert mm.structure(d1, d2, c, lam).A == m.A and m.B[1, 0] == 6851 * lam

@@ -2,6 +2,7 @@
 table in the docs is current.  The timed runs are not repeated here (``rows(measure_runs=False)``)."""
 from pathlib import Path
 
+import numpy as np
 import pytest
 import sympy as sp
 from conftest import benchmark_script
@@ -44,3 +45,33 @@ def test_docs_table_is_current(pareto, table):
     assert [h for _, h in pareto.EXACT] == headers[:len(pareto.EXACT)]
     want = [[row[k] for k, _ in pareto.EXACT] for row in table.values()]
     assert [c[:len(pareto.EXACT)] for c in cells] == want, "rerun: " + pareto.COMMAND
+
+
+def test_moonshot_member_is_certified(table):
+    """Issue 18's moonshot: methods/glm6_moonshot.json (GLM6M; benchmarks/moonshot_member.py) is G-symplectic,
+    parasitism-free, of order 4 with θ ≡ 0 (its claims, checked by test_library), diagonally implicit with
+    every a_ii > 0, and has an exact Y* ≥ 2 (analysis.stability), which an independent float64 scan of
+    ρ(M(iy)) on a grid of 1e-5 confirms: stable (to round-off) below Y* and unstable just above it.
+    The script regenerates the file's matrices exactly.  (Here, beside the table, so that its exact Y*,
+    20 s of exact work, is computed once.)"""
+    from tableau_lab.exact.tableau_json import load
+    from tableau_lab.numeric.objectives import NumericGLM, _radii, imaginary_interval
+    m = load(ROOT / "methods" / "glm6_moonshot.json")
+    A = m.A
+    assert all(A[i, j] == 0 for i in range(6) for j in range(i + 1, 6))
+    assert all(float(A[i, i]) > 0.06 for i in range(6))
+    Y = table["GLM6M"]["_"]["ystar"]        # the exact Y* (analysis.stability), computed once for the table
+    assert table["GLM6M"]["_"]["m"] == m
+    assert sp.N(Y, 30) > 2
+    assert f"Y\\* = 8ρ = {sp.N(Y, 15)}…" in (ROOT / "docs" / "design.md").read_text()      # the quoted value
+    g = NumericGLM.of(m)
+    y = np.arange(0.0, float(Y) - 1e-5, 1e-5)
+    assert np.max(_radii(g, 1j * y)) <= 1 + 1e-9
+    assert _radii(g, np.array([1j * (float(Y) + 2e-5)]))[0] > 1 + 1e-9
+    assert abs(imaginary_interval(g) - float(Y)) < 1e-8          # the search objective finds the thin band
+    mm = benchmark_script("moonshot_member")
+    d1, d2 = sp.Rational(-4, 15), sp.Rational(1, 2)
+    c = [6851, -8265, 3241, 0, 0]
+    assert mm.mu_cone(d1, d2, c) == 0
+    lam = mm.lambdas(d1, d2, c)[0]
+    assert mm.structure(d1, d2, c, lam).A == m.A and m.B[1, 0] == 6851 * lam
