@@ -122,12 +122,6 @@ def _depth(text: str) -> int:
     return max(accumulate(1 if c in "[{" else -1 for c in brackets), default=0)
 
 
-def _note(seen: set, key) -> bool:
-    """Add ``key`` to ``seen``; False (so that ``key in seen or _note(seen, key)`` finds the first repeat)."""
-    seen.add(key)
-    return False
-
-
 def _check(value, source, error, name=json_path):
     """Duplicate keys, refused numbers and bad characters, with the JSON path of the first
     (``name``: parts → entry name; a tableau names its entries its own one-based way)."""
@@ -183,7 +177,12 @@ def parse_json(text, source, error, what: str = "JSON file", *, max_bytes: int =
         out = dict(items)
         if len(out) < len(items):
             seen: set = set()
-            dup = next(k for k, _ in items if k in seen or _note(seen, k))
+            dup = None
+            for k, _ in items:
+                if k in seen:
+                    dup = k
+                    break
+                seen.add(k)
             out = _Dict(out)
             out.dup = dup
             duplicates.append(dup)

@@ -48,7 +48,8 @@ def lab(tmp_path_factory):
     """The environment of the module's commands, a scene, and how long a normal run of it takes."""
     root = tmp_path_factory.mktemp("faults")
     # the pure step loop (a compile would be neither under test nor killed: see the docstring);
-    # its own cache folder all the same, so that nothing of these commands lands in the user's
+    # and a cache folder of the module's own all the same, so that nothing of these commands lands in
+    # the user's cache
     env = {**os.environ, "TABLEAU_LAB_CACHE": str(root / "cache"), "TABLEAU_LAB_KERNEL": "python",
            "TABLEAU_LAB_SPECIALISE": "0", "PYTHONUNBUFFERED": "1"}
     scene = _scene(root)
