@@ -6,7 +6,8 @@ algorithm, numeric/stepcore.py run in Python) and compiles only where a test ask
 ``kernel="compiled"`` or precision dd — tests/test_kernels.py proves the two agree to
 round-off — and then compiles loops for any shape (TABLEAU_LAB_SPECIALISE=0: one module per
 problem, not one per problem and shape; test_kernels.py checks that a specialised loop
-computes the same numbers bit for bit).  Set TABLEAU_LAB_KERNEL=auto to run everything
+computes the same numbers bit for bit), and starts no background compile
+(TABLEAU_LAB_BACKGROUND=0; tests/test_background.py asks for one).  Set TABLEAU_LAB_KERNEL=auto to run everything
 compiled.
 """
 import os
@@ -15,6 +16,7 @@ import pytest
 
 os.environ.setdefault("TABLEAU_LAB_KERNEL", "python")
 os.environ.setdefault("TABLEAU_LAB_SPECIALISE", "0")
+os.environ.setdefault("TABLEAU_LAB_BACKGROUND", "0")   # no background compile (numeric/background.py) unless asked
 os.environ.setdefault("TABLEAU_LAB_FIGURE_FORMATS", "png")   # figures as PNG only (test_figures.py: all three)
 
 

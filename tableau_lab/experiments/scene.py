@@ -142,7 +142,7 @@ def run_one(sc: Scene, i: int, progress: bool = False, timeout: float | None = D
             run = integrate(nm, cp, cp.y0, sc.h, sc.steps, start=r["start"], project=r["project"],
                             invariants=tuple(sc.problem.invariants), record_every=sc.record_every,
                             record_states=want_states, problem_name=sc.problem.name, progress=tick,
-                            monitor=sc.monitor)
+                            monitor=sc.monitor, kernel="cost")
     except (IntegrationError, KeyboardInterrupt) as exc:
         run = getattr(exc, "partial", None)
         status = ("interrupted" if isinstance(exc, KeyboardInterrupt)
@@ -173,7 +173,8 @@ def run_one(sc: Scene, i: int, progress: bool = False, timeout: float | None = D
             "start": run.start, "projection": list(r["project"]), "status": status, "message": message,
             "completed_steps": run.completed, "t_end": float(run.completed * sc.h), "nfev": run.nfev,
             "newton_iterations": run.newton_iterations, "projection_iterations": run.projection_iterations,
-            "seconds": round(run.seconds, 3), "max_invariant_error": run.max_invariant_error(),
+            "seconds": round(run.seconds, 3), "loop": run.loop, "loop_why": run.loop_why,
+            "compile_seconds": round(run.compile_seconds, 3), "max_invariant_error": run.max_invariant_error(),
             **({"parasitic_modes": modes} if modes else {})}
     if sc.modified_energy is not None and not interrupted:
         meta["modified_energy"] = _modified_energy(sc, m, nm, r, arrays)

@@ -596,7 +596,9 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         f_calls = cp.calls
         loop, why = "Python", loop_why
     else:
-        loop = "compiled with numba" if run.loop == "compiled" else "Python"
+        loop = {"compiled": "compiled with numba",
+                "python, then compiled": f"Python, then compiled with numba after step {run.switched_at}"
+                }.get(run.loop, "Python")
         why = _loop_why(run, kernel, precision, a, traced)
     if nm.r > 1 and run_start == "naive" and nm.starting and isinstance(cp, _Callable):
         why += "; a GLM with a callable f starts naively (y^[0] = u y0): its order may drop to the naive start's"

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..analysis.growth import growth_rate
 from ..analysis.trees import order as tree_order, symmetry
-from . import kernels, limits
+from . import background, kernels, limits
 from .arith import is_exact
 from .errors import IntegrationError, ParasiticBoundExceeded, not_finite, projection_failed, stages_failed
 from .method import NumericMethod
@@ -75,6 +75,12 @@ class Run:
     invariant_scales: dict = field(default_factory=dict)  # name -> |I(y0)| (1 where I(y0) = 0): "relative" below
     state_scale: float = 1.0                             # max |y0_i| (1 where y0 = 0): the parasitic components' scale
     loop: str = ""                                       # the step loop that ran: "compiled" (numba) or "python"
+    switched_at: int | None = None                       # "python, then compiled": the last step in Python
+
+    def switched(self, step: int | None) -> None:
+        """The pure run went on compiled after ``step`` (None: it did not)."""
+        if step is not None:
+            self.loop, self.switched_at = "python, then compiled", step
 
     def max_invariant_error(self) -> dict:
         """Largest |I − I(y0)| at the records, and over every step where the compiled loop
@@ -322,9 +328,9 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, y0, h, masks), compensated=compensated,
                           predict=predict, project=tuple(project), track=names, targets=targets,
                           index=kernels.invariant_index(prob))
-        compiled = _use_kernel(kernel, a, prob)
+        compiled, switch = _use_kernel(kernel, a, prob), None
         if compiled and kernel == "cost" and a.name == "float64":
-            compiled, run.loop_why = _cheaper_loop(nm, prob, pk, steps, d)
+            compiled, run.loop_why, switch = _cheaper_loop(nm, prob, pk, steps, d)
         run.loop = "compiled" if compiled else "python"
         loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()
@@ -353,6 +359,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             run.tracked = out.tracked
             run.velocity_evaluations, run.fallbacks = out.nvel, out.fallbacks
             run.compile_seconds = out.compile_seconds
+            run.switched(out.switched_at)
             run.seconds = time.perf_counter() - t0 - run.compile_seconds
 
         record(0, Y)
@@ -360,7 +367,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             try:
                 with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: a status, below
                     out = kernels.drive(loop, pk, Y, steps, every, record=record, progress=progress,
-                                        track_every=track_every)
+                                        track_every=track_every, switch=switch)
             except BaseException as exc:
                 if hasattr(exc, "outcome"):
                     settle(exc.outcome)
@@ -395,13 +402,24 @@ def _step_size(a, h):
 
 
 def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
-    """(compiled?, why) for kernel="cost": the loop predicted to finish first
-    (:func:`~.limits.choose_loop`)."""
+    """(compiled?, why, switch) for kernel="cost": the loop predicted to finish first
+    (:func:`~.limits.choose_loop`); a run long enough (:func:`.background.worth`) whose loop is
+    not compiled yet starts in Python while the loop compiles in the background, and ``switch``
+    (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
     shape = kernels.run_shape(pk)
-    return limits.choose_loop(
-        steps, limits.python_step_seconds(nm.s, nm.r, d, nm.explicit),
-        kernels.compile_state(prob.problem, "f64", shape, disk=False)
-        or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
+    python = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
+    state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
+    if state is None and background.worth(steps * python) and background.possible():
+        state = kernels.compile_state(prob.problem, "f64", shape)
+        if state == "cold":
+            args = kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
+            c = background.start(prob.problem, "f64", shape, args, getattr(prob.problem, "name", ""))
+            return False, (f"the Python loop, then the compiled loop once compiled in the background ({steps} steps "
+                           f"predicted at {steps * python:.2g} s in Python)"), background.switch_when_ready(
+                               c, prob.problem, "f64", shape)
+    compiled, why = limits.choose_loop(
+        steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
+    return compiled, why, None
 
 
 def _raise_status(out, h, tol, project) -> None:

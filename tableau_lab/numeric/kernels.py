@@ -282,7 +282,9 @@ def write_problem_module(problem, kind: str = "f64") -> tuple:
     return _write("tableau_lab_problem", problem_module_source(problem, kind))
 
 
-def _load(name, path):
+def load_module(name: str, path: str):
+    """Import the generated module ``name`` from ``path`` once per process (numba compiles its
+    functions on their first call, or loads them from its disk cache beside the module)."""
     key = str(path)
     if key not in _MODULES:
         spec = importlib.util.spec_from_file_location(name, path)
@@ -293,20 +295,26 @@ def _load(name, path):
     return _MODULES[key]
 
 
-def compiled_loop(problem, kind: str = "f64", shape=None):
-    """The compiled loop of ``problem`` for ``kind`` and ``shape`` (:func:`loop_shape`):
+def loop_files(problem, kind: str = "f64", shape=None) -> tuple:
+    """(problem module name, its path, loop module name, its path) of :func:`compiled_loop`,
     generated and written on first use (a frozen problem names its problem modules in
-    ``kernel_files``: kind -> (name, path)), imported once per process; numba compiles on the
-    first call or loads its disk cache.  ``loop.sibling(mode)``: the loop of the same problem
-    and shape for another stage iteration (the run switched to Newton)."""
+    ``kernel_files``: kind -> (name, path)); nothing imported."""
+    files = getattr(problem, "kernel_files", None) or {}
+    pname, ppath = files[kind] if kind in files else write_problem_module(problem, kind)
+    return (pname, ppath, *_write("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable)))
+
+
+def compiled_loop(problem, kind: str = "f64", shape=None):
+    """The compiled loop of ``problem`` for ``kind`` and ``shape`` (:func:`loop_shape`): its
+    files written on first use (:func:`loop_files`), imported once per process; numba compiles
+    on the first call or loads its disk cache.  ``loop.sibling(mode)``: the loop of the same
+    problem and shape for another stage iteration (the run switched to Newton)."""
     key = (str(cache_dir()), problem.key, kind, shape)
     if key in _BY_KEY:
         return _BY_KEY[key]
-    files = getattr(problem, "kernel_files", None) or {}
-    pname, ppath = files[kind] if kind in files else write_problem_module(problem, kind)
-    name, path = _write("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable))
-    _load(pname, ppath)                         # first: the loop imports it by name
-    mod = _load(name, path)
+    pname, ppath, name, path = loop_files(problem, kind, shape)
+    load_module(pname, ppath)                   # first: the loop imports it by name
+    mod = load_module(name, path)
     mod.invariant_index = invariant_index(problem)
     mod.sibling = lambda mode: mod if shape is None else compiled_loop(problem, kind, shape._replace(mode=int(mode)))
     _BY_KEY[key] = mod
@@ -478,6 +486,7 @@ class Outcome:
     projection_residual: float = 0.0
     last_correction: float = 0.0
     compile_seconds: float = 0.0
+    switched_at: int | None = None      # the step after which a pure run went on compiled (drive's switch)
 
 
 class LoopState:
@@ -494,9 +503,15 @@ class LoopState:
         self.flags = pk.flags.copy()
         self.comp, self.Fh = pk.zeros(d), pk.zeros(L.HISTORY, s, d)
         self.stats, self.tmax = np.zeros(L.N_STATS), np.zeros(len(pk.track))
-        slots = (chunk or steps) // every + 2
-        self.rec, self.recn = pk.zeros(slots, r, d), np.zeros(slots, dtype=np.int64)
         self.stages, self.work = loop.workspace(s, r, d, len(pk.proj))
+        self.records_for(chunk or steps)
+
+    def records_for(self, chunk: int) -> None:
+        """Room for the records of ``chunk`` steps per call (the records of the last call
+        handed over: a switch to the compiled loop's longer chunks)."""
+        slots = min(chunk, self.steps) // self.every + 2
+        r, d = self.Y.shape[:2]
+        self.rec, self.recn = self.pk.zeros(slots, r, d), np.zeros(slots, dtype=np.int64)
         self.state = State(self.Y, self.comp, self.Fh, self.flags, self.stats, self.tmax, self.rec, self.recn)
 
     def args(self, n0: int, n1: int) -> tuple:
@@ -535,23 +550,25 @@ def _compile_notice():
 
 
 def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, track_every: int = 1,
-          chunk: int | None = None) -> Outcome:
+          chunk: int | None = None, switch=None) -> Outcome:
     """Steps 1..steps of ``loop`` (a compiled module or a pure loop) from the input vector Y
     (r × d, working precision); ``record(n, Y)`` at the record steps, ``progress(n)`` after
-    each chunk.  Returns the :class:`Outcome`; an exception raised by ``record`` or Ctrl-C
-    carries the outcome so far as ``exc.outcome``."""
+    each chunk.  ``switch``: for a pure loop, a function asked after each chunk, returning the
+    compiled loop to go on with once it is ready (:mod:`.background`), else None.  Returns the
+    :class:`Outcome`; an exception raised by ``record`` or Ctrl-C carries the outcome so far as
+    ``exc.outcome``."""
     compiled = pk.kind != "mp" and loop.__name__ != "pure"
     chunk = chunk or (L.CHUNK if compiled else L.PURE_CHUNK)
     out = Outcome()
     t0 = time.perf_counter()
     st = LoopState(loop, pk, Y, steps, every, track_every, chunk)     # the workspace: compiled (or loaded) once
-    stats, recn, rec = st.stats, st.recn, st.rec
+    stats = st.stats
     done = [0, False]                          # records of the current call handed over; inside record()
 
     def records():
         for k in range(done[0], int(stats[L.S_NREC])):
             done[0], done[1] = k + 1, True
-            record(int(recn[k]), pk.back(rec[k]))
+            record(int(st.recn[k]), pk.back(st.rec[k]))
             done[1] = False
 
     def call(loop, entry, n0, n1):
@@ -600,6 +617,9 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
                 break
             if progress is not None:
                 progress(n)
+            if switch is not None and not compiled and n < steps and (ready := switch()) is not None:
+                loop, compiled, chunk, out.switched_at = ready, True, L.CHUNK, n
+                st.records_for(chunk)
     except BaseException as exc:
         _stopped(out, st, done, records)
         exc.outcome = out

@@ -72,6 +72,8 @@ PYTHON_COMPONENT_SECONDS = 5e-6     # … plus this per state component (RK4: 76
 PYTHON_IMPLICIT_FACTOR = 4.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
+BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
+BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
 F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT, F_LOWER = range(10)

@@ -1,0 +1,78 @@
+"""A run that starts in the pure loop and goes on compiled once a background compile is done
+(numeric/background.py, kernels.drive's switch): the switch itself changes no number (a switch
+to the same loop is bit for bit the run without one, records and counters included), a switch to
+the compiled loop agrees with the pure run to round-off as tests/test_kernels.py holds the two
+loops, and the compile happens in a child process, announced once per problem."""
+from pathlib import Path
+
+import numpy as np
+
+from tableau_lab.exact.tableau_json import load
+from tableau_lab.numeric import background, kernels
+from tableau_lab.numeric.codegen import compile_problem
+from tableau_lab.numeric.export import to_numeric
+from tableau_lab.numeric.integrate import integrate
+
+METHODS = Path(__file__).parent.parent / "methods"
+
+
+def _glm_on_kepler():
+    nm, cp = to_numeric(load(METHODS / "glm43.json")), compile_problem("kepler")
+    return nm, cp, tuple(cp.problem.invariants)
+
+
+def test_switch_to_the_same_loop_changes_nothing(monkeypatch):
+    """drive's switch between chunks, to another pure loop: the records re-allocated for the
+    longer chunks, the counters carried: every number equal to the run without a switch."""
+    nm, cp, inv = _glm_on_kepler()
+    plain = integrate(nm, cp, cp.y0, 0.01, 700, kernel="python", invariants=inv, record_every=7)
+    asked = []
+
+    def drive(loop, pk, Y, steps, every, **kw):
+        def switch():
+            asked.append(len(asked))
+            return kernels.pure_loop(cp, "float64") if len(asked) == 2 else None
+        return original(loop, pk, Y, steps, every, **dict(kw, switch=switch))
+    original = kernels.drive
+    monkeypatch.setattr(kernels, "drive", drive)
+    switched = integrate(nm, cp, cp.y0, 0.01, 700, kernel="python", invariants=inv, record_every=7)
+    assert len(asked) == 2                         # asked after each pure chunk until it switched
+    assert switched.switched_at == 2 * 256 and switched.loop == "python, then compiled"
+    assert np.array_equal(switched.final, plain.final)
+    assert switched.times == plain.times and switched.invariant_errors == plain.invariant_errors
+    assert (switched.nfev, switched.newton_iterations) == (plain.nfev, plain.newton_iterations)
+    assert switched.tracked == plain.tracked
+
+
+def test_background_compile_then_switch(monkeypatch, capsys):
+    """kernel="cost" on a loop not compiled yet: the run starts in Python, a child compiles the
+    loop (the pendulum's, which tests/test_kernels.py compiles too: one compile for both), the
+    run switches at the next chunk boundary once it is done, and agrees with the pure run."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setenv("TABLEAU_LAB_BACKGROUND", "1")
+    monkeypatch.setattr(background, "worth", lambda seconds: True)
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, disk=True, **k: "cold" if disk else None)
+    monkeypatch.setattr(background, "_ALL", {})   # as in a fresh process
+    monkeypatch.setattr(background, "_TOLD", set())
+    nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("pendulum")
+    steps, inv = 2000, tuple(cp.problem.invariants)
+    started = []
+    real_start = background.start
+
+    def start(*args, **kw):
+        c = real_start(*args, **kw)
+        started.append(c)
+        assert background.wait_all(timeout=300)  # the compile done before the run's first chunk ends
+        return c
+    monkeypatch.setattr(background, "start", start)
+    run = integrate(nm, cp, cp.y0, 0.01, steps, kernel="cost", invariants=inv, record_every=100)
+    pure = integrate(nm, cp, cp.y0, 0.01, steps, kernel="python", invariants=inv, record_every=100)
+    assert len(started) == 1 and started[0].ok, "the background compile failed"
+    assert run.loop == "python, then compiled" and run.switched_at == 256
+    assert "background" in run.loop_why
+    assert np.max(np.abs(run.final - pure.final)) <= 1e-13 * steps
+    assert abs(run.nfev - pure.nfev) <= 0.01 * pure.nfev and run.times == pure.times
+    err = capsys.readouterr().err
+    assert err.count("in the background (one-off, cached in") == 1 and "pendulum" in err
+    background.announce(cp.problem, "f64")        # once per problem and arithmetic in a process
+    assert capsys.readouterr().err == ""
