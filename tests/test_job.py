@@ -57,11 +57,10 @@ def test_frozen_problem_keeps_only_what_was_asked():
         fp.invariant("L", y)
 
 
-def _cli(*argv, env_kernel=None):
-    """``tableau-lab run`` in a fresh interpreter; prints its JSON and whether sympy got imported."""
+def _cli(*argv):
+    """``tableau-lab run`` in a fresh interpreter (the default loop choice); prints its JSON and
+    whether numba and sympy got imported."""
     env = {k: v for k, v in os.environ.items() if k != "TABLEAU_LAB_KERNEL"}
-    if env_kernel:
-        env["TABLEAU_LAB_KERNEL"] = env_kernel
     code = ("import sys\nfrom tableau_lab.cli import main\nrc = main(sys.argv[1:])\n"
             "print('NUMBA-IMPORTED' if 'numba' in sys.modules else 'NO-NUMBA')\n"
             "print('SYMPY-IMPORTED' if 'sympy' in sys.modules else 'NO-SYMPY', rc)\nraise SystemExit(rc)")
@@ -82,8 +81,6 @@ def test_cli_run_keeps_sympy_out_of_the_run_process(monkeypatch):
     direct = quick_run(METHODS / "gauss2.json", "pendulum", h=sympy.Rational(1, 100), steps=100000)
     assert json.loads(lines[0])["loop"] == direct["loop"] == "compiled"
     assert _numbers(json.loads(lines[0])) == _numbers(direct)
-    # the pure loop (TABLEAU_LAB_KERNEL=python) builds and runs in one process
-    assert _cli(*argv, env_kernel="python").stdout.strip().splitlines()[-1] == "SYMPY-IMPORTED 0"
 
 
 def test_cli_build_errors_come_back(tmp_path):
@@ -131,3 +128,5 @@ def test_where_a_quick_run_is_built(monkeypatch, tmp_path):
     assert not separate_stages("float64", gauss2, 1000)
     assert separate_stages("float64", gauss2, 10 ** 5) and separate_stages("float64", "gauss2", 1000)
     assert separate_stages("dd", gauss2, 1000) and not separate_stages("mp:30", gauss2, 1000)
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "python")     # the pure loop: built and run in one process
+    assert not separate_stages("float64", gauss2, 10 ** 5)
