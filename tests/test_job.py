@@ -20,6 +20,7 @@ from tableau_lab.numeric.problem_functions import ProblemError
 
 ROOT = Path(__file__).parent.parent
 METHODS = ROOT / "methods"
+HEAVY = ("numba", "llvmlite", "scipy", "dask", "distributed", "matplotlib")
 
 
 def _numbers(res):
@@ -59,11 +60,11 @@ def test_frozen_problem_keeps_only_what_was_asked():
 
 def _cli(*argv):
     """``tableau-lab run`` in a fresh interpreter (the default loop choice); prints its JSON and
-    whether numba and sympy got imported."""
+    which of the numeric side's heavy libraries and whether sympy got imported."""
     env = {k: v for k, v in os.environ.items() if k != "TABLEAU_LAB_KERNEL"}
     code = ("import sys\nfrom tableau_lab.cli import main\nrc = main(sys.argv[1:])\n"
-            "print('NUMBA-IMPORTED' if 'numba' in sys.modules else 'NO-NUMBA')\n"
-            "print('SYMPY-IMPORTED' if 'sympy' in sys.modules else 'NO-SYMPY', rc)\nraise SystemExit(rc)")
+            "print('HEAVY', sorted({m.split('.')[0] for m in sys.modules} & set(%r)))\n"
+            "print('SYMPY-IMPORTED' if 'sympy' in sys.modules else 'NO-SYMPY', rc)\nraise SystemExit(rc)") % (HEAVY,)
     return subprocess.run([sys.executable, "-c", code, "run", *argv], capture_output=True, text=True, env=env,
                           cwd=ROOT, timeout=600)
 
@@ -97,12 +98,13 @@ def test_cli_build_errors_come_back(tmp_path):
 def test_short_run_is_built_in_the_command_process_without_numba():
     """Issue 32: a 1000-step run of Gauss 2 on the pendulum is predicted at 0.16 s in Python
     (limits.build_here, choose_loop): built and run in the command's own process (sympy there),
-    numba never imported, and its record says which loop ran, why, and what it compiled."""
+    numba (or scipy, dask, matplotlib) never imported, and its record says which loop ran, why,
+    and what it compiled."""
     argv = ("--method", "methods/gauss2.json", "--problem", "pendulum", "--h", "0.01", "--steps", "1000")
     out = _cli(*argv, "--json")
     assert out.returncode == 0, out.stderr
     lines = out.stdout.strip().splitlines()
-    assert lines[-2:] == ["NO-NUMBA", "SYMPY-IMPORTED 0"]
+    assert lines[-2:] == ["HEAVY []", "SYMPY-IMPORTED 0"]
     rec = json.loads(lines[0])
     assert rec["loop"] == "python" and rec["compile_seconds"] == 0.0
     assert rec["loop_why"].startswith("the Python loop: 1000 steps predicted at")
