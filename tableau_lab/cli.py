@@ -345,8 +345,9 @@ def _run(args) -> int:
         print("tableau-lab: error: a quick run needs --h and --steps", file=sys.stderr)
         return EXIT_INPUT
     try:
-        # the exact stage in a child when this process can stay without sympy (experiments/job.py)
-        res = run_job(_quick_job, args, precision=args.precision)
+        # the exact stage here for a short run, else in a child when this process can stay without
+        # sympy (experiments/job.py)
+        res = run_job(_quick_job, args, precision=args.precision, method=args.method, steps=args.steps)
     except ValueError as exc:                  # TableauError, ProblemError: bad input
         print(f"tableau-lab: error: {exc}", file=sys.stderr)
         return EXIT_INPUT
@@ -364,7 +365,8 @@ def _run(args) -> int:
         print(f"  final: {fin}")
         print("  " + _invariant_errors(res["max_invariant_error"], "max |I − I(0)|"))
         print(f"  f evaluations {res['nfev']}, stage-iteration sweeps {res['newton_iterations']}, "
-              f"projection iterations {res['projection_iterations']}, {res['seconds']:.3f} s")
+              f"projection iterations {res['projection_iterations']}, {res['seconds']:.3f} s, {res['loop']} loop"
+              + (f", compile {res['compile_seconds']:.1f} s" if res["compile_seconds"] >= 0.05 else ""))
     if res.get("degraded"):
         print(f"tableau-lab: {args.method} on {args.problem}: DEGRADED: {res['degraded']}", file=sys.stderr)
         return EXIT_DEGRADED

@@ -3,9 +3,10 @@ elsewhere; the bar writes to the process's own stderr (the CLI's stderr wrapper 
 characters) and escapes the description, which may come from a file."""
 import sys
 import time
+from types import SimpleNamespace
 
 from tableau_lab.experiments import progress
-from tableau_lab.numeric import kernels
+from tableau_lab.numeric import kernels, limits
 
 
 def test_step_bar_draws_on_a_terminal_only(capfd):
@@ -27,14 +28,17 @@ def test_bar_escapes_a_hostile_description(capfd):
 
 
 def test_slow_compile_is_announced_on_a_terminal(capfd, monkeypatch):
-    monkeypatch.setattr(kernels, "COMPILE_NOTICE_SECONDS", 0.01)
+    """A compile whose state is not known beforehand (a loop without a file): announced late, on
+    a terminal only (the known cold compile: tests/test_latency.py)."""
+    monkeypatch.setattr(limits, "COMPILE_NOTICE_SECONDS", 0.01)
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True, raising=False)
-    with kernels._compile_notice():
+    unknown = SimpleNamespace(__name__="loop_without_a_file")
+    with kernels._compile_notice(unknown):
         time.sleep(0.2)
     err = capfd.readouterr().err
     assert "compiling the step loop" in err and "compiled in" in err
     monkeypatch.setattr(sys.stderr, "isatty", lambda: False, raising=False)
-    with kernels._compile_notice():
+    with kernels._compile_notice(unknown):
         time.sleep(0.05)
     assert capfd.readouterr().err == ""
 

@@ -1,4 +1,4 @@
-"""A run as data, and its two stages in two processes.
+"""A run as data, and its two stages in one process or two.
 
 Building a run is exact work — read and check the method, build the problem, round the
 coefficients, generate the problem's code: sympy (and python-flint under it), about 60 MB
@@ -10,6 +10,12 @@ frozen (``numeric/frozen.py``), the step at the working precision, the options �
 caller, which never imports sympy, runs the loop.  The two stages never coexist, so the run's
 peak is the loop's (``tableau-lab bench``, memory row).  Results are the same bit for bit: the
 frozen code is the generated code (tests/test_job.py).
+
+A short run is built here instead (:func:`separate_stages`, ``limits.build_here``): when the
+Python loop may be the one that runs (``integrate(kernel="cost")``: its predicted time against
+the compile), a second process would cost more than the run (about 1 s to start and import),
+and numba is never imported.  Where to build is decided before building, from the method's
+file read with json alone (:func:`method_shape`).
 
 Nothing in this module imports sympy.
 """
@@ -24,10 +30,12 @@ from pathlib import Path
 
 import mpmath
 
+from ..inputs import read_json
 from ..numeric.integrate import integrate
+from ..numeric.limits import build_here
 from ..process import die_with_parent, scratch_folder
 
-__all__ = ["RunJob", "BuildError", "run_job", "separate_stages"]
+__all__ = ["RunJob", "BuildError", "run_job", "separate_stages", "method_shape"]
 
 
 class BuildError(RuntimeError):
@@ -56,7 +64,8 @@ class RunJob:
         with StepBar(self.steps, f"{self.method} on {self.problem}",
                      show=None if self.steps >= QUICK_RUN_BAR_STEPS else False) as tick:
             run = integrate(self.nm, self.prob, self.prob.y0, self.h, self.steps, start=self.start,
-                            project=self.project, invariants=self.invariants, monitor=self.monitor, progress=tick)
+                            project=self.project, invariants=self.invariants, monitor=self.monitor, progress=tick,
+                            kernel="cost")
         if self.precision == "float64":
             final = [float(x) for x in run.final]
         else:                                     # all digits of a multiprecision run, as strings
@@ -68,32 +77,79 @@ class RunJob:
             out["final"] = {"q": final[:self.q_count], "p": final[self.q_count:]}
         else:
             out["final"] = {"y": final}
-        out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev,
+        why = run.loop_why or _loop_why(run, self.precision)
+        out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev,  # seconds: without the compile
                    newton_iterations=run.newton_iterations, projection_iterations=run.projection_iterations,
-                   seconds=round(run.seconds, 4))
+                   seconds=round(run.seconds, 4), loop=run.loop, loop_why=why,
+                   compile_seconds=round(run.compile_seconds, 3))
         if run.parasitic_components:
             out["max_parasitic_component"] = {k: max(v) for k, v in run.parasitic_components.items()}
         out["degraded"] = run.degraded() or None        # why the run failed in substance (Run.degraded)
         return out
 
 
-def separate_stages(precision: str) -> bool:
+def _loop_why(run, precision: str) -> str:
+    """Why the loop ran where the cost rule was not asked (``Run.loop_why`` empty)."""
+    if precision == "dd":
+        return "precision dd runs compiled"
+    if precision != "float64":
+        return f"precision {precision} runs in Python"
+    if run.loop == "python":
+        return ("TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
+                else "numba is not installed")
+    return "the compiled loop"
+
+
+def method_shape(method) -> tuple | None:
+    """(s, r, explicit) of the method file ``method``, read with json alone (no sympy), or None
+    when it is not a file of a known kind with square matrices (a shipped method's name, a
+    family, a bad file: the build says what is wrong).  An entry counts as zero when it is 0 or "0"; any other entry on
+    or above the diagonal makes the method implicit.
+
+    >>> method_shape("methods/gauss2.json"), method_shape("methods/glm43.json"), method_shape("rk4")
+    ((2, 1, False), (4, 3, False), None)
+    >>> method_shape("methods/rk4.json")
+    (4, 1, True)
+    """
+    try:
+        if not os.path.isfile(method):
+            return None
+        data = read_json(method, ValueError, "tableau")
+        mats = [data["A"]] + ([data["Ahat"]] if data["kind"] == "prk" else [])
+        r = len(data["V"]) if data["kind"] == "glm" else 1 if data["kind"] in ("rk", "prk") else 0
+        s = len(mats[0])
+        if not all(isinstance(A, list) and len(A) == s and all(isinstance(row, list) and len(row) == s for row in A)
+                   for A in mats):
+            return None
+        explicit = all(A[i][j] in (0, "0") for A in mats for i in range(s) for j in range(i, len(A[i])))
+    except (ValueError, KeyError, TypeError, IndexError, OSError):
+        return None
+    return (s, r, explicit) if s and r else None
+
+
+def separate_stages(precision: str, method=None, steps: int | None = None) -> bool:
     """Whether :func:`run_job` builds the run in a child: a compiled run (float64 unless
     TABLEAU_LAB_KERNEL=python, or dd) with numba installed, from a process that has not
-    imported sympy (otherwise the saving is gone already)."""
+    imported sympy (otherwise the saving is gone already) — and, in float64 given the method's
+    file and the steps, not a run the Python loop may serve (``limits.build_here``, on
+    :func:`method_shape`; a method whose shape is not read that way is built in a child)."""
     if "sympy" in sys.modules or precision not in ("float64", "dd"):
         return False
     if precision == "float64" and os.environ.get("TABLEAU_LAB_KERNEL", "auto") == "python":
+        return False
+    shape = method_shape(method) if precision == "float64" and method is not None and steps else None
+    if shape is not None and build_here(int(steps), *shape)[0]:
         return False
     from ..numeric.kernels import available
     return available()
 
 
-def run_job(build, *args, precision: str = "float64"):
+def run_job(build, *args, precision: str = "float64", method=None, steps: int | None = None):
     """``build(*args, frozen=...)`` → a RunJob (the exact stage), then its ``execute()`` here:
-    the build in a child Python process, frozen, when :func:`separate_stages` says so.  Errors
-    of the build (bad files, parameters) come back as the exceptions it raised."""
-    if not separate_stages(precision):
+    the build in a child Python process, frozen, when :func:`separate_stages` says so (``method``,
+    ``steps``: the run's method file and steps, for its rule).  Errors of the build (bad files,
+    parameters) come back as the exceptions it raised."""
+    if not separate_stages(precision, method, steps):
         return build(*args, frozen=False).execute()
     with scratch_folder(JOB_PREFIX) as tmp:
         task, result = Path(tmp) / "task.pickle", Path(tmp) / "job.pickle"

@@ -215,6 +215,19 @@ def specialisation(shape) -> dict:
     return values
 
 
+def shape_text(shape) -> str:
+    """A loop's :class:`Shape` in words (None: any shape).
+
+    >>> shape_text(Shape(2, 1, 2, L.SPLIT, 0))
+    's = 2, r = 1, d = 2, SPLIT, no projection'
+    """
+    if shape is None:
+        return "any shape and run"
+    mode = {L.EXPLICIT: "explicit", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}[shape.mode]
+    return (f"s = {shape.s}, r = {shape.r}, d = {shape.d}, {mode}, "
+            f"{'projection' if shape.projects else 'no projection'}")
+
+
 def module_source(kind: str, shape, problem_module: str, separable: bool) -> str:
     """The text of a compiled loop for ``kind`` "f64" or "dd" specialised to ``shape`` (a
     :class:`Shape`), or for any shape and run (None); the problem's functions come from the
@@ -231,8 +244,11 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     >>> [line.strip("# -") for line in text.splitlines() if line.startswith("# ----")]
     ['specialised to s = 2, r = 1, d = 2, SPLIT, no projection', 'arithmetic: ops_f64', 'the step loop: stepcore']
     """
-    from . import ops_dd, ops_f64, stepcore
-    ops = ops_dd if kind == "dd" else ops_f64
+    from . import ops_f64, stepcore
+    if kind == "dd":                 # ops_dd imports numba (ddmath): not for a float64 text (compile_state)
+        from . import ops_dd as ops
+    else:
+        ops = ops_f64
     ops_file = f"{ops.__name__.rsplit('.', 1)[1]}.py"
     stamp = _stamp(["stepcore.py", "limits.py", "jit.py", ops_file] + (["ddmath.py"] if kind == "dd" else []))
     small = shape is not None and shape.s * shape.d <= L.INLINE_LINEAR_ALGEBRA
@@ -243,12 +259,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
                           extra="from tableau_lab.numeric.ddmath import *\n" if kind == "dd" else "",
                           problem_module=problem_module, problem_names=", ".join(names),
                           aliases="" if separable else "fq_ = fp_ = f_\n", heavy="helper" if small else "prim")
-    if shape is None:
-        title = "generic: any shape and run"
-    else:
-        mode = {L.EXPLICIT: "explicit", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}[shape.mode]
-        title = (f"specialised to s = {shape.s}, r = {shape.r}, d = {shape.d}, {mode}, "
-                 f"{'projection' if shape.projects else 'no projection'}")
+    title = "generic: any shape and run" if shape is None else f"specialised to {shape_text(shape)}"
     named = {L.ANY: "ANY", L.EXPLICIT: "EXPLICIT", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}
     values = specialisation(shape)
     values["LOOP_MODE"] = named[values["LOOP_MODE"]]          # by name: limits' constants
@@ -311,13 +322,21 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     problem and shape for another stage iteration (the run switched to Newton)."""
     key = (str(cache_dir()), problem.key, kind, shape)
     if key in _BY_KEY:
-        return _BY_KEY[key]
+        return _described(_BY_KEY[key], problem, kind, shape)
     pname, ppath, name, path = loop_files(problem, kind, shape)
     load_module(pname, ppath)                   # first: the loop imports it by name
     mod = load_module(name, path)
     mod.invariant_index = invariant_index(problem)
     mod.sibling = lambda mode: mod if shape is None else compiled_loop(problem, kind, shape._replace(mode=int(mode)))
     _BY_KEY[key] = mod
+    return _described(mod, problem, kind, shape)
+
+
+def _described(mod, problem, kind: str, shape):
+    """``mod`` with the words of its compile notice for the run about to use it (problems whose
+    texts are the same share a module)."""
+    arith = "float64" if kind == "f64" else kind
+    mod.described = f"{getattr(problem, 'name', problem.key)} ({arith}, {shape_text(shape)})"
     return mod
 
 
@@ -336,10 +355,15 @@ def compile_state(problem, kind: str = "f64", shape=None, disk: bool = True):
     pname = (files[kind][0] if kind in files
              else _module_name("tableau_lab_problem", problem_module_source(problem, kind)))
     name = _module_name("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable))
-    folder = cache_dir()
+    return _disk_state(cache_dir(), name)
+
+
+def _disk_state(folder: Path, name: str, entry: str = "run") -> str:
+    """"cached" when numba's index of the loop module ``name``'s ``entry`` is in ``folder``'s
+    cache, else "cold"."""
     if not path_exists(folder / f"{name}.py"):
         return "cold"
-    return "cached" if any((folder / "__pycache__").glob(f"{name}.run-*.nbi")) else "cold"
+    return "cached" if any((folder / "__pycache__").glob(f"{name}.{entry}-*.nbi")) else "cold"
 
 
 class _Namespace:
@@ -521,14 +545,49 @@ class LoopState:
                 self.pk.controls, self.pk.problem_data, self.stages, self.work)
 
 
-COMPILE_NOTICE_SECONDS = 2.0    # a compile (or cache load) longer than this is announced on a terminal
+_NOTICED: set = set()          # loop modules whose compile was announced in this process
+
+
+def _first_call_state(loop, entry: str):
+    """"cold" or "cached" (:func:`compile_state`'s words) for the first call of ``loop.entry``
+    in this process, read from numba's disk cache beside the loop's module; None when that is
+    not known (a module without a file)."""
+    path = getattr(loop, "__file__", None)
+    return None if path is None else _disk_state(Path(path).parent, loop.__name__, entry)
 
 
 @contextlib.contextmanager
-def _compile_notice():
-    """On a terminal, say so when numba's first compile of a loop takes longer than
-    COMPILE_NOTICE_SECONDS (once per problem and method shape; cached on disk afterwards), and
-    how long it took."""
+def _compile_notice(loop, entry: str = "run"):
+    """Around the first call of ``loop.entry`` in this process: when numba's disk cache does
+    not have it (:func:`_first_call_state` "cold"), one line on stderr before the compile, on a
+    terminal or not — what is compiled (problem, arithmetic, shape), that it is once, where it is
+    cached and about how long it takes (``COMPILE_COLD_SECONDS``) — once per loop per process,
+    and on a terminal its time after it.  Nothing for a cache load.  When the state is not
+    known, on a terminal only, a line after ``limits.COMPILE_NOTICE_SECONDS`` if it is still going."""
+    state = _first_call_state(loop, entry)
+    if state == "cached":
+        yield
+        return
+    if state == "cold":
+        if loop.__name__ not in _NOTICED:
+            _NOTICED.add(loop.__name__)
+            from ..inputs import printable
+            print(f"tableau-lab: compiling the step loop for {getattr(loop, 'described', loop.__name__)} — one-off, "
+                  f"cached in {printable(str(Path(loop.__file__).parent))} (about {L.COMPILE_COLD_SECONDS:.0f} s) ...",
+                  file=sys.stderr, flush=True)
+        t0 = time.perf_counter()
+        yield
+        if sys.stderr.isatty():
+            print(f"tableau-lab: compiled in {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
+        return
+    with _late_notice():
+        yield
+
+
+@contextlib.contextmanager
+def _late_notice():
+    """On a terminal, a line once a compile of unknown state has taken ``COMPILE_NOTICE_SECONDS``,
+    and its time at the end."""
     if not sys.stderr.isatty():
         yield
         return
@@ -538,7 +597,7 @@ def _compile_notice():
         said.set()
         print("tableau-lab: compiling the step loop for this problem and method shape "
               "(once: it is cached on disk) ...", file=sys.stderr, flush=True)
-    timer = threading.Timer(COMPILE_NOTICE_SECONDS, notice)
+    timer = threading.Timer(L.COMPILE_NOTICE_SECONDS, notice)
     timer.daemon = True
     timer.start()
     try:
@@ -579,7 +638,7 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
         fresh = compiled and key not in _COMPILE
         if fresh:
             t = time.perf_counter()
-            with _compile_notice():
+            with _compile_notice(loop, entry):
                 if entry == "run":
                     loop.run(*st.args(n0, n0))          # no step: compiles
                 else:

@@ -74,6 +74,7 @@ COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and it
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
+COMPILE_NOTICE_SECONDS = 2.0    # a first call whose compile state is not known is announced on a terminal after this
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
 F_EXPLICIT, F_HAS_E, F_HAS_INV, F_COMPENSATE, F_NHIST, F_MODE, F_HAS_JAC, F_HPOS, F_PREDICT, F_LOWER = range(10)
@@ -83,7 +84,8 @@ N_STATS = 10                # S_STEP: the step under way; S_DONE: the last step 
 MISFIT = 5                  # the loop's status when its arrays do not fit its shape (stepcore.fits)
 
 __all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs",
-                                                                   "python_step_seconds", "choose_loop"]
+                                                                   "python_step_seconds", "choose_loop",
+                                                                   "build_here"]
 
 
 def iteration_costs(contraction: float, *, separable: bool, s: int, d: int, f_ops: float,
@@ -169,3 +171,26 @@ def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
                       f"{what}" + (f" (about {cost:.2g} s)" if cost else ""))
     return False, (f"the Python loop: {steps} steps predicted at {python:.2g} s in Python, less than {what} "
                    f"(about {cost:.2g} s)")
+
+
+def build_here(steps: int, s: int, r: int, explicit: bool) -> tuple:
+    """(here?, why): where a quick run (``tableau-lab run``, experiments/job.py) does its exact
+    stage, decided before anything is built, from the method's s, r and explicitness alone (read
+    from its file with json, no sympy) — the problem's dimension d is not known yet, so d = 1, the
+    smallest, makes ``steps`` × :func:`python_step_seconds` a lower bound of the Python loop's
+    time.  In this process when that bound is at most ``COMPILE_COLD_SECONDS``: the Python loop
+    may be chosen (:func:`choose_loop`), and then no second process is worth starting (numba is
+    never imported; a short run that goes compiled from the disk cache pays sympy and numba in one
+    process, briefly).  Else in a child process, as a compiled run's memory wants.
+
+    >>> build_here(1000, 2, 1, explicit=False)[0], build_here(10**5, 2, 1, explicit=False)[0]
+    (True, False)
+    >>> print(build_here(10**5, 2, 1, explicit=False)[1])
+    a child process builds it: 100000 steps predicted at 12 s or more in Python, more than the compile (about 8 s)
+    """
+    low = steps * python_step_seconds(s, r, 1, explicit)
+    if low <= COMPILE_COLD_SECONDS:
+        return True, (f"built in this process: {steps} steps predicted at {low:.2g} s or more in Python, the "
+                      f"Python loop may run (the compile costs about {COMPILE_COLD_SECONDS:.2g} s)")
+    return False, (f"a child process builds it: {steps} steps predicted at {low:.2g} s or more in Python, more than "
+                   f"the compile (about {COMPILE_COLD_SECONDS:.2g} s)")
