@@ -52,7 +52,8 @@ from . import limits as L
 from .stepcore import Coefficients, Controls, ProblemData, Span, State
 
 __all__ = ["available", "cache_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape",
-           "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "pure_loop",
+           "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "linked_loop",
+           "pure_loop",
            "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
@@ -235,7 +236,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     ops = ops_dd if kind == "dd" else ops_f64
     ops_file = f"{ops.__name__.rsplit('.', 1)[1]}.py"
     stamp = _stamp(["stepcore.py", "limits.py", "jit.py", ops_file] + (["ddmath.py"] if kind == "dd" else []))
-    small = shape is not None and shape.s * shape.d <= L.INLINE_LINEAR_ALGEBRA
+    small = shape is not None and 0 < shape.s * shape.d <= L.INLINE_LINEAR_ALGEBRA
     names = ["f_", "jac_", "inv_", "grad_"] + (["fq_", "fp_"] if separable else [])
     # the q-stage iteration is never run for a problem that is not separable, but a loop for any
     # shape (LOOP_MODE a value, not a constant) still compiles its calls
@@ -247,8 +248,8 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
         title = "generic: any shape and run"
     else:
         mode = {L.EXPLICIT: "explicit", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}[shape.mode]
-        title = (f"specialised to s = {shape.s}, r = {shape.r}, d = {shape.d}, {mode}, "
-                 f"{'projection' if shape.projects else 'no projection'}")
+        sizes = f"s = {shape.s}, r = {shape.r}, d = {shape.d}" if shape.s else "any shape"
+        title = f"specialised to {sizes}, {mode}, {'projection' if shape.projects else 'no projection'}"
     named = {L.ANY: "ANY", L.EXPLICIT: "EXPLICIT", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}
     values = specialisation(shape)
     values["LOOP_MODE"] = named[values["LOOP_MODE"]]          # by name: limits' constants
@@ -257,7 +258,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     text += _section(title, "".join(f"{k} = {v}\n" for k, v in values.items()))
     text += _section(f"arithmetic: {ops_file[:-3]}", _definitions(ops, ops_f64.OPERATIONS))
     written = {}
-    if shape is not None:           # the shape as constants: the small loops unroll
+    if shape is not None and shape.s:           # the shape as constants (s = 0: as data): the small loops unroll
         written["dims"] = f"@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n"
     return text + _section("the step loop: stepcore", _definitions(stepcore, [fn.__name__ for fn in stepcore.LOOP],
                                                                    written))
@@ -299,6 +300,8 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     ``kernel_files``: kind -> (name, path)), imported once per process; numba compiles on the
     first call or loads its disk cache.  ``loop.sibling(mode)``: the loop of the same problem
     and shape for another stage iteration (the run switched to Newton)."""
+    if kind == "f64" and shape is not None and os.environ.get("TABLEAU_LAB_SPECIALISE") == "linked":
+        return linked_loop(problem, shape)
     key = (str(cache_dir()), problem.key, kind, shape)
     if key in _BY_KEY:
         return _BY_KEY[key]
@@ -311,6 +314,58 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     mod.sibling = lambda mode: mod if shape is None else compiled_loop(problem, kind, shape._replace(mode=int(mode)))
     _BY_KEY[key] = mod
     return mod
+
+
+class _LinkedLoop:
+    """A linked loop (:mod:`linked`: one module per stage iteration and projection for every
+    problem and method shape) bound to one problem: the module's functions, and ``link``, which
+    puts the problem's entry points into the run's ``ProblemData``."""
+
+    def __init__(self, mod, problem, shape):
+        self._mod, self._problem, self._shape = mod, problem, shape
+        self.__name__ = f"{mod.__name__}:{problem.key}"      # compile_seconds: the problem's entry points too
+        self.invariant_index = invariant_index(problem)
+
+    def __getattr__(self, name):
+        return getattr(self._mod, name)
+
+    def sibling(self, mode):
+        return linked_loop(self._problem, self._shape._replace(mode=int(mode)))
+
+    def link(self, data: ProblemData) -> ProblemData:
+        from .linked import Linked
+        c = np.ascontiguousarray(data.c, dtype=float)
+        return data._replace(c=Linked(c, _entries(self._problem, len(c))))
+
+
+def _entries(problem, nc: int):
+    """The addresses of the C entry points of ``problem``'s functions (:func:`linked.wrapper_source`)
+    for ``nc`` constants: generated, written and compiled (or loaded from numba's cache) once."""
+    from .linked import wrapper_source
+    key = (str(cache_dir()), problem.key, "entries", nc)
+    if key not in _BY_KEY:
+        files = getattr(problem, "kernel_files", None) or {}
+        pname, ppath = files["f64"] if "f64" in files else write_problem_module(problem, "f64")
+        _load(pname, ppath)
+        text = wrapper_source(pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
+        _BY_KEY[key] = _load(*_write("tableau_lab_entries", text)).ADDRESSES
+    return _BY_KEY[key]
+
+
+def linked_loop(problem, shape):
+    """The float64 loop for ``shape``'s stage iteration and projection that serves every problem and
+    method shape (:mod:`linked`; selected by TABLEAU_LAB_SPECIALISE=linked), bound to ``problem``:
+    the module is compiled once per cache, each problem adds its entry points only."""
+    from .linked import PROBLEM_TEXT
+    key = (str(cache_dir()), problem.key, "linked", shape)
+    if key in _BY_KEY:
+        return _BY_KEY[key]
+    generic = Shape(0, 0, 0, shape.mode, shape.projects)
+    lname, lpath = _write("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])))
+    _load(lname, lpath)
+    name, path = _write("tableau_lab_kernel", module_source("f64", generic, lname, True))
+    _BY_KEY[key] = _LinkedLoop(_load(name, path), problem, shape)
+    return _BY_KEY[key]
 
 
 def compile_state(problem, kind: str = "f64", shape=None, disk: bool = True):
@@ -497,13 +552,15 @@ class LoopState:
         slots = (chunk or steps) // every + 2
         self.rec, self.recn = pk.zeros(slots, r, d), np.zeros(slots, dtype=np.int64)
         self.stages, self.work = loop.workspace(s, r, d, len(pk.proj))
+        link = getattr(loop, "link", None)         # a linked loop: the problem's entry points as data
+        self.problem_data = pk.problem_data if link is None else link(pk.problem_data)
         self.state = State(self.Y, self.comp, self.Fh, self.flags, self.stats, self.tmax, self.rec, self.recn)
 
     def args(self, n0: int, n1: int) -> tuple:
         """The arguments of ``run`` and ``rescue_step`` over steps n0+1 … n1: the records of
         :mod:`stepcore` (:class:`~.stepcore.Span`, :class:`~.stepcore.State` …)."""
         return (Span(n0, n1, self.steps, self.every, self.track_every), self.state, self.pk.coefficients,
-                self.pk.controls, self.pk.problem_data, self.stages, self.work)
+                self.pk.controls, self.problem_data, self.stages, self.work)
 
 
 COMPILE_NOTICE_SECONDS = 2.0    # a compile (or cache load) longer than this is announced on a terminal
