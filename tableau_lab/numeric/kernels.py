@@ -332,23 +332,29 @@ class _LinkedLoop:
     def sibling(self, mode):
         return linked_loop(self._problem, self._shape._replace(mode=int(mode)))
 
-    def link(self, data: ProblemData) -> ProblemData:
-        from .linked import Linked
+    def link(self, data: ProblemData, rescue: bool = False) -> ProblemData:
+        """``data`` with ``c`` the :class:`~.linked.Linked` record: the constants and the addresses of the
+        entry points this loop can call (:func:`~.linked.slots_needed`; ``rescue``: the Jacobian too,
+        for :func:`~.stepcore.rescue_step`); 0 for the others."""
+        from .linked import SLOTS, Linked, slots_needed
         c = np.ascontiguousarray(data.c, dtype=float)
-        return data._replace(c=Linked(c, _entries(self._problem, len(c))))
+        wanted = slots_needed(self._shape.mode, len(data.proj) > 0, len(data.track) > 0, rescue)
+        fn = np.array([_entry(self._problem, slot, len(c)) if slot in wanted else 0 for slot in SLOTS], dtype=np.int64)
+        return data._replace(c=Linked(c, fn))
 
 
-def _entries(problem, nc: int):
-    """The addresses of the C entry points of ``problem``'s functions (:func:`linked.wrapper_source`)
-    for ``nc`` constants: generated, written and compiled (or loaded from numba's cache) once."""
-    from .linked import wrapper_source
-    key = (str(cache_dir()), problem.key, "entries", nc)
+def _entry(problem, slot: str, nc: int) -> int:
+    """The address of the C entry point of ``problem``'s function ``slot`` for ``nc`` constants
+    (:func:`linked.entry_source`): generated, written and compiled (or loaded from numba's cache)
+    once."""
+    from .linked import entry_source
+    key = (str(cache_dir()), problem.key, "entry", slot, nc)
     if key not in _BY_KEY:
         files = getattr(problem, "kernel_files", None) or {}
         pname, ppath = files["f64"] if "f64" in files else write_problem_module(problem, "f64")
         _load(pname, ppath)
-        text = wrapper_source(pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
-        _BY_KEY[key] = _load(*_write("tableau_lab_entries", text)).ADDRESSES
+        text = entry_source(slot, pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
+        _BY_KEY[key] = _load(*_write("tableau_lab_entry", text)).ADDRESS
     return _BY_KEY[key]
 
 
@@ -616,6 +622,8 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
         or loads its cache; a rescue step is compiled only when one is needed) is counted in
         compile_seconds."""
         key = (loop.__name__, entry)
+        if entry == "rescue_step" and hasattr(loop, "link"):       # a linked loop: the Jacobian's entry too
+            st.problem_data = loop.link(pk.problem_data, rescue=True)
         fresh = compiled and key not in _COMPILE
         if fresh:
             t = time.perf_counter()
