@@ -141,6 +141,21 @@ def test_linked_loop_serves_every_problem(monkeypatch):
     assert len(modules) == 1, modules
 
 
+def test_linked_loop_rescues_with_the_jacobian(monkeypatch):
+    """A linked fixed-point run has no Jacobian entry point (linked.slots_needed); when its
+    iteration fails, drive links the Jacobian before the rescue step and the run goes on in the
+    linked Newton loop: the same numbers bit for bit, and the same counts, as the loop for any shape."""
+    nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("fpu")
+    runs = []
+    for flag in ("0", "linked"):
+        monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", flag)
+        runs.append(integrate(nm, cp, cp.y0, 0.05, 200, kernel="compiled", solver="fixedpoint"))
+    assert np.array_equal(runs[0].final, runs[1].final)
+    assert (runs[0].nfev, runs[0].newton_iterations, runs[0].fallbacks) == (
+        runs[1].nfev, runs[1].newton_iterations, runs[1].fallbacks)
+    assert runs[1].fallbacks >= limits.SWITCH_AFTER
+
+
 @pytest.mark.parametrize("name", ["glm43", "symplectic_euler", "gauss2", "example4_glm", "sdirk34"])
 def test_dense_matrices_are_the_exact_zeros(name):
     """kernels.dense_matrices (the matrices whose coefficients a specialised loop uses
