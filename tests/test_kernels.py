@@ -13,8 +13,8 @@ from tableau_lab.exact.tableau_json import load
 from tableau_lab.numeric import limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
-from tableau_lab.numeric.integrate import integrate
-from tableau_lab.numeric.kernels import cache_dir, compiled_loop
+from tableau_lab.numeric.integrate import component_masks, integrate
+from tableau_lab.numeric.kernels import Pack, cache_dir, compiled_loop, run_shape
 
 METHODS = Path(__file__).parent.parent / "methods"
 CASES = ["gauss2", "rk4", "implicit_midpoint", "example4_glm", "stormer_verlet", "symplectic_euler",
@@ -117,6 +117,43 @@ def test_specialised_loop_equals_generic(monkeypatch, name, problem, h, kw):
         runs[1].nfev, runs[1].newton_iterations, runs[1].fallbacks)
     if problem == "fpu":
         assert runs[1].fallbacks >= limits.SWITCH_AFTER
+
+
+def test_linked_loop_serves_every_problem(monkeypatch):
+    """The linked loop (numeric/linked.py, issue 32: the problem's functions called through
+    addresses in the run's data) is one compiled module for every problem and method shape of a
+    stage iteration: Gauss 2 and GLM43 (s = 2, 4; r = 1, 3) on the pendulum and on Kepler run in
+    the same module, and each run computes the same numbers bit for bit, with the same counts, as
+    the loop for any shape that imports the problem's functions by name (TABLEAU_LAB_SPECIALISE=0).
+    Fails on 017c8cd (no linked loop: TABLEAU_LAB_SPECIALISE=linked compiled one module per problem
+    and shape)."""
+    modules = set()
+    for name, problem in (("gauss2", "pendulum"), ("glm43", "pendulum"), ("gauss2", "kepler"), ("glm43", "kepler")):
+        nm, cp = to_numeric(load(METHODS / f"{name}.json")), compile_problem(problem)
+        runs = []
+        for flag in ("0", "linked"):
+            monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", flag)
+            runs.append(integrate(nm, cp, cp.y0, 0.01, 200, kernel="compiled", solver="fixedpoint"))
+        assert np.array_equal(runs[0].final, runs[1].final), (name, problem)
+        assert (runs[0].nfev, runs[0].newton_iterations) == (runs[1].nfev, runs[1].newton_iterations)
+        shape = run_shape(Pack(nm, cp, 0.01, component_masks(cp, len(cp.y0)), mode=limits.SPLIT))
+        modules.add(compiled_loop(cp.problem, "f64", shape).__name__.split(":")[0])
+    assert len(modules) == 1, modules
+
+
+def test_linked_loop_rescues_with_the_jacobian(monkeypatch):
+    """A linked fixed-point run has no Jacobian entry point (linked.slots_needed); when its
+    iteration fails, drive links the Jacobian before the rescue step and the run goes on in the
+    linked Newton loop: the same numbers bit for bit, and the same counts, as the loop for any shape."""
+    nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("fpu")
+    runs = []
+    for flag in ("0", "linked"):
+        monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", flag)
+        runs.append(integrate(nm, cp, cp.y0, 0.05, 200, kernel="compiled", solver="fixedpoint"))
+    assert np.array_equal(runs[0].final, runs[1].final)
+    assert (runs[0].nfev, runs[0].newton_iterations, runs[0].fallbacks) == (
+        runs[1].nfev, runs[1].newton_iterations, runs[1].fallbacks)
+    assert runs[1].fallbacks >= limits.SWITCH_AFTER
 
 
 @pytest.mark.parametrize("name", ["glm43", "symplectic_euler", "gauss2", "example4_glm", "sdirk34"])

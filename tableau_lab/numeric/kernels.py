@@ -52,7 +52,8 @@ from . import limits as L
 from .stepcore import Coefficients, Controls, ProblemData, Span, State
 
 __all__ = ["available", "cache_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape",
-           "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "pure_loop",
+           "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "linked_loop",
+           "pure_loop",
            "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
@@ -224,8 +225,8 @@ def shape_text(shape) -> str:
     if shape is None:
         return "any shape and run"
     mode = {L.EXPLICIT: "explicit", L.NEWTON: "NEWTON", L.FIXED: "FIXED", L.SPLIT: "SPLIT"}[shape.mode]
-    return (f"s = {shape.s}, r = {shape.r}, d = {shape.d}, {mode}, "
-            f"{'projection' if shape.projects else 'no projection'}")
+    sizes = f"s = {shape.s}, r = {shape.r}, d = {shape.d}" if shape.s else "any shape"     # s = 0: the linked loop's
+    return f"{sizes}, {mode}, {'projection' if shape.projects else 'no projection'}"
 
 
 def module_source(kind: str, shape, problem_module: str, separable: bool) -> str:
@@ -251,7 +252,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
         ops = ops_f64
     ops_file = f"{ops.__name__.rsplit('.', 1)[1]}.py"
     stamp = _stamp(["stepcore.py", "limits.py", "jit.py", ops_file] + (["ddmath.py"] if kind == "dd" else []))
-    small = shape is not None and shape.s * shape.d <= L.INLINE_LINEAR_ALGEBRA
+    small = shape is not None and 0 < shape.s * shape.d <= L.INLINE_LINEAR_ALGEBRA
     names = ["f_", "jac_", "inv_", "grad_"] + (["fq_", "fp_"] if separable else [])
     # the q-stage iteration is never run for a problem that is not separable, but a loop for any
     # shape (LOOP_MODE a value, not a constant) still compiles its calls
@@ -268,7 +269,7 @@ def module_source(kind: str, shape, problem_module: str, separable: bool) -> str
     text += _section(title, "".join(f"{k} = {v}\n" for k, v in values.items()))
     text += _section(f"arithmetic: {ops_file[:-3]}", _definitions(ops, ops_f64.OPERATIONS))
     written = {}
-    if shape is not None:           # the shape as constants: the small loops unroll
+    if shape is not None and shape.s:           # the shape as constants (s = 0: as data): the small loops unroll
         written["dims"] = f"@helper\ndef dims(A, Y):\n    return {shape.s}, {shape.r}, {shape.d}\n"
     return text + _section("the step loop: stepcore", _definitions(stepcore, [fn.__name__ for fn in stepcore.LOOP],
                                                                    written))
@@ -319,7 +320,10 @@ def compiled_loop(problem, kind: str = "f64", shape=None):
     """The compiled loop of ``problem`` for ``kind`` and ``shape`` (:func:`loop_shape`): its
     files written on first use (:func:`loop_files`), imported once per process; numba compiles
     on the first call or loads its disk cache.  ``loop.sibling(mode)``: the loop of the same
-    problem and shape for another stage iteration (the run switched to Newton)."""
+    problem and shape for another stage iteration (the run switched to Newton).  With
+    TABLEAU_LAB_SPECIALISE=linked a float64 loop is the one of :func:`linked_loop`."""
+    if kind == "f64" and shape is not None and os.environ.get("TABLEAU_LAB_SPECIALISE") == "linked":
+        return linked_loop(problem, shape)
     key = (str(cache_dir()), problem.key, kind, shape)
     if key in _BY_KEY:
         return _described(_BY_KEY[key], problem, kind, shape)
@@ -338,6 +342,64 @@ def _described(mod, problem, kind: str, shape):
     arith = "float64" if kind == "f64" else kind
     mod.described = f"{getattr(problem, 'name', problem.key)} ({arith}, {shape_text(shape)})"
     return mod
+
+
+class _LinkedLoop:
+    """A linked loop (:mod:`linked`: one module per stage iteration and projection for every
+    problem and method shape) bound to one problem: the module's functions, and ``link``, which
+    puts the problem's entry points into the run's ``ProblemData``."""
+
+    def __init__(self, mod, problem, shape):
+        self._mod, self._problem, self._shape = mod, problem, shape
+        self.__name__ = f"{mod.__name__}:{problem.key}"      # compile_seconds: the problem's entry points too
+        self.invariant_index = invariant_index(problem)
+
+    def __getattr__(self, name):
+        return getattr(self._mod, name)
+
+    def sibling(self, mode):
+        return linked_loop(self._problem, self._shape._replace(mode=int(mode)))
+
+    def link(self, data: ProblemData, rescue: bool = False) -> ProblemData:
+        """``data`` with ``c`` the :class:`~.linked.Linked` record: the constants and the addresses of the
+        entry points this loop can call (:func:`~.linked.slots_needed`; ``rescue``: the Jacobian too,
+        for :func:`~.stepcore.rescue_step`); 0 for the others."""
+        from .linked import SLOTS, Linked, slots_needed
+        c = np.ascontiguousarray(data.c, dtype=float)
+        wanted = slots_needed(self._shape.mode, len(data.proj) > 0, len(data.track) > 0, rescue)
+        fn = np.array([_entry(self._problem, slot, len(c)) if slot in wanted else 0 for slot in SLOTS], dtype=np.int64)
+        return data._replace(c=Linked(c, fn))
+
+
+def _entry(problem, slot: str, nc: int) -> int:
+    """The address of the C entry point of ``problem``'s function ``slot`` for ``nc`` constants
+    (:func:`linked.entry_source`): generated, written and compiled (or loaded from numba's cache)
+    once."""
+    from .linked import entry_source
+    key = (str(cache_dir()), problem.key, "entry", slot, nc)
+    if key not in _BY_KEY:
+        files = getattr(problem, "kernel_files", None) or {}
+        pname, ppath = files["f64"] if "f64" in files else write_problem_module(problem, "f64")
+        load_module(pname, ppath)
+        text = entry_source(slot, pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
+        _BY_KEY[key] = load_module(*_write("tableau_lab_entry", text)).ADDRESS
+    return _BY_KEY[key]
+
+
+def linked_loop(problem, shape):
+    """The float64 loop for ``shape``'s stage iteration and projection that serves every problem and
+    method shape (:mod:`linked`; selected by TABLEAU_LAB_SPECIALISE=linked), bound to ``problem``:
+    the module is compiled once per cache, each problem adds its entry points only."""
+    from .linked import PROBLEM_TEXT
+    key = (str(cache_dir()), problem.key, "linked", shape)
+    if key in _BY_KEY:
+        return _BY_KEY[key]
+    generic = Shape(0, 0, 0, shape.mode, shape.projects)
+    lname, lpath = _write("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])))
+    load_module(lname, lpath)
+    name, path = _write("tableau_lab_kernel", module_source("f64", generic, lname, True))
+    _BY_KEY[key] = _LinkedLoop(load_module(name, path), problem, shape)
+    return _BY_KEY[key]
 
 
 def compile_state(problem, kind: str = "f64", shape=None, disk: bool = True):
@@ -528,7 +590,17 @@ class LoopState:
         self.comp, self.Fh = pk.zeros(d), pk.zeros(L.HISTORY, s, d)
         self.stats, self.tmax = np.zeros(L.N_STATS), np.zeros(len(pk.track))
         self.stages, self.work = loop.workspace(s, r, d, len(pk.proj))
+        self.link(loop)
         self.records_for(chunk or steps)
+
+    def link(self, loop, rescue: bool = False) -> None:
+        """The problem's data for ``loop``: a linked loop takes its entry points as data (for a
+        rescue step, the Jacobian's too)."""
+        link = getattr(loop, "link", None)
+        if link is not None:
+            self.problem_data = link(self.pk.problem_data, rescue=rescue)
+        elif not rescue:
+            self.problem_data = self.pk.problem_data
 
     def records_for(self, chunk: int) -> None:
         """Room for the records of ``chunk`` steps per call (the records of the last call
@@ -542,7 +614,7 @@ class LoopState:
         """The arguments of ``run`` and ``rescue_step`` over steps n0+1 … n1: the records of
         :mod:`stepcore` (:class:`~.stepcore.Span`, :class:`~.stepcore.State` …)."""
         return (Span(n0, n1, self.steps, self.every, self.track_every), self.state, self.pk.coefficients,
-                self.pk.controls, self.pk.problem_data, self.stages, self.work)
+                self.pk.controls, self.problem_data, self.stages, self.work)
 
 
 _NOTICED: set = set()          # loop modules whose compile was announced in this process
@@ -661,6 +733,7 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
             status = call(loop, "run", n, n1)
             if status == 4:                    # the stage iteration failed: the fallbacks, once
                 n = int(stats[L.S_STEP])
+                st.link(loop, rescue=True)     # a linked loop: the Jacobian's entry point too
                 status = call(loop, "rescue_step", n - 1, n)
                 if compiled and getattr(loop, "LOOP_MODE", L.ANY) not in (L.ANY, int(st.flags[L.F_MODE])):
                     loop = loop.sibling(int(st.flags[L.F_MODE]))   # the run switched to Newton
@@ -676,15 +749,25 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
                 break
             if progress is not None:
                 progress(n)
-            if switch is not None and not compiled and n < steps and (ready := switch()) is not None:
-                loop, compiled, chunk, out.switched_at = ready, True, L.CHUNK, n
-                st.records_for(chunk)
+            if not compiled and n < steps and (ready := _switched(switch, st, out, n)) is not None:
+                loop, compiled, chunk = ready, True, L.CHUNK
     except BaseException as exc:
         _stopped(out, st, done, records)
         exc.outcome = out
         raise
     out.Y = pk.back(st.Y)
     return out
+
+
+def _switched(switch, st: LoopState, out: Outcome, n: int):
+    """The compiled loop a pure run goes on with after step ``n`` (``switch()`` of :func:`drive`,
+    None: stay), its problem data linked and room made for its longer chunks' records."""
+    ready = switch() if switch is not None else None
+    if ready is not None:
+        out.switched_at = n
+        st.link(ready)
+        st.records_for(L.CHUNK)
+    return ready
 
 
 def _stopped(out: Outcome, st: LoopState, done: list, records) -> None:
