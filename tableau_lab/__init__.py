@@ -51,6 +51,7 @@ _LAZY = {
     "integrate": "tableau_lab.experiments.user",
     "problem": "tableau_lab.experiments.user",
     "Solution": "tableau_lab.experiments.user",
+    "warm_up": "tableau_lab.experiments.shared_loops",
     # plots, inline (matplotlib Axes)
     "plot_stability_region": "tableau_lab.experiments.inline_plots",
     "plot_order_star": "tableau_lab.experiments.inline_plots",

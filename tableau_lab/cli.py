@@ -512,6 +512,16 @@ def _convergence_runs(args, ex) -> int:
     return status
 
 
+def _warm_up(args) -> int:
+    from .experiments.shared_loops import warm_up
+    warm_up(print, workers=args.workers)
+    return EXIT_OK
+
+
+def _warm_up_options(p) -> None:
+    p.add_argument("--workers", type=_count(1, 64), default=None, help="processes (default: the cores, at most 2)")
+
+
 def _bench(args) -> int:
     from .experiments import bench
     if args.method or args.problem:
@@ -990,6 +1000,9 @@ COMMANDS = (
                         "100, 200, ... steps until the local slopes settle or round-off is reached; the "
                         "least-squares slope is compared with the computed order. Failed runs are kept as evidence. "
                         "Exit 1 if an order is not confirmed."),
+    Command("warm-up", _warm_up, _warm_up_options,
+            help="build the compiled loops shared by every problem (once per installation: a first run on a new "
+                 "problem then compiles only its own functions, about a second)"),
     Command("bench", _bench, _bench_options,
             help="speed of the compiled loops: the standard set against a gcc -O2 C loop, scipy DOP853 and plain "
                  "mpmath; or one case (--method, --problem)"),

@@ -596,7 +596,7 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         f_calls = cp.calls
         loop, why = "Python", loop_why
     else:
-        loop = {"compiled": "compiled with numba",
+        loop = {"compiled": "compiled with numba", "linked": "compiled with numba (the loop shared by every problem)",
                 "python, then compiled": f"Python, then compiled with numba after step {run.switched_at}"
                 }.get(run.loop, "Python")
         why = _loop_why(run, kernel, precision, a, traced)

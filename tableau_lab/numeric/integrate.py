@@ -331,7 +331,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         compiled, switch = _use_kernel(kernel, a, prob), None
         if compiled and kernel == "cost" and a.name == "float64":
             compiled, run.loop_why, switch = _cheaper_loop(nm, prob, pk, steps, d)
-        run.loop = "compiled" if compiled else "python"
+        run.loop = {True: "compiled", False: "python", "linked": "linked"}[compiled]
         loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
@@ -402,24 +402,41 @@ def _step_size(a, h):
 
 
 def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
-    """(compiled?, why, switch) for kernel="cost": the loop predicted to finish first
-    (:func:`~.limits.choose_loop`); a run long enough (:func:`.background.worth`) whose loop is
-    not compiled yet starts in Python while the loop compiles in the background, and ``switch``
-    (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
+    """(loop, why, switch) for kernel="cost", ``loop`` True (the compiled loop specialised to the
+    run), False (the pure loop) or "linked" (the compiled loop shared by every problem,
+    :func:`~.kernels.linked_loop`): the loop predicted to finish first (:func:`~.limits.choose_loop`).
+    When the specialised loop would need a compile: the linked loop if it is built (its problem's
+    entry points compile in about ``limits.LINKED_PROBLEM_SECONDS``); else a run long enough
+    (:func:`.background.worth`) starts in Python while its loop compiles in the background, and
+    ``switch`` (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
     shape = kernels.run_shape(pk)
     python = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
-    if state is None and background.worth(steps * python) and background.possible():
+    if state is None and shape is not None and steps * python > limits.COMPILE_CACHED_SECONDS:
         state = kernels.compile_state(prob.problem, "f64", shape)
         if state == "cold":
-            args = kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
-            c = background.start(prob.problem, "f64", shape, args, getattr(prob.problem, "name", ""))
-            return False, (f"the Python loop, then the compiled loop once compiled in the background ({steps} steps "
-                           f"predicted at {steps * python:.2g} s in Python)"), background.switch_when_ready(
-                               c, prob.problem, "f64", shape)
+            quick = _without_compile(nm, prob, pk, steps, d, python * steps, shape)
+            if quick is not None:
+                return quick
     compiled, why = limits.choose_loop(
         steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
     return compiled, why, None
+
+
+def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
+    """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
+    linked loop when built and worth its problem's entry points, the Python loop with the
+    specialised loop compiling in the background when worth it, else None (the cost rule)."""
+    if seconds > limits.LINKED_PROBLEM_SECONDS and kernels.linked_state(shape) != "cold":
+        return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
+                          "in Python, the specialised loop not compiled"), None
+    if not (background.worth(seconds) and background.possible()):
+        return None
+    args = kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
+    c = background.start(prob.problem, "f64", shape, args, getattr(prob.problem, "name", ""))
+    why = (f"the Python loop, then the compiled loop once compiled in the background ({steps} steps predicted at "
+           f"{seconds:.2g} s in Python)")
+    return False, why, background.switch_when_ready(c, prob.problem, "f64", shape)
 
 
 def _raise_status(out, h, tol, project) -> None:
@@ -460,9 +477,12 @@ def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
         return out.Y
 
 
-def _loop(compiled: bool, nm, prob, pk):
-    """The compiled module (specialised to the run: :func:`kernels.run_shape`) or the pure loop."""
+def _loop(compiled, nm, prob, pk):
+    """The compiled module (specialised to the run: :func:`kernels.run_shape`; "linked": the one
+    shared by every problem, :func:`kernels.linked_loop`) or the pure loop."""
     a = nm.arith
+    if compiled == "linked":
+        return kernels.linked_loop(prob.problem, kernels.run_shape(pk))
     if compiled:
         return kernels.compiled_loop(prob.problem, "dd" if a.name == "dd" else "f64", kernels.run_shape(pk))
     return kernels.pure_loop(prob, a.name)

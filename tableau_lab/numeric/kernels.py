@@ -279,9 +279,9 @@ def _module_name(prefix: str, source: str) -> str:
     return f"{prefix}_{hashlib.sha256(source.encode()).hexdigest()[:20]}"
 
 
-def _write(prefix: str, source: str) -> tuple:
+def _write(prefix: str, source: str, folder: Path | None = None) -> tuple:
     name = _module_name(prefix, source)
-    path = cache_dir() / f"{name}.py"
+    path = (folder or cache_dir()) / f"{name}.py"
     if not path.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(path, source)
@@ -352,6 +352,7 @@ class _LinkedLoop:
     def __init__(self, mod, problem, shape):
         self._mod, self._problem, self._shape = mod, problem, shape
         self.__name__ = f"{mod.__name__}:{problem.key}"      # compile_seconds: the problem's entry points too
+        self.described = f"every problem (float64, {shape_text(_generic(shape))})"
         self.invariant_index = invariant_index(problem)
 
     def __getattr__(self, name):
@@ -386,18 +387,50 @@ def _entry(problem, slot: str, nc: int) -> int:
     return _BY_KEY[key]
 
 
+def shared_dir() -> Path:
+    """The folder of the modules that serve every problem (the linked loops, :func:`linked_loop`):
+    ``$TABLEAU_LAB_SHARED_CACHE``, else ``~/.cache/tableau_lab/shared`` — apart from the problems'
+    cache (:func:`cache_dir`), as an installation's compiled parts: built once
+    (:func:`build_shared`, ``tableau-lab warm-up``), kept when the problems' cache is emptied."""
+    given = os.environ.get("TABLEAU_LAB_SHARED_CACHE")
+    return Path(given) if given else Path.home() / ".cache" / "tableau_lab" / "shared"
+
+
+def _linked_files(shape) -> tuple:
+    """(its problem module's name, path, loop module's name, path) of the linked loop for the
+    stage iteration and projection of ``shape``, written in :func:`shared_dir` if not there."""
+    from .linked import PROBLEM_TEXT
+    folder = shared_dir()
+    lname, lpath = _write("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])), folder)
+    return (lname, lpath, *_write("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True), folder))
+
+
+def _generic(shape) -> Shape:
+    return Shape(0, 0, 0, shape.mode, shape.projects)
+
+
+def linked_state(shape) -> str:
+    """"loaded", "cached" or "cold" (:func:`compile_state`'s words) for the linked loop of
+    ``shape``'s stage iteration and projection; its problem's entry points not counted (about
+    ``limits.LINKED_PROBLEM_SECONDS`` when they compile).  Writes nothing."""
+    from .linked import PROBLEM_TEXT
+    lname = _module_name("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])))
+    name = _module_name("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True))
+    if any(entry == "run" and loop.split(":")[0] == name for loop, entry in _COMPILE):   # any problem's
+        return "loaded"
+    return _disk_state(shared_dir(), name)
+
+
 def linked_loop(problem, shape):
     """The float64 loop for ``shape``'s stage iteration and projection that serves every problem and
-    method shape (:mod:`linked`; selected by TABLEAU_LAB_SPECIALISE=linked), bound to ``problem``:
-    the module is compiled once per cache, each problem adds its entry points only."""
-    from .linked import PROBLEM_TEXT
+    method shape (:mod:`linked`; the cost rule's quick compiled loop when built, and every float64
+    loop with TABLEAU_LAB_SPECIALISE=linked), bound to ``problem``: the module is compiled once
+    (in :func:`shared_dir`), each problem adds its entry points only (in :func:`cache_dir`)."""
     key = (str(cache_dir()), problem.key, "linked", shape)
     if key in _BY_KEY:
         return _BY_KEY[key]
-    generic = Shape(0, 0, 0, shape.mode, shape.projects)
-    lname, lpath = _write("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])))
+    lname, lpath, name, path = _linked_files(shape)
     load_module(lname, lpath)
-    name, path = _write("tableau_lab_kernel", module_source("f64", generic, lname, True))
     _BY_KEY[key] = _LinkedLoop(load_module(name, path), problem, shape)
     return _BY_KEY[key]
 
@@ -625,7 +658,7 @@ def _first_call_state(loop, entry: str):
     in this process, read from numba's disk cache beside the loop's module; None when that is
     not known (a module without a file)."""
     path = getattr(loop, "__file__", None)
-    return None if path is None else _disk_state(Path(path).parent, loop.__name__, entry)
+    return None if path is None else _disk_state(Path(path).parent, Path(path).stem, entry)
 
 
 @contextlib.contextmanager

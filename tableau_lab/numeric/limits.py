@@ -73,6 +73,7 @@ PYTHON_IMPLICIT_FACTOR = 4.0    # an implicit stage (its share of the stage iter
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
+LINKED_PROBLEM_SECONDS = 1.0    # a problem's entry points for the linked loop, compiled (kernels.linked_loop: ~1 s)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
 COMPILE_NOTICE_SECONDS = 2.0    # a first call whose compile state is not known is announced on a terminal after this
 
