@@ -39,6 +39,19 @@ class ProblemFunctions:
     def _code(self, what):
         raise NotImplementedError
 
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        for k in ("_functions", "_composed"):   # generated and composed functions: made again where unpickled
+            if k in state:
+                state[k] = {}
+        return state
+
+    def generated(self, what):
+        """The generated function of ``what`` (as ``_code``) as it is: fn(y, constants, *vectors),
+        returning lists (a number for an invariant), without conversions or a floating-point error
+        state: for a loop that calls it many times inside its own (:func:`.kernels.pure_loop`)."""
+        return self._code(what)
+
     # -- conversions --------------------------------------------------------------------------
     def _vector(self, values):
         if self.backend == "numpy":
@@ -97,6 +110,9 @@ class ProblemFunctions:
         """A function y -> {tree: F(t)(y)} for every rooted tree t with |t| ≤ order (trees of
         ``analysis.trees``).  Only the derivatives f⁽ᵐ⁾ are generated; F(t) is composed
         numerically, children first, so no expression grows with the tree."""
+        composed = self.__dict__.setdefault("_composed", {})
+        if order in composed:               # built once per order: a run calls it at every record
+            return composed[order]
         trees = list(trees_up_to(order))
         derivs = {m: self.derivative(m) for m in {len(t) for t in trees} if m}
 
@@ -105,4 +121,5 @@ class ProblemFunctions:
             for t in trees:                       # by order: children come first
                 out[t] = self.f(y) if not t else derivs[len(t)](y, *(out[c] for c in t))
             return out
+        composed[order] = F
         return F
