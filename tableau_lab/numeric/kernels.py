@@ -354,6 +354,8 @@ def pure_loop(prob, arith_name: str):
               __builtins__=__builtins__)
     ns.update({r.__name__: r for r in stepcore.RECORDS})
     ns.update({name: getattr(ops, name) for name in ops_f64.OPERATIONS})
+    if ops is ops_f64:
+        ns.update(ops_f64.PURE_READS)
     ns.update({fn.__name__: FunctionType(fn.__code__, ns, fn.__name__, fn.__defaults__, fn.__closure__)
                for fn in stepcore.LOOP})
     P = getattr(prob, "problem", None)        # a bare object with f (and jac) will do too

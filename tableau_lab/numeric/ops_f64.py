@@ -146,3 +146,9 @@ def wmat(n, m):
 
 
 lovec, lomat = wvec, wmat        # the low precision is float64 too
+
+# The pure loop reads elements as Python floats (ndarray.item: the same double), whose arithmetic
+# is IEEE-754 double rounded to nearest as numpy's scalars' and numba's, and in the interpreter
+# several times cheaper than numpy's scalars' (g1 … g3 above are what a compiled module uses).
+# Stepcore divides only by guarded values (no ZeroDivisionError for a Python float).
+PURE_READS = {"g1": np.ndarray.item, "g2": np.ndarray.item, "g3": np.ndarray.item}

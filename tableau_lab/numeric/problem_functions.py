@@ -66,11 +66,15 @@ class ProblemFunctions:
             y = [y[i] for i in range(y.rows * y.cols)]
         return self._vector(y)
 
-    def _call(self, fn, y, *extra):
+    def _evaluating(self):
+        """Where generated code runs: numpy's error state (inf/NaN: the driver reports them) or
+        mpmath's precision."""
         if self.backend == "numpy":
-            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: the driver reports them
-                return fn(self._input(y), self.constants, *extra)
-        with mpmath.workdps(self.dps):
+            return np.errstate(over="ignore", invalid="ignore", divide="ignore")
+        return mpmath.workdps(self.dps)
+
+    def _call(self, fn, y, *extra):
+        with self._evaluating():
             return fn(self._input(y), self.constants, *extra)
 
     def _known_invariant(self, name):
@@ -114,12 +118,15 @@ class ProblemFunctions:
         if order in composed:               # built once per order: a run calls it at every record
             return composed[order]
         trees = list(trees_up_to(order))
-        derivs = {m: self.derivative(m) for m in {len(t) for t in trees} if m}
+        codes = {m: self._code(("derivative", m)) if m else self._code("f") for m in {len(t) for t in trees}}
+        c, vector = self.constants, self._vector
 
         def F(y):
             out = {}
-            for t in trees:                       # by order: children come first
-                out[t] = self.f(y) if not t else derivs[len(t)](y, *(out[c] for c in t))
+            with self._evaluating():              # once: the derivatives' vectors are out's, converted
+                y = self._input(y)
+                for t in trees:                   # by order: children come first
+                    out[t] = vector(codes[len(t)](y, c, *(out[k] for k in t)))
             return out
         composed[order] = F
         return F
