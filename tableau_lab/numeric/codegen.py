@@ -89,9 +89,10 @@ class CompiledProblem(ProblemFunctions):
         f and the invariants, the backend and ``what`` — and of the code that makes it (this
         file, sympy's version); parameter and initial values are arguments, not part of it."""
         P = self.problem
-        made_of = sp.srepr((tuple(P.state), tuple(P.parameter_symbols.values()), tuple(P.f_expr),
-                            tuple(P.invariants.items())))
-        digest = hashlib.sha256(f"{_STAMP}\n{made_of}\n{self.backend}\n{what!r}".encode()).hexdigest()[:32]
+        if not hasattr(self, "_made_of"):   # srepr once per problem: a large f takes a while
+            self._made_of = sp.srepr((tuple(P.state), tuple(P.parameter_symbols.values()), tuple(P.f_expr),
+                                      tuple(P.invariants.items())))
+        digest = hashlib.sha256(f"{_STAMP}\n{self._made_of}\n{self.backend}\n{what!r}".encode()).hexdigest()[:32]
         return code_dir() / f"{digest}.json"
 
     def _expressions(self, what):
