@@ -346,7 +346,9 @@ class _Namespace:
 def pure_loop(prob, arith_name: str):
     """:data:`stepcore.LOOP <.stepcore.LOOP>`'s functions run in Python, bound to :mod:`ops_f64`
     (float64) or :mod:`ops_mp` (mpmath) and the functions of ``prob`` (a compiled or frozen
-    problem): the same function objects, with a namespace of their own for their globals."""
+    problem): the same function objects, with a namespace of their own for their globals (float64:
+    elements read as Python floats, :data:`~.ops_f64.PURE_READS`; a generated problem's code
+    called as it is, inside the run's ``np.errstate``)."""
     from . import ops_f64, ops_mp, stepcore
     ops = ops_f64 if arith_name == "float64" else ops_mp
     ns = {k: v for k, v in vars(L).items() if not k.startswith("_")}
