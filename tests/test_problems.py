@@ -285,3 +285,46 @@ def test_compilation_is_cached_and_parameters_override():
     c = compile_problem(kepler, parameters={"e": "0.9"})
     np.testing.assert_allclose(c.y0, [0.1, 0, 0, math.sqrt(19)], rtol=1e-15)
     assert compile_problem(kepler).y0[0] == 0.4
+
+
+def test_generated_code_is_kept_on_the_disk(tmp_path, monkeypatch):
+    """A problem's generated code is written to the cache once and read back by a later process
+    (here: the in-memory caches emptied), which generates none — no sympy derivative, no lambdify:
+    most of a short pure run's preparation (issue 32) — and computes the same numbers bit for bit.
+    Parameter values are arguments, not part of the code; a damaged file is generated again; code
+    read back freezes as generated code does (the run process of experiments/job.py)."""
+    import pickle
+
+    from tableau_lab.numeric import codegen
+    from tableau_lab.numeric.frozen import freeze
+
+    def forget():
+        monkeypatch.setattr(codegen, "_CODE", {})
+        monkeypatch.setattr(codegen, "_COMPILED", {})
+    monkeypatch.setenv("TABLEAU_LAB_CACHE", str(tmp_path))
+    forget()
+    first = compile_problem("kepler")
+    y = first.y0 + 0.25
+    F1, J1 = first.elementary_differentials(3)(y), first.jac(y)
+    files = sorted((tmp_path / "codes").iterdir())
+    assert len(files) == 4                                 # f, f′, f″, f‴ (elementary differentials of order 3)
+    forget()
+    monkeypatch.setattr(codegen.CompiledProblem, "_expressions",
+                        lambda self, what: pytest.fail(f"{what!r} generated again"))
+    again = compile_problem("kepler", parameters={"e": "0.9"})
+    other = compile_problem("kepler")
+    assert again is not first and other is not first and again.constants != other.constants
+    F2 = other.elementary_differentials(3)(y)
+    assert all((F1[t] == F2[t]).all() for t in F1) and (other.jac(y) == J1).all()
+    frozen = pickle.loads(pickle.dumps(freeze(other, jac=True, derivatives=3)))
+    assert (frozen.jac(y) == J1).all() and (frozen.derivative(2)(y, y, y) == other.derivative(2)(y, y, y)).all()
+    for file in files:                                     # damaged: generated again, in place
+        file.write_text('{"source": "def f(:", "homes": {}}')
+    forget()
+    monkeypatch.undo()
+    monkeypatch.setenv("TABLEAU_LAB_CACHE", str(tmp_path))
+    forget()
+    fresh = compile_problem("kepler")
+    F3 = fresh.elementary_differentials(3)(y)
+    assert all((F1[t] == F3[t]).all() for t in F1) and (fresh.jac(y) == J1).all()
+    assert sorted((tmp_path / "codes").iterdir()) == files and all("def f(:" not in f.read_text() for f in files)

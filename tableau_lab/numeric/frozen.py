@@ -24,11 +24,12 @@ import builtins
 import hashlib
 import importlib
 import inspect
+import linecache
 from dataclasses import dataclass, field
 
 from .problem_functions import ProblemError, ProblemFunctions
 
-__all__ = ["ProblemInfo", "FrozenProblem", "freeze"]
+__all__ = ["ProblemInfo", "FrozenProblem", "freeze", "generated_text", "function_from_text"]
 
 _HOMES = ("numpy", "mpmath", "math", "builtins")   # where generated code's globals may come from
 
@@ -55,11 +56,6 @@ class FrozenProblem(ProblemFunctions):
         self.constants, self.y0, self.codes = list(constants), y0, dict(codes)
         self._functions = {}
 
-    def __getstate__(self):
-        state = dict(self.__dict__)
-        state["_functions"] = {}
-        return state
-
     def _code(self, what):
         if what not in self._functions:
             if what not in self.codes:
@@ -68,10 +64,18 @@ class FrozenProblem(ProblemFunctions):
                 raise ProblemError(f"problem {self.problem.name!r}: {what!r} was not frozen with it "
                                    f"(freeze(..., {hint}))")
             source, homes = self.codes[what]
-            ns = {name: getattr(importlib.import_module(mod), attr) for name, (mod, attr) in homes.items()}
-            exec(compile(source, f"<frozen {self.problem.name} {what}>", "exec"), ns)
-            self._functions[what] = ns["_lambdifygenerated"]
+            self._functions[what] = function_from_text(source, homes, f"<frozen {self.problem.name} {what}>")
         return self._functions[what]
+
+
+def function_from_text(source: str, homes: dict, label: str):
+    """The generated function of :func:`generated_text`'s (source, homes), compiled again: its
+    globals taken from the modules ``homes`` names (name -> (module, attribute)); its text kept
+    under ``label`` for ``inspect.getsource`` (as lambdify keeps it), so it can be frozen again."""
+    ns = {name: getattr(importlib.import_module(mod), attr) for name, (mod, attr) in homes.items()}
+    linecache.cache[label] = (len(source), None, source.splitlines(True), label)
+    exec(compile(source, label, "exec"), ns)
+    return ns["_lambdifygenerated"]
 
 
 def _names(code) -> set:
@@ -95,7 +99,9 @@ def _home(name, obj) -> tuple:
     raise ProblemError(f"generated code calls {name!r}, which is not a numpy, mpmath or math function")
 
 
-def _text(fn) -> tuple:
+def generated_text(fn) -> tuple:
+    """(source, homes) of a function lambdify generated: its text and where each global it calls
+    comes from (name -> (module, attribute)), for :func:`function_from_text`."""
     g = fn.__globals__
     homes = {n: _home(n, g[n]) for n in sorted(_names(fn.__code__)) if n in g and not hasattr(builtins, n)}
     return inspect.getsource(fn), homes
@@ -112,7 +118,7 @@ def freeze(cp, *, invariants=(), gradients=(), jac=False, derivatives: int = 0, 
     wanted += [("gradient", k) for k in gradients] + [("derivative", m) for m in range(1, derivatives)]
     for k in tuple(invariants) + tuple(gradients):
         cp._known_invariant(k)
-    codes = {w: _text(cp._code(w)) for w in wanted}
+    codes = {w: generated_text(cp._code(w)) for w in wanted}
     files = {}
     if kernels:
         from .kernels import write_problem_module

@@ -471,7 +471,8 @@ def step(nm: NumericMethod, prob, Y, h, *, masks=None, solver: str = "newton"):
         d = Y.shape[1]
         masks = component_masks(prob, d) if masks is None else masks
         pk = kernels.Pack(nm, prob, h, masks, mode=_mode(solver, nm, prob, Y[0], h, masks), compensated=False)
-        out = kernels.drive(kernels.pure_loop(prob, a.name), pk, Y, 1, 1, record=lambda n, Y: None)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: a status, below
+            out = kernels.drive(kernels.pure_loop(prob, a.name), pk, Y, 1, 1, record=lambda n, Y: None)
         if out.status:
             raise IntegrationError(f"one step of size {float(h):.6g}: the loop stopped with status {out.status}")
         return out.Y

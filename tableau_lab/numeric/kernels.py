@@ -473,7 +473,9 @@ class _Namespace:
 def pure_loop(prob, arith_name: str):
     """:data:`stepcore.LOOP <.stepcore.LOOP>`'s functions run in Python, bound to :mod:`ops_f64`
     (float64) or :mod:`ops_mp` (mpmath) and the functions of ``prob`` (a compiled or frozen
-    problem): the same function objects, with a namespace of their own for their globals."""
+    problem): the same function objects, with a namespace of their own for their globals (float64:
+    elements read as Python floats, :data:`~.ops_f64.PURE_READS`; a generated problem's code
+    called as it is, inside the run's ``np.errstate``)."""
     from . import ops_f64, ops_mp, stepcore
     ops = ops_f64 if arith_name == "float64" else ops_mp
     ns = {k: v for k, v in vars(L).items() if not k.startswith("_")}
@@ -481,11 +483,49 @@ def pure_loop(prob, arith_name: str):
               __builtins__=__builtins__)
     ns.update({r.__name__: r for r in stepcore.RECORDS})
     ns.update({name: getattr(ops, name) for name in ops_f64.OPERATIONS})
+    if ops is ops_f64:
+        ns.update(ops_f64.PURE_READS)
     ns.update({fn.__name__: FunctionType(fn.__code__, ns, fn.__name__, fn.__defaults__, fn.__closure__)
                for fn in stepcore.LOOP})
     P = getattr(prob, "problem", None)        # a bare object with f (and jac) will do too
     names = tuple(P.invariants) if P is not None else ()
     k = len(P.q) if P is not None and P.kind == "hamiltonian" else 0
+    if arith_name == "float64" and getattr(prob, "backend", None) == "numpy" and hasattr(prob, "generated"):
+        ns.update(_direct_functions(prob, names, k))
+    else:
+        ns.update(_wrapped_functions(prob, names, k))
+    return _Namespace(ns, prob)
+
+
+def _direct_functions(prob, names: tuple, k: int) -> dict:
+    """The problem's functions for the float64 pure loop: its generated code called as it is
+    (:meth:`~.problem_functions.ProblemFunctions.generated`, looked up by name; Jacobian,
+    invariants and gradients generated on first use), inside the run's ``np.errstate``."""
+    code, c, f = prob.generated, prob.constants, prob.generated("f")
+
+    def f_(y, _c, out, i):
+        out[i] = f(y, c)
+
+    def jac_(y, _c, out):
+        out[:, :] = code("jac")(y, c)
+
+    def fq_(y, _c, out, i):
+        out[i, :k] = f(y, c)[:k]
+
+    def fp_(y, _c, out, i):
+        out[i, k:] = f(y, c)[k:]
+
+    def inv_(j, y, _c, out):
+        out[0] = code(("invariant", names[j]))(y, c)
+
+    def grad_(j, y, _c, out, i):
+        out[i] = code(("gradient", names[j]))(y, c)
+
+    return dict(f_=f_, jac_=jac_, fq_=fq_, fp_=fp_, inv_=inv_, grad_=grad_)
+
+
+def _wrapped_functions(prob, names: tuple, k: int) -> dict:
+    """The problem's functions through ``prob.f`` … (mpmath at its precision, bare objects)."""
 
     def f_(y, c, out, i):
         out[i] = prob.f(y)
@@ -505,8 +545,7 @@ def pure_loop(prob, arith_name: str):
     def grad_(j, y, c, out, i):
         out[i] = prob.gradient(names[j], y)
 
-    ns.update(f_=f_, jac_=jac_, fq_=fq_, fp_=fp_, inv_=inv_, grad_=grad_)
-    return _Namespace(ns, prob)
+    return dict(f_=f_, jac_=jac_, fq_=fq_, fp_=fp_, inv_=inv_, grad_=grad_)
 
 
 # -- the loop's arrays ---------------------------------------------------------------------------

@@ -67,9 +67,9 @@ PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 
 # -- the loop chosen by predicted cost (kernel="cost": integrate() from Python; choose_loop) -------
 # measured by `python benchmarks/loop_choice.py` on this 2-core machine (docs/speed.md, "Which loop"):
-PYTHON_STAGE_SECONDS = 10e-6    # one stage of an explicit method in the pure float64 loop: this …
-PYTHON_COMPONENT_SECONDS = 5e-6     # … plus this per state component (RK4: 76-85 µs/step at d = 2, 121 at d = 4)
-PYTHON_IMPLICIT_FACTOR = 4.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
+PYTHON_STAGE_SECONDS = 5e-6     # one stage of an explicit method in the pure float64 loop: this …
+PYTHON_COMPONENT_SECONDS = 3e-6     # … plus this per state component (RK4: 27-40 µs/step at d = 2, 43-111 at d = 4)
+PYTHON_IMPLICIT_FACTOR = 5.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
@@ -138,8 +138,8 @@ def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
     input values multiply its work), each ``PYTHON_STAGE_SECONDS`` + d·``PYTHON_COMPONENT_SECONDS``,
     ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method (measured: module constants).
 
-    >>> round(python_step_seconds(2, 1, 2, explicit=False) * 1e6)       # Gauss 2, d = 2: measured 200-260 µs
-    160
+    >>> round(python_step_seconds(2, 1, 2, explicit=False) * 1e6)       # Gauss 2, d = 2: measured 77-122 µs
+    110
     """
     return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
 

@@ -5,9 +5,10 @@ Every arithmetic module (this one, :mod:`ops_dd`, :mod:`ops_mp`) defines the fun
 :data:`OPERATIONS`, with the same meaning; :mod:`kernels` writes this module's (each one's
 source whole), with the core, into one compiled module per problem (``prim`` becomes numba's
 ``njit``), or binds them to the core's functions as they are (the pure loop, where the
-decorators do nothing).  The names: ``w*`` work on working-precision values (``wadd`` a + b,
-``wmadd`` acc + a·b …), ``wlo`` rounds one to the low precision, ``g1``/``g2``/``g3`` read an
-element of a 1-, 2- or 3-index array of working values and ``p1``/``p2``/``p3`` write one
+decorators do nothing; its element reads are :data:`PURE_READS`).  The names: ``w*`` work on
+working-precision values (``wadd`` a + b, ``wmadd`` acc + a·b …), ``wlo`` rounds one to the low
+precision, ``g1``/``g2``/``g3`` read an element of a 1-, 2- or 3-index array of working values
+and ``p1``/``p2``/``p3`` write one
 (a double-double array has one more axis: hi and lo), ``wvec``/``wmat`` allocate working
 arrays and ``lovec``/``lomat`` low-precision ones.  In float64 each operation is one IEEE-754
 operation, rounded to nearest, not fused (numba compiles without contraction, as the C loop
@@ -146,3 +147,9 @@ def wmat(n, m):
 
 
 lovec, lomat = wvec, wmat        # the low precision is float64 too
+
+# The pure loop reads elements as Python floats (ndarray.item: the same double), whose arithmetic
+# is IEEE-754 double rounded to nearest as numpy's scalars' and numba's, and in the interpreter
+# several times cheaper than numpy's scalars' (g1 … g3 above are what a compiled module uses).
+# Stepcore divides only by guarded values (no ZeroDivisionError for a Python float).
+PURE_READS = {"g1": np.ndarray.item, "g2": np.ndarray.item, "g3": np.ndarray.item}

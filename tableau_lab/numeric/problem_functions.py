@@ -39,6 +39,19 @@ class ProblemFunctions:
     def _code(self, what):
         raise NotImplementedError
 
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        for k in ("_functions", "_composed"):   # generated and composed functions: made again where unpickled
+            if k in state:
+                state[k] = {}
+        return state
+
+    def generated(self, what):
+        """The generated function of ``what`` (as ``_code``) as it is: fn(y, constants, *vectors),
+        returning lists (a number for an invariant), without conversions or a floating-point error
+        state: for a loop that calls it many times inside its own (:func:`.kernels.pure_loop`)."""
+        return self._code(what)
+
     # -- conversions --------------------------------------------------------------------------
     def _vector(self, values):
         if self.backend == "numpy":
@@ -53,11 +66,15 @@ class ProblemFunctions:
             y = [y[i] for i in range(y.rows * y.cols)]
         return self._vector(y)
 
-    def _call(self, fn, y, *extra):
+    def _evaluating(self):
+        """Where generated code runs: numpy's error state (inf/NaN: the driver reports them) or
+        mpmath's precision."""
         if self.backend == "numpy":
-            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):   # inf/NaN: the driver reports them
-                return fn(self._input(y), self.constants, *extra)
-        with mpmath.workdps(self.dps):
+            return np.errstate(over="ignore", invalid="ignore", divide="ignore")
+        return mpmath.workdps(self.dps)
+
+    def _call(self, fn, y, *extra):
+        with self._evaluating():
             return fn(self._input(y), self.constants, *extra)
 
     def _known_invariant(self, name):
@@ -97,12 +114,19 @@ class ProblemFunctions:
         """A function y -> {tree: F(t)(y)} for every rooted tree t with |t| ≤ order (trees of
         ``analysis.trees``).  Only the derivatives f⁽ᵐ⁾ are generated; F(t) is composed
         numerically, children first, so no expression grows with the tree."""
+        composed = self.__dict__.setdefault("_composed", {})
+        if order in composed:               # built once per order: a run calls it at every record
+            return composed[order]
         trees = list(trees_up_to(order))
-        derivs = {m: self.derivative(m) for m in {len(t) for t in trees} if m}
+        codes = {m: self._code(("derivative", m)) if m else self._code("f") for m in {len(t) for t in trees}}
+        c, vector = self.constants, self._vector
 
         def F(y):
             out = {}
-            for t in trees:                       # by order: children come first
-                out[t] = self.f(y) if not t else derivs[len(t)](y, *(out[c] for c in t))
+            with self._evaluating():              # once: the derivatives' vectors are out's, converted
+                y = self._input(y)
+                for t in trees:                   # by order: children come first
+                    out[t] = vector(codes[len(t)](y, c, *(out[k] for k in t)))
             return out
+        composed[order] = F
         return F
