@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import sys
@@ -51,7 +52,7 @@ def cell(cache: str) -> dict:
     done = subprocess.run([sys.executable, "-c", CELL], env=env, capture_output=True, text=True, check=True)
     out = json.loads(done.stdout.strip().splitlines()[-1])
     notices = [line for line in done.stderr.splitlines() if "compiling" in line]
-    out["notices"] = {p: sum(f" for {p} " in line for line in notices) for p in PROBLEMS}
+    out["notices"] = {p: sum(bool(re.search(rf"\b{p}\b", line)) for line in notices) for p in PROBLEMS}
     return out
 
 

@@ -55,7 +55,7 @@ def test_background_compile_then_switch(monkeypatch, capsys):
     monkeypatch.setattr(background, "_ALL", {})   # as in a fresh process
     monkeypatch.setattr(background, "_TOLD", set())
     nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("pendulum")
-    steps, inv = 2000, tuple(cp.problem.invariants)
+    steps, inv = 6000, tuple(cp.problem.invariants)   # predicted above a cache load in Python
     started = []
     real_start = background.start
 
@@ -76,3 +76,27 @@ def test_background_compile_then_switch(monkeypatch, capsys):
     assert err.count("in the background (one-off, cached in") == 1 and "pendulum" in err
     background.announce(cp.problem, "f64")        # once per problem and arithmetic in a process
     assert capsys.readouterr().err == ""
+
+
+def test_cost_rule_takes_the_shared_loop_when_built(monkeypatch):
+    """kernel="cost", the specialised loop not compiled but the linked loop shared by every problem
+    built (kernels.linked_state): the run goes on the linked loop (its record says so), not in
+    Python and not through a compile; with the shared loop not built either, a background compile."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "1")
+    nm, cp, inv = _glm_on_kepler()
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, disk=True, **k: "cold" if disk else None)
+    monkeypatch.setattr(kernels, "linked_state", lambda shape: "cached")
+    asked = []
+
+    def linked_loop(problem, shape):                # the decision only: the loop itself is test_kernels.py's
+        asked.append(shape)
+        return kernels.pure_loop(cp, "float64")
+    monkeypatch.setattr(kernels, "linked_loop", linked_loop)
+    run = integrate(nm, cp, cp.y0, 0.01, 3000, kernel="cost", invariants=inv)
+    assert run.loop == "linked" and "shared by every problem" in run.loop_why
+    assert len(asked) == 1 and (asked[0].s, asked[0].r, asked[0].d) == (4, 3, 4)
+    monkeypatch.setattr(kernels, "linked_state", lambda shape: "cold")
+    monkeypatch.setattr(background, "possible", lambda: False)
+    short = integrate(nm, cp, cp.y0, 0.01, 300, kernel="cost", invariants=inv)
+    assert short.loop == "python"                  # the cost rule: 300 steps in Python, cheaper than a compile

@@ -412,7 +412,7 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
     shape = kernels.run_shape(pk)
     python = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
-    if state is None and shape is not None and steps * python > limits.COMPILE_CACHED_SECONDS:
+    if state is None and steps * python > limits.COMPILE_CACHED_SECONDS:
         state = kernels.compile_state(prob.problem, "f64", shape)
         if state == "cold":
             quick = _without_compile(nm, prob, pk, steps, d, python * steps, shape)
@@ -427,7 +427,7 @@ def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
     """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
     linked loop when built and worth its problem's entry points, the Python loop with the
     specialised loop compiling in the background when worth it, else None (the cost rule)."""
-    if seconds > limits.LINKED_PROBLEM_SECONDS and kernels.linked_state(shape) != "cold":
+    if shape is not None and seconds > limits.LINKED_PROBLEM_SECONDS and kernels.linked_state(shape) != "cold":
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
                           "in Python, the specialised loop not compiled"), None
     if not (background.worth(seconds) and background.possible()):

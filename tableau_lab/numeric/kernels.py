@@ -383,8 +383,17 @@ def _entry(problem, slot: str, nc: int) -> int:
         pname, ppath = files["f64"] if "f64" in files else write_problem_module(problem, "f64")
         load_module(pname, ppath)
         text = entry_source(slot, pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
-        _BY_KEY[key] = load_module(*_write("tableau_lab_entry", text)).ADDRESS
+        name, path = _write("tableau_lab_entry", text)
+        if _disk_state(cache_dir(), name, "entry") == "cold" and problem.key not in _ANNOUNCED:
+            _ANNOUNCED.add(problem.key)
+            print(f"tableau-lab: compiling the functions of {getattr(problem, 'name', 'this problem')} for the loops "
+                  f"shared by every problem — one-off, cached in {cache_dir()} (about {L.LINKED_PROBLEM_SECONDS:.0f} s "
+                  "a function) ...", file=sys.stderr, flush=True)
+        _BY_KEY[key] = load_module(name, path).ADDRESS
     return _BY_KEY[key]
+
+
+_ANNOUNCED: set = set()    # problem keys whose entry points' compile was announced in this process
 
 
 def shared_dir() -> Path:
