@@ -427,7 +427,8 @@ def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
     """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
     linked loop when built and worth its problem's entry points, the Python loop with the
     specialised loop compiling in the background when worth it, else None (the cost rule)."""
-    if shape is not None and seconds > limits.LINKED_PROBLEM_SECONDS and kernels.linked_state(shape) != "cold":
+    linked = limits.COMPILE_CACHED_SECONDS + limits.LINKED_PROBLEM_SECONDS      # its load and the problem's compile
+    if shape is not None and seconds > linked and kernels.linked_state(shape) != "cold":
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
                           "in Python, the specialised loop not compiled"), None
     if not (background.worth(seconds) and background.possible()):

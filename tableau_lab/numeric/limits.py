@@ -184,10 +184,10 @@ def build_here(steps: int, s: int, r: int, explicit: bool) -> tuple:
     never imported; a short run that goes compiled from the disk cache pays sympy and numba in one
     process, briefly).  Else in a child process, as a compiled run's memory wants.
 
-    >>> build_here(1000, 2, 1, explicit=False)[0], build_here(10**5, 2, 1, explicit=False)[0]
+    >>> build_here(1000, 2, 1, explicit=False)[0], build_here(10**6, 2, 1, explicit=False)[0]
     (True, False)
-    >>> print(build_here(10**5, 2, 1, explicit=False)[1])
-    a child process builds it: 100000 steps predicted at 12 s or more in Python, more than the compile (about 8 s)
+    >>> print(build_here(10**6, 2, 1, explicit=False)[1])
+    a child process builds it: 1000000 steps predicted at 80 s or more in Python, more than the compile (about 8 s)
     """
     low = steps * python_step_seconds(s, r, 1, explicit)
     if low <= COMPILE_COLD_SECONDS:
