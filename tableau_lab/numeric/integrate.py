@@ -412,14 +412,14 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
     shape = kernels.run_shape(pk)
     python = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
-    if state is None and steps * python > limits.COMPILE_CACHED_SECONDS:
+    if state is None and steps * python > limits.load_seconds():
         state = kernels.compile_state(prob.problem, "f64", shape)
         if state == "cold":
             quick = _without_compile(nm, prob, pk, steps, d, python * steps, shape)
             if quick is not None:
                 return quick
     compiled, why = limits.choose_loop(
-        steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)))
+        steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)), limits.load_seconds())
     return compiled, why, None
 
 
@@ -427,7 +427,7 @@ def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
     """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
     linked loop when built and worth its problem's entry points, the Python loop with the
     specialised loop compiling in the background when worth it, else None (the cost rule)."""
-    linked = limits.COMPILE_CACHED_SECONDS + limits.LINKED_PROBLEM_SECONDS      # its load and the problem's compile
+    linked = limits.load_seconds() + limits.LINKED_PROBLEM_SECONDS      # its load and the problem's compile
     if shape is not None and seconds > linked and kernels.linked_state(shape) != "cold":
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
                           "in Python, the specialised loop not compiled"), None

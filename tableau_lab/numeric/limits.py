@@ -72,6 +72,7 @@ PYTHON_COMPONENT_SECONDS = 3e-6     # … plus this per state component (RK4: 27
 PYTHON_IMPLICIT_FACTOR = 5.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
+NUMBA_START_SECONDS = 0.6      # a process's first: importing numba (0.3 s) and its target's set-up at the first load
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
 LINKED_PROBLEM_SECONDS = 1.0    # a problem's entry points for the linked loop, compiled (kernels.linked_loop: ~1 s)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
@@ -144,10 +145,17 @@ def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
     return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
 
 
-def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
+def load_seconds() -> float:
+    """What loading a compiled loop from numba's disk cache costs this process:
+    ``COMPILE_CACHED_SECONDS``, plus ``NUMBA_START_SECONDS`` while numba is not imported yet."""
+    import sys
+    return COMPILE_CACHED_SECONDS + (0.0 if "numba" in sys.modules else NUMBA_START_SECONDS)
+
+
+def choose_loop(steps: int, python_step: float, compile_state, load: float = COMPILE_CACHED_SECONDS) -> tuple:
     """(compiled?, why): the compiled loop when the predicted Python time, ``steps`` ×
     ``python_step`` seconds, exceeds what the compiled loop must pay first — nothing when it is
-    "loaded" in this process, ``COMPILE_CACHED_SECONDS`` when numba's disk cache has it
+    "loaded" in this process, ``load`` (:func:`load_seconds`) when numba's disk cache has it
     ("cached"), ``COMPILE_COLD_SECONDS`` for a compile ("cold"); its steps, 100-1000× cheaper,
     are neglected.  Else the Python loop, which starts at once.  ``compile_state`` is one of
     those words (:func:`~.kernels.compile_state`), or a function returning it, asked only when
@@ -162,9 +170,9 @@ def choose_loop(steps: int, python_step: float, compile_state) -> tuple:
     """
     python = steps * python_step
     if callable(compile_state):
-        compile_state = ("cached" if python <= COMPILE_CACHED_SECONDS else "cold" if python > COMPILE_COLD_SECONDS
+        compile_state = ("cached" if python <= load else "cold" if python > COMPILE_COLD_SECONDS
                          else compile_state())
-    cost = {"loaded": 0.0, "cached": COMPILE_CACHED_SECONDS, "cold": COMPILE_COLD_SECONDS}[compile_state]
+    cost = {"loaded": 0.0, "cached": load, "cold": COMPILE_COLD_SECONDS}[compile_state]
     what = {"loaded": "the loop already compiled in this process", "cached": "loading the cached compiled loop",
             "cold": "the compile"}[compile_state]
     if python > cost:
