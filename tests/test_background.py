@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from tableau_lab.exact.tableau_json import load
-from tableau_lab.numeric import background, kernels
+from tableau_lab.numeric import background, kernels, limits
 from tableau_lab.numeric.codegen import compile_problem
 from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import integrate
@@ -52,6 +52,8 @@ def test_background_compile_then_switch(monkeypatch, capsys):
     monkeypatch.setenv("TABLEAU_LAB_BACKGROUND", "1")
     monkeypatch.setattr(background, "worth", lambda seconds: True)
     monkeypatch.setattr(kernels, "compile_state", lambda *a, disk=True, **k: "cold" if disk else None)
+    monkeypatch.setattr(kernels, "linked_state", lambda shape: "cold")    # no shared loop built either
+    monkeypatch.setattr(limits, "NUMBA_START_SECONDS", 0.0)    # as if numba were imported: a load costs 0.5 s
     monkeypatch.setattr(background, "_ALL", {})   # as in a fresh process
     monkeypatch.setattr(background, "_TOLD", set())
     nm, cp = to_numeric(load(METHODS / "gauss2.json")), compile_problem("pendulum")

@@ -427,8 +427,9 @@ def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
     """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
     linked loop when built and worth its problem's entry points, the Python loop with the
     specialised loop compiling in the background when worth it, else None (the cost rule)."""
-    linked = limits.load_seconds() + limits.LINKED_PROBLEM_SECONDS      # its load and the problem's compile
-    if shape is not None and seconds > linked and kernels.linked_state(shape) != "cold":
+    if shape is not None and seconds > limits.load_seconds() and kernels.linked_state(shape) != "cold" and (
+            seconds > limits.load_seconds() + limits.LINKED_PROBLEM_SECONDS        # + the problem's entry points
+            or kernels.entries_state(prob.problem, shape, len(pk.c), len(pk.track) > 0) != "cold"):
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
                           "in Python, the specialised loop not compiled"), None
     if not (background.worth(seconds) and background.possible()):

@@ -396,6 +396,23 @@ def _entry(problem, slot: str, nc: int) -> int:
 _ANNOUNCED: set = set()    # problem keys whose entry points' compile was announced in this process
 
 
+def entries_state(problem, shape, nc: int, tracks: bool) -> str:
+    """"loaded", "cached" or "cold" (:func:`compile_state`'s words) for the entry points of
+    ``problem`` (``nc`` constants) that a linked run of ``shape`` calls (:func:`~.linked.slots_needed`;
+    ``tracks``: invariants tracked).  Writes nothing."""
+    from .linked import entry_source, slots_needed
+    wanted = slots_needed(shape.mode, bool(shape.projects), tracks)
+    if all((str(cache_dir()), problem.key, "entry", slot, nc) in _BY_KEY for slot in wanted):
+        return "loaded"
+    files = getattr(problem, "kernel_files", None) or {}
+    pname = (files["f64"][0] if "f64" in files
+             else _module_name("tableau_lab_problem", problem_module_source(problem, "f64")))
+    stamp = _stamp(["linked.py", "jit.py"])
+    names = [_module_name("tableau_lab_entry", entry_source(slot, pname, problem.dimension, nc, problem.separable,
+                                                            stamp)) for slot in wanted]
+    return "cached" if all(_disk_state(cache_dir(), n, "entry") == "cached" for n in names) else "cold"
+
+
 def shared_dir() -> Path:
     """The folder of the modules that serve every problem (the linked loops, :func:`linked_loop`):
     ``$TABLEAU_LAB_SHARED_CACHE``, else ``~/.cache/tableau_lab/shared`` — apart from the problems'
