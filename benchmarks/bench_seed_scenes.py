@@ -1,0 +1,65 @@
+"""The 17 seed scenes (``reports/scenes/*.json``) from an empty compile cache and again warm:
+issue 32's bound is cold ≤ 1.5× warm.
+
+    python benchmarks/bench_seed_scenes.py [--tree CHECKOUT] [--shared DIR | --fresh-shared]
+
+One ``tableau-lab run reports/scenes/*.json --out DIR`` with a fresh, empty ``TABLEAU_LAB_CACHE``
+("cold"), then the same command on the cache it left ("warm"); wall seconds of each and their
+ratio.  The loops shared by every problem (``tableau-lab warm-up``) live apart from that cache:
+``--shared DIR`` uses (and, if empty, first builds with ``tableau-lab warm-up``, timed apart) the
+shared loops in DIR; ``--fresh-shared`` gives the cold run an empty shared folder too — an
+installation's very first run.  ``--tree``: the checkout on PYTHONPATH (default this one; an
+older checkout has no shared loops).  A benchmark, not a test.
+"""
+from __future__ import annotations
+
+import argparse
+import glob
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def timed(cmd: list, env: dict, cwd: Path) -> float:
+    """Wall seconds of ``cmd`` (its output discarded; exit 4, a degraded run, is the seed's own)."""
+    t = time.perf_counter()
+    done = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    if done.returncode not in (0, 4):
+        sys.exit(f"{' '.join(cmd[:4])} …: exit {done.returncode}\n{done.stderr[-2000:]}")
+    return time.perf_counter() - t
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tree", default=str(ROOT))
+    group = ap.add_mutually_exclusive_group()
+    group.add_argument("--shared", help="the shared loops' folder (built first if empty)")
+    group.add_argument("--fresh-shared", action="store_true", help="an empty shared folder for the cold run")
+    args = ap.parse_args(argv)
+    tree = Path(args.tree).resolve()
+    scenes = tree / "reports" / "scenes"
+    files = sorted(Path(p).name for p in glob.glob(str(scenes / "*.json")))
+    with tempfile.TemporaryDirectory(prefix="tableau_lab_bench_scenes_") as tmp:
+        env = dict(os.environ, PYTHONPATH=str(tree), TABLEAU_LAB_CACHE=str(Path(tmp) / "cache"))
+        cmd = [sys.executable, "-m", "tableau_lab", "run", *files, "--out"]
+        if args.shared or args.fresh_shared:
+            env["TABLEAU_LAB_SHARED_CACHE"] = args.shared or str(Path(tmp) / "shared")
+        if args.shared and not any(Path(args.shared).glob("*.py")):
+            built = timed([sys.executable, "-m", "tableau_lab", "warm-up"], env, scenes)
+            print(f"warm-up (the shared loops, once): {built:.1f} s")
+        cold = timed(cmd + [str(Path(tmp) / "out1")], env, scenes)
+        warm = timed(cmd + [str(Path(tmp) / "out2")], env, scenes)
+    shared = ("built" if args.shared else "empty (a fresh installation)" if args.fresh_shared
+              else f"the default ({os.environ.get('TABLEAU_LAB_SHARED_CACHE', '~/.cache/tableau_lab/shared')})")
+    print(f"{len(files)} seed scenes, {tree}, shared loops {shared}:")
+    print(f"  cold {cold:.1f} s, warm {warm:.1f} s: cold/warm {cold / warm:.2f} (issue 32: ≤ 1.5)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
