@@ -41,11 +41,18 @@ METHODS = sorted({key.split()[0] for key in OLD})      # the methods the previou
 CASES = [(m, p) for m in METHODS for p in ("pendulum", "kepler")]
 CASES += [(m, p) for m in ("gauss2", "gauss3", "glm43")
           for p in ("harmonic", "kepler_unperturbed", "henon_heiles", "fpu")]
-# the outer solar system once: its compiled loop costs 25-75 s of compilation per module on a cold
-# cache (30 coordinates, a dense Jacobian), about a tenth of the suite, for the same step core
+# the outer solar system once: even its entry points for the linked loop take seconds (30 coordinates)
 CASES += [("gauss3", "outer_solar_system")]
 STEPS = 10 ** 5
 NEW_START = {"leapfrog", "adams_bashforth2"}           # starting method changed after 1977dd2 (issue 29, item 6)
+
+
+@pytest.fixture(autouse=True)
+def _linked(monkeypatch):
+    """The compiled loop shared by every problem (numeric/linked.py): bit for bit the loop for any
+    shape and the specialised ones (tests/test_kernels.py), and a new problem costs only its entry
+    points (about a second each) instead of a loop module (25-75 s for the outer solar system)."""
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "linked")
 
 
 def _run(method, problem):
