@@ -77,27 +77,14 @@ class RunJob:
             out["final"] = {"q": final[:self.q_count], "p": final[self.q_count:]}
         else:
             out["final"] = {"y": final}
-        why = run.loop_why or _loop_why(run, self.precision)
         out.update(max_invariant_error=run.max_invariant_error(), nfev=run.nfev,  # seconds: without the compile
                    newton_iterations=run.newton_iterations, projection_iterations=run.projection_iterations,
-                   seconds=round(run.seconds, 4), loop=run.loop, loop_why=why,
+                   seconds=round(run.seconds, 4), loop=run.loop, loop_why=run.loop_why,
                    compile_seconds=round(run.compile_seconds, 3))
         if run.parasitic_components:
             out["max_parasitic_component"] = {k: max(v) for k, v in run.parasitic_components.items()}
         out["degraded"] = run.degraded() or None        # why the run failed in substance (Run.degraded)
         return out
-
-
-def _loop_why(run, precision: str) -> str:
-    """Why the loop ran where the cost rule was not asked (``Run.loop_why`` empty)."""
-    if precision == "dd":
-        return "precision dd runs compiled"
-    if precision != "float64":
-        return f"precision {precision} runs in Python"
-    if run.loop == "python":
-        return ("TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
-                else "numba is not installed")
-    return "the compiled loop"
 
 
 def method_shape(method) -> tuple | None:

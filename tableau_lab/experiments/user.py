@@ -599,7 +599,7 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         loop = {"compiled": "compiled with numba", "linked": "compiled with numba (the loop shared by every problem)",
                 "python, then compiled": f"Python, then compiled with numba after step {run.switched_at}"
                 }.get(run.loop, "Python")
-        why = _loop_why(run, kernel, precision, a, traced)
+        why = _loop_why(run, traced)
     if nm.r > 1 and run_start == "naive" and nm.starting and isinstance(cp, _Callable):
         why += "; a GLM with a callable f starts naively (y^[0] = u y0): its order may drop to the naive start's"
     states = np.array([a.to_float(v)[:keep] for v in run.values])
@@ -657,16 +657,6 @@ def _callable_f(f, y0, invariants, trace, precision, a, t0, project, timeout) ->
     return None, 0, (cp, z0, names, d, f"f not traceable ({why}): a Python callable runs in the Python step loop")
 
 
-def _loop_why(run, kernel, precision, a, traced) -> str:
-    """Why a problem's run took the loop it took (integrate's notice)."""
-    import os
-
-    from ..numeric.kernels import available
-    why = (run.loop_why if run.loop_why
-           else f"the step loop generated from the problem's symbols ({precision})" if run.loop == "compiled"
-           else "asked for: kernel='python'" if kernel == "python"
-           else f"precision {precision} runs in the Python loop (mpmath)" if a.dtype is not float
-           else "numba is not installed" if not available()
-           else "asked for: TABLEAU_LAB_KERNEL=python" if os.environ.get("TABLEAU_LAB_KERNEL") == "python"
-           else "the Python loop")
-    return f"f traced to expressions; {why}" if traced else why
+def _loop_why(run, traced) -> str:
+    """Why a problem's run took the loop it took (integrate's notice; ``Run.loop_why``)."""
+    return f"f traced to expressions; {run.loop_why}" if traced else run.loop_why

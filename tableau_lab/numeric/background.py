@@ -46,21 +46,15 @@ def worth(python_seconds: float) -> bool:
 
 class Compile:
     """One background compile: the generated modules' (name, path), the argument tuple whose
-    types numba compiles ``run`` for, the child process once started, and when it ended
-    (``ok``: its exit status was 0)."""
+    types numba compiles ``run`` for, the child process once started, and whether it ended well
+    (``ok``: its exit status was 0; None while it runs or waits)."""
 
-    def __init__(self, files: tuple, args: tuple, what: str):
-        self.files, self.args, self.what = files, args, what
+    def __init__(self, files: tuple, args: tuple):
+        self.files, self.args = files, args
         self.proc: subprocess.Popen | None = None
-        self.started = self.ended = 0.0
         self.ok: bool | None = None
 
-    @property
-    def name(self) -> str:
-        return self.files[2]
-
     def launch(self) -> None:
-        self.started = time.perf_counter()
         self.proc = subprocess.Popen([sys.executable, "-m", "tableau_lab.numeric.background"],
                                      stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
@@ -68,15 +62,16 @@ class Compile:
             self.proc.stdin.write(pickle.dumps((self.files, self.args)))
             self.proc.stdin.close()
         except OSError:                      # the child died at once: the run stays in Python
-            self.ok, self.ended = False, time.perf_counter()
+            self.ok = False
 
     def poll(self) -> bool | None:
         """True once compiled (and in the disk cache), False if the compile failed, None while it runs."""
         if self.ok is None and self.proc is not None and self.proc.poll() is not None:
-            self.ok, self.ended = self.proc.returncode == 0, time.perf_counter()
+            self.ok = self.proc.returncode == 0
         return self.ok
 
 
+MAX_TASK_BYTES = 2 ** 20    # the task a child reads: module names and paths, and the arguments of one step (a few kB)
 _ALL: dict = {}            # module name -> Compile, this process's, started or queued
 
 
@@ -96,7 +91,7 @@ def _advance() -> None:
             running.append(c)
 
 
-def start(problem, kind: str, shape, args: tuple, what: str = "") -> Compile:
+def start(problem, kind: str, shape, args: tuple) -> Compile:
     """The background compile of the loop of ``problem`` for ``kind`` and ``shape``
     (:func:`kernels.loop_files <.kernels.loop_files>`, written now), for arguments of the types
     of ``args`` (a :class:`~.kernels.LoopState`'s ``args(0, 0)``): started, or queued behind the
@@ -104,7 +99,7 @@ def start(problem, kind: str, shape, args: tuple, what: str = "") -> Compile:
     files = kernels.loop_files(problem, kind, shape)
     c = _ALL.get(files[2])
     if c is None:
-        c = _ALL[files[2]] = Compile(files, args, what)
+        c = _ALL[files[2]] = Compile(files, args)
         announce(problem, kind)
     _advance()
     return c
@@ -120,9 +115,10 @@ def announce(problem, kind: str) -> None:
     if key in _TOLD:
         return
     _TOLD.add(key)
-    print(f"tableau-lab: compiling the step loop{'' if kind == 'f64' else ' (' + kind + ')'} for "
-          f"{getattr(problem, 'name', 'this problem')} in the background (one-off, cached in {kernels.cache_dir()}); "
-          "running in Python meanwhile", file=sys.stderr, flush=True)
+    where = kernels.cached_in(kernels.cache_dir())
+    kernels.notice(f"compiling the step loop{'' if kind == 'f64' else ' (' + kind + ')'} for "
+                   f"{getattr(problem, 'name', 'this problem')} in the background ({where}); "
+                   "running in Python meanwhile")
 
 
 def switch_when_ready(c: Compile, problem, kind: str, shape):
@@ -153,7 +149,7 @@ def _child() -> None:
     and loop modules by path and call ``run`` once with no step (numba compiles it and writes
     its disk cache).  It dies with the process that started it."""
     die_with_parent()
-    (pname, ppath, name, path), args = pickle.loads(sys.stdin.buffer.read())
+    (pname, ppath, name, path), args = pickle.loads(sys.stdin.buffer.read(MAX_TASK_BYTES))
     kernels.load_module(pname, ppath)
     kernels.load_module(name, path).run(*args)
 

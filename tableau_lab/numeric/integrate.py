@@ -68,7 +68,7 @@ class Run:
     predicted_growth: dict = field(default_factory=dict)  # ζ -> ∫₀ᵗ max Re eig(μ f′(ŷ)) dt at the records (μ ≠ 0)
     growth_parameters: dict = field(default_factory=dict)  # ζ -> μ (complex float)
     compile_seconds: float = 0.0                         # compiled kernel: first call (compile or cache load)
-    loop_why: str = ""                                   # kernel="cost": the rule's reason (limits.choose_loop)
+    loop_why: str = ""                                   # why this loop (kernel="cost": limits.choose_loop's reason)
     tracked: dict = field(default_factory=dict)         # name -> max |I(y^[n]_1) − I(y0)| every track_every steps
     velocity_evaluations: int = 0                        # separable problems: q-rate evaluations (nfev: forces)
     fallbacks: int = 0                                   # steps whose first stage iteration failed
@@ -278,6 +278,21 @@ def _use_kernel(kernel, a, prob) -> bool:
     return kernels.available()
 
 
+def _loop_reason(kernel: str, a, compiled) -> str:
+    """Why the loop runs where the cost rule was not asked (``Run.loop_why``)."""
+    if compiled:
+        return f"the step loop generated from the problem's symbols ({a.name})"
+    if kernel == "python":
+        return "asked for: kernel='python'"
+    if a.dtype is not float:
+        return f"precision {a.name} runs in the Python loop (mpmath)"
+    if not kernels.available():
+        return "numba is not installed"
+    if os.environ.get("TABLEAU_LAB_KERNEL") == "python":
+        return "asked for: TABLEAU_LAB_KERNEL=python"
+    return "the Python loop"
+
+
 def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact", project=(),
               invariants=(), record_every: int | None = None, record_states: bool = False,
               masks=None, problem_name: str = "", progress=None, compensated: bool = True,
@@ -332,6 +347,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
         if compiled and kernel == "cost" and a.name == "float64":
             compiled, run.loop_why, switch = _cheaper_loop(nm, prob, pk, steps, d)
         run.loop = {True: "compiled", False: "python", "linked": "linked"}[compiled]
+        run.loop_why = run.loop_why or _loop_reason(kernel, a, compiled)
         loop = _loop(compiled, nm, prob, pk)
         t0 = time.perf_counter()
         Y = start_values(nm, prob, y0, h, start)
@@ -410,32 +426,33 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
     (:func:`.background.worth`) starts in Python while its loop compiles in the background, and
     ``switch`` (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
     shape = kernels.run_shape(pk)
-    python = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit)
+    python, load = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit), limits.load_seconds()
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
-    if state is None and steps * python > limits.load_seconds():
+    if state is None and steps * python > load:
         state = kernels.compile_state(prob.problem, "f64", shape)
         if state == "cold":
-            quick = _without_compile(nm, prob, pk, steps, d, python * steps, shape)
+            quick = _without_compile(nm, prob, pk, steps, d, python * steps, shape, load)
             if quick is not None:
                 return quick
     compiled, why = limits.choose_loop(
-        steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)), limits.load_seconds())
+        steps, python, state or (lambda: kernels.compile_state(prob.problem, "f64", shape)), load)
     return compiled, why, None
 
 
-def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape):
-    """The start of a run whose specialised loop is not compiled (:func:`_cheaper_loop`): the
-    linked loop when built and worth its problem's entry points, the Python loop with the
-    specialised loop compiling in the background when worth it, else None (the cost rule)."""
-    if shape is not None and seconds > limits.load_seconds() and kernels.linked_state(shape) != "cold" and (
-            seconds > limits.load_seconds() + limits.LINKED_PROBLEM_SECONDS        # + the problem's entry points
+def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape, load: float):
+    """The start of a run whose specialised loop is not compiled and whose Python loop would take
+    longer (``seconds``) than a cache ``load`` (:func:`_cheaper_loop`): the linked loop when built
+    and worth its problem's entry points, the Python loop with the specialised loop compiling in
+    the background when worth it, else None (the cost rule)."""
+    if shape is not None and kernels.linked_state(shape) != "cold" and (
+            seconds > load + limits.LINKED_PROBLEM_SECONDS        # + the problem's entry points
             or kernels.entries_state(prob.problem, shape, len(pk.c), len(pk.track) > 0) != "cold"):
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
                           "in Python, the specialised loop not compiled"), None
     if not (background.worth(seconds) and background.possible()):
         return None
     args = kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
-    c = background.start(prob.problem, "f64", shape, args, getattr(prob.problem, "name", ""))
+    c = background.start(prob.problem, "f64", shape, args)
     why = (f"the Python loop, then the compiled loop once compiled in the background ({steps} steps predicted at "
            f"{seconds:.2g} s in Python)")
     return False, why, background.switch_when_ready(c, prob.problem, "f64", shape)

@@ -32,6 +32,7 @@ the final input vector, the status).
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import importlib.util
 import inspect
@@ -229,6 +230,7 @@ def shape_text(shape) -> str:
     return f"{sizes}, {mode}, {'projection' if shape.projects else 'no projection'}"
 
 
+@functools.lru_cache(maxsize=256)
 def module_source(kind: str, shape, problem_module: str, separable: bool) -> str:
     """The text of a compiled loop for ``kind`` "f64" or "dd" specialised to ``shape`` (a
     :class:`Shape`), or for any shape and run (None); the problem's functions come from the
@@ -307,12 +309,25 @@ def load_module(name: str, path: str):
     return _MODULES[key]
 
 
+def _problem_files(problem, kind: str) -> tuple:
+    """(name, path) of the problem's module: a frozen problem's ``kernel_files`` (kind -> (name,
+    path)), else generated and written (:func:`write_problem_module`)."""
+    files = getattr(problem, "kernel_files", None) or {}
+    return files[kind] if kind in files else write_problem_module(problem, kind)
+
+
+def _problem_name(problem, kind: str) -> str:
+    """The name of the problem's module, nothing written (:func:`_problem_files`)."""
+    files = getattr(problem, "kernel_files", None) or {}
+    if kind in files:
+        return files[kind][0]
+    return _module_name("tableau_lab_problem", problem_module_source(problem, kind))
+
+
 def loop_files(problem, kind: str = "f64", shape=None) -> tuple:
     """(problem module name, its path, loop module name, its path) of :func:`compiled_loop`,
-    generated and written on first use (a frozen problem names its problem modules in
-    ``kernel_files``: kind -> (name, path)); nothing imported."""
-    files = getattr(problem, "kernel_files", None) or {}
-    pname, ppath = files[kind] if kind in files else write_problem_module(problem, kind)
+    generated and written on first use (:func:`_problem_files`); nothing imported."""
+    pname, ppath = _problem_files(problem, kind)
     return (pname, ppath, *_write("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable)))
 
 
@@ -376,19 +391,15 @@ def _entry(problem, slot: str, nc: int) -> int:
     """The address of the C entry point of ``problem``'s function ``slot`` for ``nc`` constants
     (:func:`linked.entry_source`): generated, written and compiled (or loaded from numba's cache)
     once."""
-    from .linked import entry_source
     key = (str(cache_dir()), problem.key, "entry", slot, nc)
     if key not in _BY_KEY:
-        files = getattr(problem, "kernel_files", None) or {}
-        pname, ppath = files["f64"] if "f64" in files else write_problem_module(problem, "f64")
+        pname, ppath = _problem_files(problem, "f64")
         load_module(pname, ppath)
-        text = entry_source(slot, pname, problem.dimension, nc, problem.separable, _stamp(["linked.py", "jit.py"]))
-        name, path = _write("tableau_lab_entry", text)
+        name, path = _write("tableau_lab_entry", _entry_text(problem, slot, nc, pname))
         if _disk_state(cache_dir(), name, "entry") == "cold" and problem.key not in _ANNOUNCED:
             _ANNOUNCED.add(problem.key)
-            print(f"tableau-lab: compiling the functions of {getattr(problem, 'name', 'this problem')} for the loops "
-                  f"shared by every problem — one-off, cached in {cache_dir()} (about {L.LINKED_PROBLEM_SECONDS:.0f} s "
-                  "a function) ...", file=sys.stderr, flush=True)
+            notice(f"compiling the functions of {getattr(problem, 'name', 'this problem')} for the loops shared by "
+                   f"every problem — {cached_in(cache_dir())} (about {L.LINKED_PROBLEM_SECONDS:.0f} s a function) ...")
         _BY_KEY[key] = load_module(name, path).ADDRESS
     return _BY_KEY[key]
 
@@ -396,20 +407,27 @@ def _entry(problem, slot: str, nc: int) -> int:
 _ANNOUNCED: set = set()    # problem keys whose entry points' compile was announced in this process
 
 
+@functools.lru_cache(maxsize=1)
+def _linked_stamp() -> str:
+    return _stamp(["linked.py", "jit.py"])
+
+
+def _entry_text(problem, slot: str, nc: int, pname: str) -> str:
+    """The text of the entry-point module of ``problem``'s ``slot`` (:func:`linked.entry_source`)."""
+    from .linked import entry_source
+    return entry_source(slot, pname, problem.dimension, nc, problem.separable, _linked_stamp())
+
+
 def entries_state(problem, shape, nc: int, tracks: bool) -> str:
     """"loaded", "cached" or "cold" (:func:`compile_state`'s words) for the entry points of
     ``problem`` (``nc`` constants) that a linked run of ``shape`` calls (:func:`~.linked.slots_needed`;
     ``tracks``: invariants tracked).  Writes nothing."""
-    from .linked import entry_source, slots_needed
+    from .linked import slots_needed
     wanted = slots_needed(shape.mode, bool(shape.projects), tracks)
     if all((str(cache_dir()), problem.key, "entry", slot, nc) in _BY_KEY for slot in wanted):
         return "loaded"
-    files = getattr(problem, "kernel_files", None) or {}
-    pname = (files["f64"][0] if "f64" in files
-             else _module_name("tableau_lab_problem", problem_module_source(problem, "f64")))
-    stamp = _stamp(["linked.py", "jit.py"])
-    names = [_module_name("tableau_lab_entry", entry_source(slot, pname, problem.dimension, nc, problem.separable,
-                                                            stamp)) for slot in wanted]
+    pname = _problem_name(problem, "f64")
+    names = [_module_name("tableau_lab_entry", _entry_text(problem, slot, nc, pname)) for slot in wanted]
     return "cached" if all(_disk_state(cache_dir(), n, "entry") == "cached" for n in names) else "cold"
 
 
@@ -417,18 +435,26 @@ def shared_dir() -> Path:
     """The folder of the modules that serve every problem (the linked loops, :func:`linked_loop`):
     ``$TABLEAU_LAB_SHARED_CACHE``, else ``~/.cache/tableau_lab/shared`` — apart from the problems'
     cache (:func:`cache_dir`), as an installation's compiled parts: built once
-    (:func:`build_shared`, ``tableau-lab warm-up``), kept when the problems' cache is emptied."""
+    (``tableau-lab warm-up``, :func:`tableau_lab.warm_up`), kept when the problems' cache is emptied."""
     given = os.environ.get("TABLEAU_LAB_SHARED_CACHE")
     return Path(given) if given else Path.home() / ".cache" / "tableau_lab" / "shared"
+
+
+def _linked_texts(shape) -> tuple:
+    """(prefix, text) of the linked loop's problem module and of its loop module for the stage
+    iteration and projection of ``shape``."""
+    from .linked import PROBLEM_TEXT
+    ltext = PROBLEM_TEXT.format(stamp=_linked_stamp())
+    lname = _module_name("tableau_lab_linked", ltext)
+    return ("tableau_lab_linked", ltext), ("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True))
 
 
 def _linked_files(shape) -> tuple:
     """(its problem module's name, path, loop module's name, path) of the linked loop for the
     stage iteration and projection of ``shape``, written in :func:`shared_dir` if not there."""
-    from .linked import PROBLEM_TEXT
+    (lprefix, ltext), (prefix, text) = _linked_texts(shape)
     folder = shared_dir()
-    lname, lpath = _write("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])), folder)
-    return (lname, lpath, *_write("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True), folder))
+    return (*_write(lprefix, ltext, folder), *_write(prefix, text, folder))
 
 
 def _generic(shape) -> Shape:
@@ -439,9 +465,7 @@ def linked_state(shape) -> str:
     """"loaded", "cached" or "cold" (:func:`compile_state`'s words) for the linked loop of
     ``shape``'s stage iteration and projection; its problem's entry points not counted (about
     ``limits.LINKED_PROBLEM_SECONDS`` when they compile).  Writes nothing."""
-    from .linked import PROBLEM_TEXT
-    lname = _module_name("tableau_lab_linked", PROBLEM_TEXT.format(stamp=_stamp(["linked.py", "jit.py"])))
-    name = _module_name("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True))
+    name = _module_name(*_linked_texts(shape)[1])
     if any(entry == "run" and loop.split(":")[0] == name for loop, entry in _COMPILE):   # any problem's
         return "loaded"
     return _disk_state(shared_dir(), name)
@@ -472,9 +496,7 @@ def compile_state(problem, kind: str = "f64", shape=None, disk: bool = True):
         return "loaded"
     if not disk:
         return None
-    files = getattr(problem, "kernel_files", None) or {}
-    pname = (files[kind][0] if kind in files
-             else _module_name("tableau_lab_problem", problem_module_source(problem, kind)))
+    pname = _problem_name(problem, kind)
     name = _module_name("tableau_lab_kernel", module_source(kind, shape, pname, problem.separable))
     return _disk_state(cache_dir(), name)
 
@@ -718,6 +740,18 @@ class LoopState:
 _NOTICED: set = set()          # loop modules whose compile was announced in this process
 
 
+def notice(text: str) -> None:
+    """One line on stderr, at once: the compile notices (here, :mod:`.background`)."""
+    print(f"tableau-lab: {text}", file=sys.stderr, flush=True)
+
+
+def cached_in(folder) -> str:
+    """"one-off, cached in FOLDER" of a compile notice, the folder printable (it may come from
+    the environment)."""
+    from ..inputs import printable
+    return f"one-off, cached in {printable(str(folder))}"
+
+
 def _first_call_state(loop, entry: str):
     """"cold" or "cached" (:func:`compile_state`'s words) for the first call of ``loop.entry``
     in this process, read from numba's disk cache beside the loop's module; None when that is
@@ -741,10 +775,8 @@ def _compile_notice(loop, entry: str = "run"):
     if state == "cold":
         if loop.__name__ not in _NOTICED:
             _NOTICED.add(loop.__name__)
-            from ..inputs import printable
-            print(f"tableau-lab: compiling the step loop for {getattr(loop, 'described', loop.__name__)} — one-off, "
-                  f"cached in {printable(str(Path(loop.__file__).parent))} (about {L.COMPILE_COLD_SECONDS:.0f} s) ...",
-                  file=sys.stderr, flush=True)
+            notice(f"compiling the step loop for {getattr(loop, 'described', loop.__name__)} — "
+                   f"{cached_in(Path(loop.__file__).parent)} (about {L.COMPILE_COLD_SECONDS:.0f} s) ...")
         t0 = time.perf_counter()
         yield
         if sys.stderr.isatty():
