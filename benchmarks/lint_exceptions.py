@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SKIP = {"reports", "build", "dist", "node_modules", "__pycache__", "venv"}
 NOQA = re.compile(r"#\s*noqa:\s*(?P<codes>[A-Z]+[0-9]+(?:\s*,\s*[A-Z]+[0-9]+)*)(?P<rest>.*)")
 TYPE_IGNORE = re.compile(r"#\s*type:\s*ignore(?:\[(?P<codes>[^\]]*)\])?(?P<rest>.*)")
-RULES = {"E402": "module import not at top of file", "E712": "comparison to True",
+RULES = {"E402": "module import not at top of file", "E712": "comparison to True", "F821": "undefined name",
          "E731": "lambda assigned to a name", "F401": "imported but unused", "F403": "star import",
          "B018": "useless expression", "B904": "raise without from inside except",
          "C901": "too complex (mccabe > 15)"}

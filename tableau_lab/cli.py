@@ -1116,6 +1116,9 @@ def main(argv=None) -> int:
     programs) everything runs in this process, under the time budget's alarm only."""
     out, err = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = _Printable(out), _Printable(err)
+    if argv is None:
+        import gc
+        gc.set_threshold(GC_YOUNG_THRESHOLD)
     try:
         args = build_parser().parse_args(argv)
         if argv is None:
@@ -1132,6 +1135,10 @@ def _terminate(signum, frame):
     raise Terminated()
 
 
+# allocations between two collections of the young generation in the program (CPython: 700).
+# sympy's import and a run's build allocate millions of objects that live to the end: at 700 the
+# collector walks them again and again (a quick run: about 0.3 s of 1.4, docs/speed.md "First run")
+GC_YOUNG_THRESHOLD = 50_000
 HARD_GRACE = 5.0              # seconds past --timeout after which an uninterruptible computation is killed
 
 

@@ -32,7 +32,7 @@ import mpmath
 
 from ..inputs import read_json
 from ..numeric.integrate import integrate
-from ..numeric.limits import build_here
+from ..numeric.limits import QUICK_RUN_RECORDS, build_here
 from ..process import die_with_parent, scratch_folder
 
 __all__ = ["RunJob", "BuildError", "run_job", "separate_stages", "method_shape"]
@@ -65,7 +65,7 @@ class RunJob:
                      show=None if self.steps >= QUICK_RUN_BAR_STEPS else False) as tick:
             run = integrate(self.nm, self.prob, self.prob.y0, self.h, self.steps, start=self.start,
                             project=self.project, invariants=self.invariants, monitor=self.monitor, progress=tick,
-                            kernel="cost")
+                            kernel="cost", record_every=max(1, self.steps // QUICK_RUN_RECORDS))
         if self.precision == "float64":
             final = [float(x) for x in run.final]
         else:                                     # all digits of a multiprecision run, as strings

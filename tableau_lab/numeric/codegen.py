@@ -32,7 +32,7 @@ from .frozen import function_from_text, generated_text
 from .problem_functions import ProblemFunctions
 from .problems import Problem, ProblemError, exact_value, get_problem
 
-__all__ = ["compile_problem", "CompiledProblem", "reference", "extrapolation", "code_dir"]
+__all__ = ["compile_problem", "CompiledProblem", "reference", "extrapolation"]
 
 _CODE: dict = {}       # (problem.key, backend, what) -> generated function
 _COMPILED: dict = {}   # (problem.key, backend, dps) -> CompiledProblem
@@ -93,6 +93,7 @@ class CompiledProblem(ProblemFunctions):
             self._made_of = sp.srepr((tuple(P.state), tuple(P.parameter_symbols.values()), tuple(P.f_expr),
                                       tuple(P.invariants.items())))
         digest = hashlib.sha256(f"{_STAMP}\n{self._made_of}\n{self.backend}\n{what!r}".encode()).hexdigest()[:32]
+        from .kernels import code_dir
         return code_dir() / f"{digest}.json"
 
     def _expressions(self, what):
@@ -123,14 +124,6 @@ class CompiledProblem(ProblemFunctions):
 # -- generated code kept on the disk ------------------------------------------------------------
 
 _STAMP = hashlib.sha256(Path(__file__).read_bytes() + sp.__version__.encode()).hexdigest()[:16]
-
-
-def code_dir() -> Path:
-    """The folder of generated problem code: ``codes`` beside the compiled kernels
-    (:func:`.kernels.cache_dir`), so that a run of a problem met before generates no code (sympy's
-    derivatives and lambdify: most of a short pure run's preparation)."""
-    from .kernels import cache_dir
-    return cache_dir().parent / "codes"
 
 
 def _load_code(path: Path):

@@ -50,9 +50,10 @@ import numpy as np
 
 from ..files import atomic_write_text, path_exists
 from . import limits as L
+from .inliner import inline_functions
 from .stepcore import Coefficients, Controls, ProblemData, Span, State
 
-__all__ = ["available", "cache_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape",
+__all__ = ["available", "cache_dir", "code_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape",
            "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "linked_loop",
            "pure_loop",
            "Pack", "LoopState", "Outcome", "drive"]
@@ -83,6 +84,14 @@ def cache_dir() -> Path:
                              f"folder {printable(folder)} is not a folder; point TABLEAU_LAB_CACHE at a folder "
                              "(or unset it for ~/.cache/tableau_lab)")
     return root / "kernels"
+
+
+def code_dir() -> Path:
+    """The folder of generated Python code: ``codes`` beside the compiled kernels
+    (:func:`cache_dir`) — a problem's generated functions (``codegen``: sympy's derivatives and
+    lambdify, most of a short pure run's preparation) and the pure loop's inlined text
+    (``inliner``), so that a run of a problem met before generates neither."""
+    return cache_dir().parent / "codes"
 
 
 DENSE = ("DENSE_A", "DENSE_B", "DENSE_U", "DENSE_V")     # stepcore's names
@@ -533,8 +542,8 @@ def pure_loop(prob, arith_name: str):
     ns.update({name: getattr(ops, name) for name in ops_f64.OPERATIONS})
     if ops is ops_f64:
         ns.update(ops_f64.PURE_READS)
-    ns.update({fn.__name__: FunctionType(fn.__code__, ns, fn.__name__, fn.__defaults__, fn.__closure__)
-               for fn in stepcore.LOOP})
+    operations = {name: ns[name] for name in ops_f64.OPERATIONS if isinstance(ns[name], FunctionType)}
+    inline_functions(stepcore.LOOP, operations, ns, ns, code_dir())   # one-line operations written in place
     P = getattr(prob, "problem", None)        # a bare object with f (and jac) will do too
     names = tuple(P.invariants) if P is not None else ()
     k = len(P.q) if P is not None and P.kind == "hamiltonian" else 0

@@ -60,6 +60,8 @@ DEGRADED = 1e-2            # a run that ends with an invariant error, or a paras
                            # to |I(y0)| (or to max |y0_i|) failed in substance: "degraded" (integrate.Run.degraded)
 HUGE = 1e300               # beyond this: overflow at every precision (mpmath has none of its own; results are float64)
 TRACK_EVERY = 1             # default stride of the invariant tracking: every step (its cost: docs/speed.md)
+QUICK_RUN_RECORDS = 100     # records of a quick run (tableau-lab run): its max |I − I(0)| is tracked at every step
+                            # in the loop; a record adds the finished output's and the parasitic components
 INLINE_LINEAR_ALGEBRA = 16  # s·d up to which a compiled loop inlines (unrolls) the Newton matrix's LU
 INLINE_PROBLEM_DIMENSION = 12   # d up to which f (and the q-, p-rates) are inlined into the loop
 CHUNK = 1 << 16             # steps per call of a compiled loop (records, progress, Ctrl-C between)
