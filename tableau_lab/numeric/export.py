@@ -41,11 +41,13 @@ def _exact_parts(m: Method):
 
 def _series(res, a):
     """The starting ξ(t) and finishing α⁻¹(t) coefficients of a GLM order result, numeric,
-    keyed by tree, for |t| ≤ its order."""
+    keyed by tree, for |t| ≤ its order; a tree whose coefficients are all exactly zero is left
+    out (a run evaluates the elementary differentials of the trees it is given, and generates
+    f's derivatives up to the largest: GLM43's finishing method is the identity)."""
     from ..analysis.trees import bracket, trees_up_to
     by_name = {bracket(t): t for t in trees_up_to(res.order)}
-    return ({by_name[k]: a.array(v) for k, v in res.starting.items() if k in by_name},
-            {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name})
+    return ({by_name[k]: a.array(v) for k, v in res.starting.items() if k in by_name and any(x != 0 for x in v)},
+            {by_name[k]: a.number(v) for k, v in res.finishing.items() if k in by_name and v != 0})
 
 
 def _floats(rows, dps):
