@@ -101,6 +101,23 @@ def test_dormand_prince_a32_changed_in_its_10th_digit_refutes_the_order():
     assert r.finding("c = A1").status == "refuted"      # c₃ = 3/10 no longer the row sum
 
 
+def test_lobatto_iiia_iiib_pair_at_20_digits_is_symplectic_of_order_4():
+    """[HLW06] Thm VI.4.6 and Table II.2.1: the 3-stage Lobatto IIIA–IIIB pair is symplectic, of
+    order 2s − 2 = 4 (bicoloured trees)."""
+    a, b = read(f"{METHODS}/lobatto_iiia3.json"), read(f"{METHODS}/lobatto_iiib3.json")
+    d = {"name": "Lobatto IIIA-IIIB 3", "kind": "prk", "numbers": "decimal",
+         "A": [[_decimal(x, 20) for x in r] for r in a["A"]], "b": [_decimal(x, 20) for x in a["b"]],
+         "Ahat": [[_decimal(x, 20) for x in r] for r in b["A"]], "bhat": [_decimal(x, 20) for x in b["b"]],
+         "claims": {"order": 4, "symplectic": True}}
+    r = verify(d)
+    assert (r.finding("order").value, r.finding("order").status) == (4, "certified")
+    assert r.finding("symplectic").value is True and r.failed == () and r.undecided == ()
+    d["bhat"][1] = tenth_digit_changed(d["bhat"][1])          # b ≠ b̂: no longer symplectic, order 0 in p
+    r = verify(d)
+    assert r.failed == ("order", "symplectic")
+    assert r.finding("symplectic").evidence[0].excludes_zero
+
+
 def test_exact_entries_stay_exact():
     d = decimal_copy("rk4")
     d["A"][1][0] = "1/2"
@@ -218,3 +235,13 @@ def test_provenance_and_new_claims_of_an_exact_file():
     assert tl.verify(tl.load(json.dumps(ssp))).failed == ()
     ssp["claims"] = {"ssp_coefficient": "3/2"}
     assert tl.verify(tl.load(json.dumps(ssp))).failed == ("ssp_coefficient",)
+
+
+def test_the_ssp_bisection_keeps_its_time_budget():
+    from tableau_lab.analysis.certified_ssp import certified_ssp
+    d = {"name": "SSPRK(3,3)", "kind": "rk", "numbers": "decimal",
+         "A": [[0, 0, 0], [1, 0, 0], ["1/4", "1/4", 0]], "b": [_decimal("1/6", 20), _decimal("1/6", 20),
+                                                                 _decimal("2/3", 20)]}
+    f = certified_ssp(tl.load(json.dumps(d)), seconds=0.0)
+    lo, hi = f.value
+    assert f.status == "undecided" and "time budget" in f.statement and lo <= 1 <= hi

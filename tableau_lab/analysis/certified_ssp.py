@@ -27,12 +27,13 @@ stated precision: R may be anywhere in it)
 """
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from typing import Any
 
 import flint
 
-from ..budget import SSP_R_MAX
+from ..budget import CERTIFIED_SECONDS, SSP_R_MAX
 from ..exact.balls import BallMethod, Coefficient
 from .certified_findings import CERTIFIED, HOLDS, REFUTED, STATED, UNDECIDED, ClaimCheck, Evidence, Finding
 
@@ -112,9 +113,15 @@ def _zero_at_origin(K: list[list[flint.arb]]) -> tuple[bool | None, Evidence | N
     return (None, unsure) if unsure is not None else (False, None)
 
 
-def certified_ssp(m: BallMethod) -> Finding:
+def certified_ssp(m: BallMethod, seconds: float = CERTIFIED_SECONDS) -> Finding:
     """The enclosure [lo, hi] of the SSP coefficient (module docstring): ``value`` (lo, hi) as
-    rationals (hi None: not bounded below SSP_R_MAX)."""
+    rationals (hi None: not bounded below SSP_R_MAX); the bisection stops after ``seconds`` (the
+    bounds found so far stay certified, the finding says so)."""
+    with flint.ctx.workprec(m.prec):
+        return _enclosure(m, time.monotonic() + seconds, seconds)
+
+
+def _enclosure(m: BallMethod, deadline: float, seconds: float) -> Finding:
     K = _K(m)
     lower = m.explicit()
     zero, why = _zero_at_origin(K)
@@ -134,10 +141,13 @@ def certified_ssp(m: BallMethod) -> Finding:
     if hi is None:
         return Finding(NAME, UNDECIDED, f"R ≥ {lo}: absolutely monotonic up to r = {lo}; not decided beyond "
                                         f"(SSP_R_MAX = {SSP_R_MAX}, budget.py)", (lo, None))
-    lo, hi, evidence, unsure = _narrow(K, lower, lo, hi, evidence, _tolerance(m))
+    lo, hi, evidence, unsure = _narrow(K, lower, (lo, hi), evidence, _tolerance(m), deadline)
     places = max(6, m.least_digits - 2)
     text = f"R ∈ [{_dec(lo, places, False)}, {_dec(hi, places, True)}]"
     shown = tuple(e for e in (evidence, unsure) if e is not None)
+    if time.monotonic() > deadline and hi - lo > _tolerance(m):
+        return Finding(NAME, UNDECIDED, f"{text} (certified bounds; the time budget of {seconds:g} s, "
+                                        "CERTIFIED_SECONDS in budget.py, ran out before they met)", (lo, hi), shown)
     if unsure is not None and hi - lo > _tolerance(m):
         return Finding(NAME, CERTIFIED, f"{text} (certified bounds; the signs between them are not decided {STATED}: "
                                         "R may be anywhere in it)", (lo, hi), shown)
@@ -148,27 +158,29 @@ def _tolerance(m: BallMethod) -> flint.fmpq:
     return flint.fmpq(1, 10 ** max(6, m.least_digits - 2))
 
 
-def _narrow(K: list, lower: bool, lo: flint.fmpq, hi: flint.fmpq, evidence: Evidence | None, tol: flint.fmpq,
-            ) -> tuple[flint.fmpq, flint.fmpq, Evidence | None, Evidence | None]:
+def _narrow(K: list, lower: bool, bounds: tuple[flint.fmpq, flint.fmpq], evidence: Evidence | None,
+            tol: flint.fmpq, deadline: float) -> tuple[flint.fmpq, flint.fmpq, Evidence | None, Evidence | None]:
     """Bisection between lo (certified monotonic) and hi (certified not): first the last certified
     point, then, when the point after it is undecided, the first certified-not point above that."""
     def at(r: flint.fmpq) -> bool | None:
         return _at(K, r, lower)[0]
-    lo, b = _bisect(lo, hi, lambda r: at(r) is True, tol)
+    lo, hi = bounds
+    lo, b = _bisect(lo, hi, lambda r: at(r) is True, tol, deadline)
     if b == hi:
         return lo, hi, evidence, None
     ok, ev = _at(K, b, lower)
     if ok is False:
         return lo, b, ev, None
-    _, hi = _bisect(b, hi, lambda r: at(r) is not False, tol)
+    _, hi = _bisect(b, hi, lambda r: at(r) is not False, tol, deadline)
     return lo, hi, _at(K, hi, lower)[1], ev
 
 
-def _bisect(a: flint.fmpq, b: flint.fmpq, good: Callable[[flint.fmpq], bool], tol: flint.fmpq,
+def _bisect(a: flint.fmpq, b: flint.fmpq, good: Callable[[flint.fmpq], bool], tol: flint.fmpq, deadline: float,
             ) -> tuple[flint.fmpq, flint.fmpq]:
-    """(a, b) narrowed to within ``tol`` (at most 400 halvings), good(a) and not good(b) kept."""
+    """(a, b) narrowed to within ``tol`` (at most 400 halvings, until ``deadline``), good(a) and not
+    good(b) kept."""
     for _ in range(400):
-        if b - a <= tol:
+        if b - a <= tol or time.monotonic() > deadline:
             break
         mid = (a + b) / 2
         a, b = (mid, b) if good(mid) else (a, mid)
