@@ -38,7 +38,8 @@ from contextlib import contextmanager
 from .errors import BudgetError
 
 __all__ = ["DEFAULT_SECONDS", "FIELD_DEGREE", "SERIES_ORDER", "MODIFIED_ORDER", "OPTION", "computing", "time_limit",
-           "current", "CERTIFIED_SECONDS", "CERTIFIED_TREES", "SSP_R_MAX"]
+           "current", "CERTIFIED_SECONDS", "CERTIFIED_TREES", "SSP_R_MAX",
+           "REAL_X_MAX"]
 
 DEFAULT_SECONDS = 300.0       # the default budget of one exact command (the slowest shipped analysis: ~15 s)
 FIELD_DEGREE = 64             # the default degree budget of a method's number field (exact/field.py)
@@ -51,6 +52,8 @@ CERTIFIED_SECONDS = 60.0
 CERTIFIED_TREES = 100_000
 #: the certified SSP coefficient looks for an upper bound r = 1, 2, 4, … up to this (beyond: "R ≥ …", undecided)
 SSP_R_MAX = 1024
+#: the certified real stability interval walks from 0 to −REAL_X_MAX at most (beyond: "β ≥ …", undecided)
+REAL_X_MAX = 1024
 
 _STACK: list[str] = []
 

@@ -8,6 +8,7 @@ the facts checked are independent of the code: the published orders (RK4: 4; Dor
 from the change (Σb − 1 = δ; the order-2 residual Σbᵢcᵢ − 1/2 moves by b₃δ when a₃₂ moves by δ)."""
 import json
 
+import flint
 import mpmath
 import pytest
 import sympy as sp
@@ -22,12 +23,14 @@ METHODS = "tableau_lab/methods"
 
 
 def _decimal(x, digits: int) -> str | int:
-    """An exact entry of a shipped file at ``digits`` significant digits (integers stay exact)."""
+    """An exact entry of a shipped file at ``digits`` significant digits (integers stay exact;
+    radicals through sympy's evaluation at 20 more digits)."""
     v = parse_entry(x) if isinstance(x, str) else sp.Integer(x)
     if v.is_Integer:
         return int(v)
     with mpmath.workdps(digits + 20):
-        return mpmath.nstr(mpmath.mpf(int(v.p)) / int(v.q), digits, strip_zeros=False, min_fixed=-5, max_fixed=5)
+        x = mpmath.mpf(int(v.p)) / int(v.q) if v.is_Rational else mpmath.mpf(str(sp.N(v, digits + 20)))
+        return mpmath.nstr(x, digits, strip_zeros=False, min_fixed=-5, max_fixed=5)
 
 
 def decimal_copy(name: str, digits: int = 20, **claims) -> dict:
@@ -245,3 +248,17 @@ def test_the_ssp_bisection_keeps_its_time_budget():
     f = certified_ssp(tl.load(json.dumps(d)), seconds=0.0)
     lo, hi = f.value
     assert f.status == "undecided" and "time budget" in f.statement and lo <= 1 <= hi
+
+
+def test_real_stability_interval_of_rk4_and_gauss():
+    """RK4: β = −2·(the real root of x³ + 2x² + 3x + 3) = 2.7852935634… ([HW96] IV.2, Fig. 2.1),
+    here from mpmath's roots; Gauss is A-stable (β = ∞): undecided beyond the walk's end."""
+    r = verify(decimal_copy("rk4"))
+    lo, hi = r.finding("real stability interval").value
+    with mpmath.workdps(40):
+        root = next(x for x in mpmath.polyroots([1, 2, 3, 3], extraprec=100) if abs(mpmath.im(x)) < 1e-30)
+        beta = -2 * mpmath.re(root)
+        assert mpmath.mpf(int(lo.p)) / int(lo.q) <= beta <= mpmath.mpf(int(hi.p)) / int(hi.q)
+    assert hi - lo < flint.fmpq(1, 10 ** 15)
+    g = verify(decimal_copy("gauss2")).finding("real stability interval")
+    assert g.status == "undecided" and g.value[1] is None and "β ≥ 1024" in g.statement

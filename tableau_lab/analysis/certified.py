@@ -360,7 +360,9 @@ def certified_verify(m: BallMethod, seconds: float = CERTIFIED_SECONDS, trees: i
         findings.append(_symplectic(m))
         if ssp and m.kind == "rk":
             from .certified_ssp import certified_ssp
+            from .certified_stability import real_interval
             findings.append(certified_ssp(m, max(0.0, clock.end - time.monotonic())))
+            findings.append(real_interval(m, max(0.0, clock.end - time.monotonic())))
     by_name = {f.name: f for f in findings}
     claims = tuple(_claim(k, v, by_name) for k, v in m.claims)
     return CertifiedResult(m.name, m.kind, m.s, m.prec, m.rounding.describe(), m.least_digits, tuple(findings),

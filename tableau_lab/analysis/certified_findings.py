@@ -17,7 +17,7 @@ from ..exact.balls import ball_text, upper_text
 from .tree_kinds import TreeKind
 
 __all__ = ["Evidence", "Finding", "ClaimCheck", "CERTIFIED", "REFUTED", "UNDECIDED", "HOLDS", "STATED", "SHOWN",
-           "json_value", "shown"]
+           "json_value", "shown", "decimal_bound"]
 
 CERTIFIED, REFUTED, UNDECIDED = "certified", "refuted", "undecided"
 HOLDS = "holds to the stated precision"
@@ -104,3 +104,16 @@ def json_value(v: Any) -> Any:
 
 def shown(v: Any) -> str:
     return str(v).lower() if isinstance(v, bool) else getattr(v, "text", str(v))
+
+
+def decimal_bound(x: flint.fmpq, places: int, up: bool) -> str:
+    """A rational bound as a decimal with ``places`` digits after the point, rounded outwards (up for
+    an upper bound): still a bound (the bounds themselves are rationals in a finding's ``value``).
+
+    >>> decimal_bound(flint.fmpq(2, 3), 4, False), decimal_bound(flint.fmpq(2, 3), 4, True)
+    ('0.6666', '0.6667')
+    """
+    scaled = x * 10 ** places
+    n = int(-((-scaled).floor()) if up else scaled.floor())
+    sign, digits = ("-" if n < 0 else ""), str(abs(n)).rjust(places + 1, "0")
+    return f"{sign}{digits[:-places]}.{digits[-places:]}"

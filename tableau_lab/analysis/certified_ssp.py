@@ -35,7 +35,17 @@ import flint
 
 from ..budget import CERTIFIED_SECONDS, SSP_R_MAX
 from ..exact.balls import BallMethod, Coefficient
-from .certified_findings import CERTIFIED, HOLDS, REFUTED, STATED, UNDECIDED, ClaimCheck, Evidence, Finding
+from .certified_findings import (
+    CERTIFIED,
+    HOLDS,
+    REFUTED,
+    STATED,
+    UNDECIDED,
+    ClaimCheck,
+    Evidence,
+    Finding,
+    decimal_bound,
+)
 
 __all__ = ["certified_ssp", "ssp_claim"]
 
@@ -143,7 +153,7 @@ def _enclosure(m: BallMethod, deadline: float, seconds: float) -> Finding:
                                         f"(SSP_R_MAX = {SSP_R_MAX}, budget.py)", (lo, None))
     lo, hi, evidence, unsure = _narrow(K, lower, (lo, hi), evidence, _tolerance(m), deadline)
     places = max(6, m.least_digits - 2)
-    text = f"R ∈ [{_dec(lo, places, False)}, {_dec(hi, places, True)}]"
+    text = f"R ∈ [{decimal_bound(lo, places, False)}, {decimal_bound(hi, places, True)}]"
     shown = tuple(e for e in (evidence, unsure) if e is not None)
     if time.monotonic() > deadline and hi - lo > _tolerance(m):
         return Finding(NAME, UNDECIDED, f"{text} (certified bounds; the time budget of {seconds:g} s, "
@@ -185,15 +195,6 @@ def _bisect(a: flint.fmpq, b: flint.fmpq, good: Callable[[flint.fmpq], bool], to
         mid = (a + b) / 2
         a, b = (mid, b) if good(mid) else (a, mid)
     return a, b
-
-
-def _dec(x: flint.fmpq, places: int, up: bool) -> str:
-    """A rational bound as a decimal with ``places`` digits after the point, rounded outwards (up for
-    an upper bound): still a bound (the bounds themselves are the rationals in ``value``)."""
-    scaled = x * 10 ** places
-    n = int(-((-scaled).floor()) if up else scaled.floor())
-    sign, digits = ("-" if n < 0 else ""), str(abs(n)).rjust(places + 1, "0")
-    return f"{sign}{digits[:-places]}.{digits[-places:]}"
 
 
 def ssp_claim(claimed: Any, f: Finding) -> ClaimCheck:
