@@ -198,6 +198,9 @@ def test_cli_verify_exit_codes(tmp_path, capsys):
     ({"digits": 0}, "entry digits"),
     ({"radius": "-1e-3"}, "entry radius"),
     ({"provenance": {"repository": "a/b", "commit": "xyz", "file": "f"}}, "entry provenance.commit"),
+    ({"b": ["0." + "3" * 2500, "0.5"]}, "entry b[1]"),                 # MAX_DECIMAL_DIGITS
+    ({"A": [["0.5"] * 41] * 41}, "entry A"),                            # the exact reader's MAX_SIZE
+    ({"kind": "glm"}, "entry kind"),
 ])
 def test_bad_decimal_input_names_file_and_entry(tmp_path, capsys, entries, where):
     d = {"name": "x", "kind": "rk", "numbers": "decimal", "A": [[0, 0], ["0.5", 0]], "b": ["0.5", "0.5"], **entries}

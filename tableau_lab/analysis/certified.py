@@ -31,7 +31,6 @@ order-5 condition of tree [[[[τ]]]]
 """
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -161,8 +160,9 @@ def _digits_to_decide(ball: flint.arb, digits: int) -> int | None:
     mid, rad = ball.mid(), ball.rad()
     if mid == 0 or rad == 0:
         return None
-    ratio = float((rad / abs(mid)).mid())
-    return digits + max(1, math.ceil(math.log10(ratio)) + 1) if ratio > 0 else None
+    magnitude = ((rad / abs(mid)).log() / flint.arb(10).log()).ceil()      # ⌈log₁₀(radius/|midpoint|)⌉
+    exponent = magnitude.unique_fmpz()
+    return None if exponent is None else digits + max(1, int(exponent) + 1)
 
 
 class _Clock:

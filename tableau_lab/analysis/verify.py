@@ -230,6 +230,9 @@ def verify(m: Method | BallMethod, **budget: Any) -> VerifyResult | CertifiedRes
     """
     if isinstance(m, BallMethod):
         return certified_verify(m, **budget)
+    if budget:
+        raise TypeError(f"verify of an exact method takes no budget ({', '.join(budget)}): the exact analyses run "
+                        "within the time budget of tableau_lab.budget")
     rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
     gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
     unchecked = {}

@@ -280,7 +280,8 @@ class BallMethod:
     claims: tuple[tuple[str, Any], ...] = ()
     provenance: tuple[tuple[str, Any], ...] = ()
     prec: int = field(default=0, compare=False)
-    _balls: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
+    # the entries as balls, computed once on construction: ((key, rows or vector), …)
+    _balls: tuple[tuple[str, Any], ...] = field(default=(), init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         s = len(self.A)
@@ -295,6 +296,18 @@ class BallMethod:
             raise BallError("a partitioned method needs Ahat and bhat", "Ahat")
         if not self.prec:
             object.__setattr__(self, "prec", working_precision(list(self.coefficients()), self.rounding))
+        balls: dict[str, Any] = {}
+        with flint.ctx.workprec(self.prec):
+            for key in ("A", "b", "bhat", "Ahat", "c", "chat"):
+                v = getattr(self, key)
+                if v is None and key in ("c", "chat"):
+                    M = balls.get("A" if key == "c" else "Ahat")
+                    balls[key] = None if M is None else tuple(sum(row, flint.arb(0)) for row in M)
+                elif v is None:
+                    balls[key] = None
+                else:
+                    balls[key] = tuple(tuple(x.ball() for x in r) if isinstance(r, tuple) else r.ball() for r in v)
+        object.__setattr__(self, "_balls", tuple(balls.items()))
 
     @property
     def s(self) -> int:
@@ -339,20 +352,9 @@ class BallMethod:
         return self.s if self.kind == "rk" and self.explicit() else 2 * self.s
 
     def balls(self, key: str) -> Any:
-        """The entries of ``key`` as balls at :attr:`prec` (a list, or a list of rows), None when absent;
-        c absent is A·1."""
-        if key not in self._balls:
-            v = getattr(self, key)
-            with flint.ctx.workprec(self.prec):
-                if v is None and key in ("c", "chat"):
-                    M = self.balls("A" if key == "c" else "Ahat")
-                    out: Any = None if M is None else [sum(row, flint.arb(0)) for row in M]
-                elif v is None:
-                    out = None
-                else:
-                    out = [[x.ball() for x in r] if isinstance(r, tuple) else r.ball() for r in v]
-            self._balls[key] = out
-        return self._balls[key]
+        """The entries of ``key`` as balls at :attr:`prec` (a tuple, or a tuple of rows), None when
+        absent; c absent is A·1 (computed once, on construction)."""
+        return dict(self._balls)[key]
 
     @property
     def least_digits(self) -> int:

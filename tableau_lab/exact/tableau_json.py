@@ -258,6 +258,8 @@ def _claims(value: Any, kind: str, source: str, read: Reader | None = None) -> d
             raise TableauError(source, f"claim {k!r} does not apply to kind {kind!r}", f"claims.{k}")
         if k == "ssp_coefficient" and not isinstance(v, bool) and isinstance(v, (str, int, _Refused)):
             entry = (read or _exact_reader(source))(v, f"claims.{k}")
+            if not read and entry.free_symbols:
+                raise TableauError(source, f"the claimed SSP coefficient {v} must be a number", f"claims.{k}")
             out[k] = entry if read else v
         elif type(v) is not typ:
             raise TableauError(source, f"claim {k!r} must be a {typ.__name__}, got {v!r}", f"claims.{k}")
