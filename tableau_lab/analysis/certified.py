@@ -252,10 +252,10 @@ def _symplectic(m: BallMethod) -> Finding:
     A, b = m.balls("A"), m.balls("b")
     if m.kind == "rk":
         Ah, bh, pairs = A, b, [(i, j) for i in range(m.s) for j in range(i, m.s)]
-        form = "b{i}a{i}{j} + b{j}a{j}{i} − b{i}b{j}"
+        form = "b{i}·a{i},{j} + b{j}·a{j},{i} − b{i}·b{j}"
     else:
         Ah, bh, pairs = m.balls("Ahat"), m.balls("bhat"), [(i, j) for i in range(m.s) for j in range(m.s)]
-        form = "b{i}â{i}{j} + b̂{j}a{j}{i} − b{i}b̂{j}"
+        form = "b{i}·â{i},{j} + b̂{j}·a{j},{i} − b{i}·b̂{j}"
     conds = [Evidence(form.format(i=i + 1, j=j + 1), b[i] * Ah[i][j] + bh[j] * A[j][i] - b[i] * bh[j])
              for i, j in pairs]
     if m.kind == "prk":
