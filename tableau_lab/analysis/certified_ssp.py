@@ -149,8 +149,10 @@ def _enclosure(m: BallMethod, deadline: float, seconds: float) -> Finding:
             lo = r
         r *= 2
     if hi is None:
-        return Finding(NAME, UNDECIDED, f"R ≥ {lo}: absolutely monotonic up to r = {lo}; not decided beyond "
-                                        f"(SSP_R_MAX = {SSP_R_MAX}, budget.py)", (lo, None))
+        beyond = (f"(SSP_R_MAX = {SSP_R_MAX}, budget.py)" if lo >= SSP_R_MAX
+                  else f"(the signs of the conditions beyond are not decided {STATED})")
+        return Finding(NAME, UNDECIDED, f"R ≥ {lo}: absolutely monotonic up to r = {lo}; not decided beyond {beyond}",
+                       (lo, None), (evidence,) if evidence else ())
     lo, hi, evidence, unsure = _narrow(K, lower, (lo, hi), evidence, _tolerance(m), deadline)
     places = max(6, m.least_digits - 2)
     text = f"R ∈ [{decimal_bound(lo, places, False)}, {decimal_bound(hi, places, True)}]"
