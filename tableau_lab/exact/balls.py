@@ -68,7 +68,7 @@ class Rounding:
 
     def describe(self) -> str:
         if self.rule == "radius":
-            return f"each decimal entry ± {ball_text(flint.arb(self.value), 3)} (the file's radius)"
+            return f"each decimal entry ± {upper_text(self.value, 3)} (the file's radius)"
         if self.rule == "digits":
             return f"each decimal entry correctly rounded to {self.value} significant digits (the file's digits)"
         return "each decimal entry ± half a unit in its last written digit"
@@ -228,14 +228,18 @@ def ball_text(x: flint.arb, digits: int = 6) -> str:
     return x.str(digits, radius=True, more=True)
 
 
-def upper_text(x: flint.arb, digits: int = 2) -> str:
-    """An upper bound of |x| in ``digits`` significant digits, rounded up (a bound, not an estimate).
+def upper_text(x: flint.arb | flint.fmpq, digits: int = 2) -> str:
+    """An upper bound of |x| (a ball, or a rational) in ``digits`` significant digits, rounded up (a
+    bound, not an estimate).
 
-    >>> upper_text(flint.arb("2.01e-20")), upper_text(flint.arb(-3)), upper_text(flint.arb(0))
-    ('2.1e-20', '3.0', '0')
+    >>> upper_text(flint.arb("2.01e-20")), upper_text(flint.arb(-3)), upper_text(flint.fmpq(1, 10 ** 30), 3)
+    ('2.1e-20', '3.0', '1.00e-30')
     """
-    man, exp = x.abs_upper().mid().man_exp()
-    u = flint.fmpq(int(man)) * (flint.fmpq(2) ** int(exp) if exp >= 0 else flint.fmpq(1, 2 ** -int(exp)))
+    if isinstance(x, flint.fmpq):
+        u = abs(x)
+    else:
+        man, exp = x.abs_upper().mid().man_exp()
+        u = flint.fmpq(int(man)) * (flint.fmpq(2) ** int(exp) if exp >= 0 else flint.fmpq(1, 2 ** -int(exp)))
     if u == 0:
         return "0"
     e = _floor_log10(u) - digits + 1
@@ -308,6 +312,11 @@ class BallMethod:
                 else:
                     balls[key] = tuple(tuple(x.ball() for x in r) if isinstance(r, tuple) else r.ball() for r in v)
         object.__setattr__(self, "_balls", tuple(balls.items()))
+
+    def __repr__(self) -> str:
+        """Short: the name, kind, size and precision (the entries are :meth:`entry`, :meth:`balls`)."""
+        return (f"BallMethod({self.name!r}, kind={self.kind!r}, s={self.s}, least_digits={self.least_digits}, "
+                f"prec={self.prec})")
 
     @property
     def s(self) -> int:
