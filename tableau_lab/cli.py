@@ -43,17 +43,18 @@ MAX_REPEATS = 10 ** 4         # --starts, --reps, --solution, --workers
 MAX_FIELD_DEGREE = 4096       # --max-field-degree (beyond: days of primitive-element arithmetic)
 
 
-def _each_method(args, analyse) -> int:
+def _each_method(args, analyse, decimal: bool = False) -> int:
     """Load each file, run ``analyse(method, path) -> (result, failed)`` and print it (text or JSON).
-    Unreadable files are reported on stderr and give exit code 2; a failed claim gives 1."""
+    Unreadable files are reported on stderr and give exit code 2; a failed claim gives 1.
+    ``decimal``: a decimal tableau is read too (:func:`~tableau_lab.exact.tableau_json.load_any`)."""
     from .budget import computing
-    from .exact.tableau_json import TableauError, load
+    from .exact.tableau_json import TableauError, load, load_any
 
     status = EXIT_OK
     for i, path in enumerate(args.files):
         try:
             with computing(f"{args.command} of {path}"):
-                method = load(path)
+                method = (load_any if decimal else load)(path)
                 result, failed = analyse(method, path)
         except TableauError as exc:
             print(f"tableau-lab: error: {exc}", file=sys.stderr)
@@ -74,7 +75,7 @@ def _verify(args) -> int:
     def analyse(method, path):
         res = verify(method)
         return res, res.failed
-    return _each_method(args, analyse)
+    return _each_method(args, analyse, decimal=True)
 
 
 def _order(args) -> int:
@@ -935,7 +936,10 @@ COMMANDS = (
     Command("verify", _verify, _verify_options,
             help="check symplecticity / G-symplecticity and the claims of tableau files",
             description="Read JSON tableau files, solve the (G-)symplecticity conditions exactly and check each "
-                        "file's claims. Exit 0: all claims hold; 1: a claim fails; 2: a file could not be read."),
+                        "file's claims. A decimal tableau (\"numbers\": \"decimal\") is analysed in ball arithmetic "
+                        "instead: each property certified, refuted or undecided (to the stated precision where a "
+                        "ball contains 0). Exit 0: no claim fails (a decimal tableau's undecided claims are listed as "
+                        "UNDECIDED); 1: a claim fails (is refuted); 2: a file could not be read."),
     Command("order", _order, _order_options,
             help="order, stage order, starting and finishing methods (GLM theory)",
             description="RK methods: classical order by elementary weights (pinned at p + 1), principal error "

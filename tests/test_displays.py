@@ -12,7 +12,7 @@ from tableau_lab.analysis.results import Combined
 from tableau_lab.exact.library import family, library_path
 from tableau_lab.exact.methods import RungeKutta
 from tableau_lab.exact.render import markdown_literal
-from tableau_lab.exact.tableau_json import load, loads
+from tableau_lab.exact.tableau_json import load, loads, loads_any
 
 PKG = Path(__file__).resolve().parents[1] / "tableau_lab"
 
@@ -145,7 +145,10 @@ def _results() -> list:
     parametric = stability_report(loads('{"name": "sdirk_g", "kind": "rk", "A": [["g", 0], ["1 - 2*g", "g"]], '
                                         '"b": ["1/2", "1/2"]}'))
     from tableau_lab.analysis.error_constant import error_constant
-    return out + [parametric, error_constant(family("bdf:3")), Combined((out[7], out[-14]), ("parasitism", "series")),
+    certified = verify(loads_any('{"name": "Heun_[3]*", "kind": "rk", "numbers": "decimal", "A": [[0, 0], [1, 0]], '
+                                 '"b": ["0.500", "0.499"], "claims": {"order": 2}}'))
+    return out + [certified, parametric, error_constant(family("bdf:3")),
+                  Combined((out[7], out[-14]), ("parasitism", "series")),
                   Combined((out[0], out[7]))]
 
 
@@ -179,7 +182,8 @@ def test_latex_is_offered_exactly_for_the_results_that_are_all_math(results):
                                                             "MethodHamiltonian"}
     assert kinds["Combined"] == {True, False}            # all-math parts: gathered; a part with prose: None
     assert all(kinds[k] == {False} for k in ("RKOrderResult", "GSymplecticResult", "StabilityReport", "StabilityResult",
-                                             "GLMOrderResult", "DesignResult", "SearchResult", "VerifyResult"))
+                                             "GLMOrderResult", "DesignResult", "SearchResult", "VerifyResult",
+                                             "CertifiedResult"))
 
 
 def test_rk_order_conditions_become_a_markdown_table():

@@ -28,7 +28,7 @@ def test_every_generated_block_matches_its_script(doc):
 def test_the_command_checks_a_document(capsys):
     """``python benchmarks/docs_check.py FILE``: transcripts and blocks, the count on stderr."""
     assert check.main([str(ROOT / "docs" / "tableau-format.md")]) == 0, capsys.readouterr().out
-    assert "3 transcripts checked, 0 differences" in capsys.readouterr().err
+    assert "5 transcripts checked, 0 differences" in capsys.readouterr().err
 
 
 def _verify_transcript(tmp_path, edit=lambda s: s):

@@ -9,14 +9,16 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 import sympy as sp
 
+from ..exact.balls import BallMethod
 from ..exact.grammar import format_entry
 from ..exact.methods import GeneralLinearMethod, Method
 from ..exact.multistep import as_lmm
 from ..render.model import Document, Paragraph, Plain, Typeset
+from .certified import CertifiedResult, certified_verify
 from .error_constant import ErrorConstantResult, error_constant
 from .glm_order import GLMOrderResult
 from .order import order as order_of
@@ -38,6 +40,7 @@ CHECKS = {
     "effective_order": lambda v: v.order.effective_order if v.kind == "rk" else v.order.order,
     "identity_start_order": lambda v: v.order.order_identity_start,
     "parasitism_free": lambda v: v.parasitism.free,
+    "embedded_order": lambda v: None if v.order.embedded is None else v.order.embedded.order,
 }
 
 
@@ -172,11 +175,33 @@ class VerifyResult(Result):
         return out
 
 
+def _ssp_found(m: Method, claimed: Any) -> Any:
+    """The exact SSP coefficient (:mod:`ssp`) as found for an exact tableau's claim: the claim as
+    written when equal to it (decided in the number field of both), else the value found."""
+    from ..exact.field import element, field_of
+    from ..exact.grammar import parse_entry
+    from .ssp import ssp_coefficient
+    R = ssp_coefficient(m).R
+    value = parse_entry(claimed if isinstance(claimed, str) else str(claimed))
+    if R is None or R == sp.oo:
+        return "not computed" if R is None else "oo"
+    K = field_of([sp.ImmutableMatrix([R, value])])
+    return claimed if K.is_zero(element(K, R - value)) else format_entry(R)
+
+
 def _show(v):
     return str(v).lower() if isinstance(v, bool) else str(v)
 
 
-def verify(m: Method) -> VerifyResult:
+@overload
+def verify(m: Method) -> VerifyResult: ...
+
+
+@overload
+def verify(m: BallMethod, **budget: Any) -> CertifiedResult: ...
+
+
+def verify(m: Method | BallMethod, **budget: Any) -> VerifyResult | CertifiedResult:
     """All applicable analyses of ``m`` and the verdict on each of its claims (``tl.verify``,
     ``m.verify()``, ``tableau-lab verify``): RK/PRK symplecticity (bᵢaᵢⱼ + bⱼaⱼᵢ = bᵢbⱼ, [HLW06]
     Thm VI.4.3), G-symplecticity ([BHHN14]), the order and, for GLMs, the parasitic growth
@@ -190,7 +215,24 @@ def verify(m: Method) -> VerifyResult:
     With free parameters every analysis runs over the field of rational functions in them: a
     property holds when it holds identically (for all parameter values where the entries are
     defined), and the order is the order for all values, with the conditions for one more.  A
-    claim no analysis can decide is reported as not checked, with the reason, and counts as failed."""
+    claim no analysis can decide is reported as not checked, with the reason, and counts as failed.
+
+    A decimal tableau (a :class:`~tableau_lab.exact.balls.BallMethod`) gets the certified analyses
+    in ball arithmetic instead (:func:`~tableau_lab.analysis.certified.certified_verify`, whose
+    ``seconds``/``trees`` budget ``budget`` passes on): each property certified, refuted or
+    undecided, "to the stated precision" where a ball contains 0; ``failed`` the refuted claims.
+
+    >>> heun = tl.load('{"name": "Heun", "kind": "rk", "numbers": "decimal", "A": [[0, 0], [1, 0]], '
+    ...                '"b": ["0.5", "0.5"], "claims": {"order": 3}}')
+    >>> r = tl.verify(heun)
+    >>> r.failed, r.finding("order").value, r.claims[0].status
+    (('order',), 2, 'refuted')
+    """
+    if isinstance(m, BallMethod):
+        return certified_verify(m, **budget)
+    if budget:
+        raise TypeError(f"verify of an exact method takes no budget ({', '.join(budget)}): the exact analyses run "
+                        "within the time budget of tableau_lab.budget")
     rk = rk_symplectic(m) if m.kind in ("rk", "prk") else None
     gs = g_symplectic(m) if m.kind in ("rk", "glm") else None
     unchecked = {}
@@ -212,7 +254,9 @@ def verify(m: Method) -> VerifyResult:
                 unchecked["parasitism_free"] = str(exc)
     partial = VerifyResult(m.name, m.kind, m.s, getattr(m, "r", 1), m.parameters, gs, rk, order, {}, {}, (), par)
     claims = m.claims_dict
-    found = {k: CHECKS[k](partial) for k in claims if k not in unchecked}
+    found = {k: CHECKS[k](partial) for k in claims if k not in unchecked and k != "ssp_coefficient"}
+    if "ssp_coefficient" in claims:
+        found["ssp_coefficient"] = _ssp_found(m, claims["ssp_coefficient"])
     unchecked = {k: v for k, v in unchecked.items() if k in claims}
     failed = tuple(k for k in claims if k in unchecked or found[k] != claims[k])
     lmm = None

@@ -25,13 +25,14 @@ from typing import Any
 
 from ..files import OutputRefused, guard_output, path_exists
 from . import tableau_json
+from .balls import BallMethod
 from .methods import Method
 
 __all__ = ["load", "load_with_numbers", "save"]
 
 
-def load(source: Any, **size: int) -> Method:
-    r"""The exact method that ``source`` names (module docstring): a path, a shipped name
+def load(source: Any, **size: int) -> Method | BallMethod:
+    r"""The method that ``source`` names (module docstring): a path, a shipped name
     (``tableau-lab list``, ``tl.list_methods()``), ``"family:N"`` or ``load("gauss", s=3)``, JSON
     text, a NodePy ``RungeKuttaMethod``/``LinearMultistepMethod`` with exact coefficients, or a
     method object.  The format is docs/tableau-format.md; the families are those of
@@ -44,13 +45,22 @@ def load(source: Any, **size: int) -> Method:
     ('glm', 4, 4)
     >>> tl.load(m) is m
     True
+
+    A decimal tableau (``"numbers": "decimal"``, docs/tableau-format.md) comes back as a
+    :class:`~tableau_lab.exact.balls.BallMethod`, its decimals balls, for the certified analyses
+    (``tl.verify``):
+
+    >>> d = tl.load('{"name": "Heun, 3 digits", "kind": "rk", "numbers": "decimal", '
+    ...             '"A": [[0, 0], [1, 0]], "b": ["0.500", "0.500"], "claims": {"order": 2}}')
+    >>> d.entry("b", 1).radius, d.entry("A", 2, 1).exact
+    (1/2000, 1)
     """
-    if isinstance(source, Method):
+    if isinstance(source, (Method, BallMethod)):
         if size:
             raise TypeError("load(method): a method object has its size already")
         return source
     if isinstance(source, str) and source.lstrip().startswith("{"):
-        return tableau_json.loads(source)
+        return tableau_json.loads_any(source)
     if not isinstance(source, (str, os.PathLike)) and (hasattr(source, "A") and hasattr(source, "b")
                                                        or hasattr(source, "alpha") and hasattr(source, "beta")):
         from .interop import from_nodepy
@@ -58,7 +68,7 @@ def load(source: Any, **size: int) -> Method:
     if not isinstance(source, (str, os.PathLike)):
         raise TypeError(f"load takes a method or its name (a path, a shipped or family name), JSON text or a "
                         f"NodePy method, not {type(source).__name__}")
-    return tableau_json.load(source, **size)
+    return tableau_json.load_any(source, **size)
 
 
 def load_with_numbers(source: Any, purpose: str) -> Method:
@@ -69,6 +79,9 @@ def load_with_numbers(source: Any, purpose: str) -> Method:
     'classical Runge–Kutta (RK4)'
     """
     m = load(source)
+    if isinstance(m, BallMethod):
+        raise tableau_json.TableauError(m.name, f"{purpose} needs an exact tableau; a decimal one "
+                                                f"({tableau_json.DECIMAL_KEY}) is only verified (tableau-lab verify)")
     if m.parameters:
         raise tableau_json.TableauError(m.name, f"{purpose} needs numbers for the free parameters "
                                                 f"{', '.join(map(str, m.parameters))}; solve for them first "

@@ -157,6 +157,8 @@ class Method(Queries):
     source: str = field(default="", kw_only=True)
     notes: tuple[str, ...] = field(default=(), kw_only=True)
     claims: tuple[tuple[str, Any], ...] = field(default=(), kw_only=True)
+    # where extracted data came from: (("commit", …), ("file", …), ("line", …), ("repository", …))
+    provenance: tuple[tuple[str, Any], ...] = field(default=(), kw_only=True, compare=False)
 
     kind = "method"
 

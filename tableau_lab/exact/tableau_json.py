@@ -9,7 +9,15 @@ True
 Traceback (most recent call last):
 ...
 tableau_lab.exact.tableau_json.TableauError: m.json: entry A row 1, column 1: 0.5 is a floating-point number,
-and tableau entries are exact: write it as a string such as "1/2" or "sqrt(2)/2"
+and the entries of an exact tableau are exact: write it as a string such as "1/2" or "sqrt(2)/2", or declare the
+file decimal with the top-level key "numbers": "decimal" (its decimals are then read as balls)
+
+A decimal tableau (``"numbers": "decimal"``) is read by :func:`from_dict_any` / :func:`load_any` as a
+:class:`~tableau_lab.exact.balls.BallMethod`; its decimals are balls, its exact entries stay exact:
+
+>>> d = loads_any('{"name": "x", "kind": "rk", "numbers": "decimal", "A": [[0.5]], "b": [1]}')
+>>> d.entry("A", 1, 1).center, d.entry("A", 1, 1).radius, d.entry("b", 1).exact
+(1/2, 1/20, 1)
 """
 from __future__ import annotations
 
@@ -24,12 +32,14 @@ import sympy as sp
 from ..errors import InputError
 from ..files import atomic_write_text, path_exists
 from ..inputs import parse_json, printable, read_json
+from .balls import HALF_UNIT, BallError, BallMethod, Coefficient, Rounding, coefficient, radius_of
 from .grammar import LIMITS, NAME, RESERVED, EntryError, format_entry, parameter, parse_entry
 from .library import FamilyError, family, is_family, library_path
 from .methods import GeneralLinearMethod, Method, MethodError, PartitionedRungeKutta, RungeKutta
 from .names import did_you_mean
 
-__all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES"]
+__all__ = ["TableauError", "load", "loads", "dumps", "save", "to_dict", "KINDS", "CLAIMS", "MAX_BYTES", "load_any",
+           "loads_any", "from_dict_any", "DECIMAL_KEY", "MAX_DIGITS"]
 
 MAX_BYTES = 1 << 20
 
@@ -50,9 +60,17 @@ CLAIMS: dict[str, tuple[type, tuple[str, ...]]] = {
     "effective_order": (int, ("rk",)),
     "identity_start_order": (int, ("glm",)),      # the GLM order with θ ≡ 0 (identity first starting component)
     "parasitism_free": (bool, ("glm",)),
+    "embedded_order": (int, ("rk",)),             # the order of the embedded weights bhat
+    "ssp_coefficient": (str, ("rk",)),            # an entry (exact, or decimal in a decimal file), or an integer
 }
 
-META = {"format", "name", "kind", "source", "notes", "claims", "constants"}
+META = {"format", "name", "kind", "source", "notes", "claims", "constants", "numbers", "radius", "digits",
+        "provenance"}
+#: the top-level key and value that make a tableau decimal (docs/tableau-format.md)
+DECIMAL_KEY = '"numbers": "decimal"'
+#: the largest "digits" a decimal file may state (the precision budget of exact/balls.py)
+MAX_DIGITS = 2000
+PROVENANCE = {"repository": str, "commit": str, "file": str, "line": int}
 MATRICES = {k for _, req, opt in KINDS.values() for k, shape in {**req, **opt}.items() if shape == "matrix"}
 MAX_CONSTANTS = 64          # named numbers in one file
 #: a file's "constants": the name's symbol → its exact value
@@ -83,8 +101,9 @@ class _Refused:
 
 class _Float(_Refused):
     def message(self) -> str:
-        return (f"{self.text} is a floating-point number, and tableau entries are exact: "
-                f'write it as a string such as "{_hint(self.text)}" or "sqrt(2)/2"')
+        return (f"{self.text} is a floating-point number, and the entries of an exact tableau are exact: "
+                f'write it as a string such as "{_hint(self.text)}" or "sqrt(2)/2", or declare the file decimal '
+                f"with the top-level key {DECIMAL_KEY} (its decimals are then read as balls)")
 
 
 class _Constant(_Refused):
@@ -132,8 +151,13 @@ def _entry(value: Any, source: str, where: str, consts: Constants | None = None)
     try:
         e = parse_entry(value)
     except EntryError as exc:
-        raise TableauError(source, str(exc), where) from None
+        hint = (f"; or declare the file decimal with the top-level key {DECIMAL_KEY} (its decimals are then read "
+                "as balls)") if isinstance(value, str) and _HAS_DECIMAL.search(value) else ""
+        raise TableauError(source, str(exc) + hint, where) from None
     return e.xreplace(consts) if consts and e.free_symbols else e
+
+
+_HAS_DECIMAL = re.compile(r"[0-9]\.|\.[0-9]|[0-9][eE][+-]?[0-9]")
 
 
 def _constants(value: Any, source: str) -> Constants:
@@ -175,7 +199,16 @@ def _hint(text: str) -> str:
         return "1/2"
 
 
-def _matrix(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
+#: reads one entry: (value, its one-based name) → the entry
+Reader = Any
+
+
+def _exact_reader(source: str, consts: Constants | None = None) -> Reader:
+    return lambda x, where: _entry(x, source, where, consts)
+
+
+def _rows(value: Any, source: str, key: str, read: Reader) -> list[list[Any]]:
+    """A matrix's rows of entries, each read by ``read`` (named one-based: "A row 2, column 1")."""
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of rows (a list of lists)", key)
     rows = []
@@ -187,33 +220,75 @@ def _matrix(value: Any, source: str, key: str, consts: Constants | None = None) 
                                f"{key} row {i}")
         if not row:
             raise TableauError(source, f"row {i} of {key} is empty", f"{key} row {i}")
-        rows.append([_entry(x, source, f"{key} row {i}, column {j}", consts) for j, x in enumerate(row, 1)])
-    return sp.ImmutableMatrix(rows)
+        rows.append([read(x, f"{key} row {i}, column {j}") for j, x in enumerate(row, 1)])
+    return rows
 
 
-def _vector(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
+def _items(value: Any, source: str, key: str, read: Reader) -> list[Any]:
+    """A vector's entries, each read by ``read`` (named one-based: "b[3]")."""
     if not isinstance(value, list) or not value:
         raise TableauError(source, f"{key} must be a non-empty list of entries", key)
     out = []
     for i, x in enumerate(value, 1):
         if isinstance(x, list):
             raise TableauError(source, f"{key} must be a flat list, but entry {i} is a list", f"{key}[{i}]")
-        out.append(_entry(x, source, f"{key}[{i}]", consts))
-    return sp.ImmutableMatrix(out)
+        out.append(read(x, f"{key}[{i}]"))
+    return out
 
 
-def _claims(value: Any, kind: str, source: str) -> dict[str, Any]:
+def _matrix(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
+    return sp.ImmutableMatrix(_rows(value, source, key, _exact_reader(source, consts)))
+
+
+def _vector(value: Any, source: str, key: str, consts: Constants | None = None) -> sp.ImmutableMatrix:
+    return sp.ImmutableMatrix(_items(value, source, key, _exact_reader(source, consts)))
+
+
+def _claims(value: Any, kind: str, source: str, read: Reader | None = None) -> dict[str, Any]:
+    """The claims, checked; an entry claim (the SSP coefficient) read by ``read`` (default: exact,
+    kept as written)."""
     if not isinstance(value, dict):
         raise TableauError(source, "claims must be an object such as {\"g_symplectic\": true}", "claims")
+    out = dict(value)
     for k, v in value.items():
         if k not in CLAIMS:
             raise TableauError(source, f"unknown claim {k!r} (known: {', '.join(sorted(CLAIMS))})", f"claims.{k}")
         typ, kinds = CLAIMS[k]
         if kind not in kinds:
             raise TableauError(source, f"claim {k!r} does not apply to kind {kind!r}", f"claims.{k}")
-        if type(v) is not typ:
+        if k == "ssp_coefficient" and not isinstance(v, bool) and isinstance(v, (str, int, _Refused)):
+            entry = (read or _exact_reader(source))(v, f"claims.{k}")
+            if not read and entry.free_symbols:
+                raise TableauError(source, f"the claimed SSP coefficient {v} must be a number", f"claims.{k}")
+            out[k] = entry if read else v
+        elif type(v) is not typ:
             raise TableauError(source, f"claim {k!r} must be a {typ.__name__}, got {v!r}", f"claims.{k}")
-    return value
+    return out
+
+
+def _provenance(value: Any, source: str) -> tuple[tuple[str, Any], ...]:
+    """The "provenance" object of extracted data: repository "owner/name", commit (40 hex digits), file and
+    line (one-based), checked."""
+    if not isinstance(value, dict):
+        raise TableauError(source, 'provenance must be an object such as {"repository": "owner/name", "commit": '
+                                   '"<40 hex>", "file": "path", "line": 12}', "provenance")
+    for k, v in value.items():
+        typ = PROVENANCE.get(k)
+        if typ is None:
+            raise TableauError(source, f"unknown provenance key {k!r} (known: {', '.join(PROVENANCE)})",
+                               f"provenance.{k}")
+        if type(v) is not typ or (isinstance(v, str) and not 0 < len(v) <= 400) or (isinstance(v, int) and v < 1):
+            what = "a positive integer" if typ is int else "a non-empty string of at most 400 characters"
+            raise TableauError(source, f"provenance {k} must be {what}", f"provenance.{k}")
+    for k in ("repository", "commit", "file"):
+        if k not in value:
+            raise TableauError(source, f"provenance needs {k!r}", f"provenance.{k}")
+    if not re.fullmatch(r"[A-Za-z0-9][A-Za-z0-9_.-]*/[A-Za-z0-9][A-Za-z0-9_.-]*", value["repository"]):
+        raise TableauError(source, "provenance repository must be owner/name", "provenance.repository")
+    if not re.fullmatch(r"[0-9a-f]{40}", value["commit"]):
+        raise TableauError(source, "provenance commit must be the 40 hexadecimal digits of a commit",
+                           "provenance.commit")
+    return tuple(sorted(value.items()))
 
 
 def from_dict(data: Any, source: str = "<tableau>") -> Method:
@@ -223,13 +298,15 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
     kind = data.get("kind")
     if not isinstance(kind, str) or kind not in KINDS:
         raise TableauError(source, f"unknown or missing kind {kind!r}: use one of {', '.join(KINDS)}", "kind")
+    if _numbers(data, source) == "decimal":
+        raise TableauError(source, f"a decimal tableau ({DECIMAL_KEY}) is analysed in ball arithmetic by "
+                                   "`tableau-lab verify FILE` or tl.verify(tl.load(FILE)); this needs exact entries",
+                           "numbers")
+    for key in ("radius", "digits"):
+        if key in data:
+            raise TableauError(source, f"{key!r} belongs to a decimal tableau ({DECIMAL_KEY})", key)
     cls, required, optional = KINDS[kind]
-    _check_keys(data, kind, source)
-    name, notes = _metadata(data, source)
-    for key in required:                   # the size budget, before any entry is read
-        if isinstance(data[key], list) and len(data[key]) > MAX_SIZE:
-            raise TableauError(source, f"{len(data[key])} rows: beyond the size budget MAX_SIZE = {MAX_SIZE} stages "
-                                       "or values of the exact analyses (tableau_json.py)", key)
+    name, notes = _checked_top(data, kind, source)
     readers = {"matrix": _matrix, "vector": _vector}
     consts = _constants(data["constants"], source) if "constants" in data else None
     parts = {}
@@ -237,11 +314,100 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
         if key in data:
             parts[key] = readers[shape](data[key], source, key, consts)
     claims = _claims(data.get("claims", {}), kind, source)
+    provenance = _provenance(data["provenance"], source) if "provenance" in data else ()
     try:
         return cls(**parts, name=name, source=data.get("source", ""), notes=tuple(notes),
-                   claims=tuple(sorted(claims.items())))
+                   claims=tuple(sorted(claims.items())), provenance=provenance)
     except MethodError as exc:
         raise TableauError(source, str(exc)) from None
+
+
+def _numbers(data: dict[str, Any], source: str) -> str:
+    numbers = data.get("numbers", "exact")
+    if numbers not in ("exact", "decimal"):
+        raise TableauError(source, f'numbers must be "exact" (the default) or "decimal", not {str(numbers)[:40]!r}',
+                           "numbers")
+    return str(numbers)
+
+
+def _checked_top(data: dict[str, Any], kind: str, source: str) -> tuple[str, list[str]]:
+    """The keys, the metadata and the size budget (before any entry is read): (name, notes)."""
+    _, required, _ = KINDS[kind]
+    _check_keys(data, kind, source)
+    name, notes = _metadata(data, source)
+    for key in required:
+        if isinstance(data[key], list) and len(data[key]) > MAX_SIZE:
+            raise TableauError(source, f"{len(data[key])} rows: beyond the size budget MAX_SIZE = {MAX_SIZE} stages "
+                                       "or values of the exact analyses (tableau_json.py)", key)
+    return name, notes
+
+
+def from_dict_any(data: Any, source: str = "<tableau>") -> Method | BallMethod:
+    """:func:`from_dict` for an exact tableau; a decimal one (``"numbers": "decimal"``) as a
+    :class:`~tableau_lab.exact.balls.BallMethod`: decimal entries as balls (docs/tableau-format.md),
+    exact entries kept exact; every error names the file and the one-based entry."""
+    if not isinstance(data, dict) or _numbers(data, source) != "decimal":
+        return from_dict(data, source)
+    kind = data.get("kind")
+    if kind not in ("rk", "prk"):
+        raise TableauError(source, f'a decimal tableau is of kind "rk" or "prk", not {str(kind)[:40]!r}', "kind")
+    _, required, optional = KINDS[kind]
+    name, notes = _checked_top(data, kind, source)
+    if "constants" in data:
+        raise TableauError(source, "a decimal tableau has no named constants: write each entry", "constants")
+    rounding = _rounding(data, source)
+
+    def read(x: Any, where: str) -> Coefficient:
+        return _ball_entry(x, source, where, rounding)
+    parts: dict[str, Any] = {}
+    for key, shape in list(required.items()) + list(optional.items()):
+        if key in data:
+            rows = (_rows if shape == "matrix" else _items)(data[key], source, key, read)
+            parts[key] = tuple(tuple(r) if isinstance(r, list) else r for r in rows)
+    claims = _claims(data.get("claims", {}), kind, source, read)
+    provenance = _provenance(data["provenance"], source) if "provenance" in data else ()
+    try:
+        return BallMethod(name=name, kind=kind, **parts, rounding=rounding, source=data.get("source", ""),
+                          notes=tuple(notes), claims=tuple(sorted(claims.items())), provenance=provenance)
+    except BallError as exc:
+        raise TableauError(source, str(exc), exc.entry) from None
+
+
+def _rounding(data: dict[str, Any], source: str) -> Rounding:
+    """The file's "radius" or "digits" (not both), or half a unit in the last digit."""
+    if "radius" in data and "digits" in data:
+        raise TableauError(source, 'give "radius" or "digits", not both', "digits")
+    if "radius" in data:
+        r = data["radius"]
+        try:
+            return Rounding("radius", radius_of(r.text if isinstance(r, _Float) else r))
+        except BallError as exc:
+            raise TableauError(source, str(exc), "radius") from None
+    if "digits" in data:
+        d = data["digits"]
+        if type(d) is not int or not 1 <= d <= MAX_DIGITS:
+            raise TableauError(source, f"digits must be an integer from 1 to {MAX_DIGITS} (the significant digits "
+                                       "every decimal entry is correctly rounded to)", "digits")
+        return Rounding("digits", d)
+    return HALF_UNIT
+
+
+def _ball_entry(value: Any, source: str, where: str, rounding: Rounding) -> Coefficient:
+    """One entry of a decimal tableau: a decimal (string or JSON number, its text kept) as a ball, an
+    exact entry of the grammar kept exact."""
+    if isinstance(value, _Float):
+        value = value.text
+    elif isinstance(value, _Refused):
+        raise TableauError(source, value.message(), where)
+    elif isinstance(value, int) and not isinstance(value, bool):
+        value = str(value)
+    if not isinstance(value, str):
+        raise TableauError(source, f"{'null' if value is None else type(value).__name__} is not a number: an "
+                                   'entry is a decimal ("0.0815892447", "-1.2e-3") or an exact entry ("1/3")', where)
+    try:
+        return coefficient(value, rounding)
+    except (EntryError, BallError) as exc:
+        raise TableauError(source, str(exc), where) from None
 
 
 def _check_keys(data: dict[str, Any], kind: str, source: str) -> None:
@@ -308,6 +474,22 @@ def load(path: str | os.PathLike[str], **size: int) -> Method:
     a shipped method (``load("gauss2")``) or a generated family (``load("bdf:5")``,
     ``load("gauss", s=3)``): :mod:`library`; a name close to one of those is answered with
     "did you mean" (:mod:`names`)."""
+    m: Method = _load(path, from_dict, **size)
+    return m
+
+
+def load_any(path: str | os.PathLike[str], **size: int) -> Method | BallMethod:
+    """:func:`load`, reading a decimal tableau too (:func:`from_dict_any`)."""
+    m: Method | BallMethod = _load(path, from_dict_any, **size)
+    return m
+
+
+def loads_any(text: str | bytes, source: str = "<tableau>") -> Method | BallMethod:
+    """:func:`loads`, reading a decimal tableau too (:func:`from_dict_any`)."""
+    return from_dict_any(parse(text, source), source)
+
+
+def _load(path: str | os.PathLike[str], build: Any, **size: int) -> Any:
     if size or (not path_exists(path) and is_family(path)):
         try:
             return family(str(path), **size)
@@ -315,11 +497,11 @@ def load(path: str | os.PathLike[str], **size: int) -> Method:
             raise TableauError(str(path), str(exc).split(": ", 1)[-1]) from None
     shipped = None if path_exists(path) else library_path(path)
     if shipped is not None:
-        return from_dict(read(shipped), str(path))      # a shipped method by name
+        return build(read(shipped), str(path))      # a shipped method by name
     if not path_exists(path) and did_you_mean(path):
         raise TableauError(str(path), "no such file, shipped method or family" + did_you_mean(path)
                            + " (tableau-lab list shows them all)")
-    return from_dict(read(path), str(path))
+    return build(read(path), str(path))
 
 
 def entries(value: Any, source: str, key: str) -> sp.ImmutableMatrix:
@@ -350,6 +532,8 @@ def to_dict(m: Method) -> dict[str, Any]:
         out["notes"] = list(m.notes)
     if m.claims:
         out["claims"] = dict(m.claims)
+    if m.provenance:
+        out["provenance"] = dict(m.provenance)
     return out
 
 
