@@ -17,6 +17,7 @@ import resource
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -29,6 +30,11 @@ COMMANDS = (["verify", "methods/example4_glm.json"], ["order", "methods/gauss2.j
                                                 "--h", "0.01", "--steps", "1000"],
             ["verify", "tests/data/g6245.json"])
 TOP = 8
+WATCHED = ("sympy", "numba", "scipy", "dask", "matplotlib")      # what a warm path should import only when it needs it
+# the warm paths whose imports are listed: an exact command, a short quick run, a scene (its two runs compiled, plotted)
+IMPORTED = ((COMMANDS[0], "an exact command"), (COMMANDS[3], "a short quick run (the Python loop)"),
+            (["run", "reports/scenes/fig3_07_rk_harmonic.json", "--out", "{tmp}"],
+             "a scene: 2 runs of 50 000 steps, compiled, plotted"))
 REPEAT = 5
 
 
@@ -49,21 +55,23 @@ def wall(argv, repeat: int) -> tuple:
 
 def imports(argv) -> tuple:
     """The largest top-level packages by cumulative import seconds (a package's own line: its
-    first import, with everything it pulls in), and the seconds of tableau_lab's own modules
-    (their self times)."""
+    first import, with everything it pulls in), the seconds of tableau_lab's own modules (their
+    self times) and which of :data:`WATCHED` were imported at all."""
+    subprocess.run([sys.executable, "-m", "tableau_lab", *argv], cwd=ROOT, capture_output=True, check=False)  # warm
     p = subprocess.run([sys.executable, "-X", "importtime", "-m", "tableau_lab", *argv], cwd=ROOT,
                        capture_output=True, text=True, check=False)
-    packages, own = {}, 0.0
+    packages, own, seen = {}, 0.0, set()
     for line in p.stderr.splitlines():
         parts = line.split("|")
         if not line.startswith("import time:") or len(parts) != 3 or "cumulative" in line:
             continue
         self_us, cum_us, name = int(parts[0].split(":")[1]), int(parts[1]), parts[2].strip()
+        seen.add(name.split(".")[0])
         if name.startswith("tableau_lab"):
             own += self_us / 1e6
         elif "." not in name and not name.startswith("_"):
             packages[name] = max(packages.get(name, 0.0), cum_us / 1e6)
-    return sorted(packages.items(), key=lambda r: -r[1])[:TOP], own
+    return sorted(packages.items(), key=lambda r: -r[1])[:TOP], own, [w for w in WATCHED if w in seen]
 
 
 def make(repeat: int = REPEAT) -> str:
@@ -76,11 +84,20 @@ def make(repeat: int = REPEAT) -> str:
              f"2-core machine, load average {load:.1f} at the start; median of {repeat} fresh processes after one "
              "untimed run; CPU: user + system of the process, what a shared machine does not inflate).*", "",
              "| command | wall time (s) | CPU time (s) |", "|---|---|---|", *rows]
-    top, own = imports(COMMANDS[0])
-    lines += ["", "Imports of `tableau-lab verify methods/example4_glm.json` (`python -X importtime`): the largest "
-              "packages, each with what it pulls in — " + ", ".join(f"{n} {s:.2f} s" for n, s in top)
-              + f"; tableau_lab's own modules {own:.2f} s. No exact command imports numba, scipy, dask or "
-              "matplotlib (`tests/test_latency.py`)."]
+    lines += ["", "Imports (`python -X importtime`, a second run of each: the disk caches warm): the largest "
+              "packages, each with what it pulls in; tableau_lab's own modules; which of "
+              + ", ".join(WATCHED) + " were imported at all.", "",
+              "| warm path | command | largest imports | tableau_lab | imported of those |", "|---|---|---|---|---|"]
+    with tempfile.TemporaryDirectory() as tmp:
+        for argv, what in IMPORTED:
+            argv = [a.format(tmp=tmp) for a in argv]
+            top, own, seen = imports(argv)
+            shown = " ".join(a if a != tmp else "DIR" for a in argv)
+            lines.append(f"| {what} | `tableau-lab {shown}` | " + ", ".join(f"{n} {t:.2f} s" for n, t in top[:5])
+                         + f" | {own:.2f} s | {', '.join(seen) or 'none'} |")
+    lines += ["", "No exact command imports numba, scipy, dask or matplotlib (`tests/test_latency.py`); a short "
+              "quick run imports neither numba nor scipy (`tests/test_job.py`); scipy comes with numba (numba "
+              "imports it for its LAPACK bindings), matplotlib with the plots."]
     return "\n".join(lines)
 
 
