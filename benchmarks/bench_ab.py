@@ -78,6 +78,9 @@ def same_code(trees: dict, tmp: Path) -> None:
     changed = sorted(k for k in co.keys() | cn.keys() if co.get(k) != cn.get(k))
     print("limits constants that differ: " + (", ".join(f"{k} ({co.get(k, '-')} → {cn.get(k, '-')})"
                                                         for k in changed) or "none"))
+    texts = "\n".join((*old, *new))
+    used = [k for k in changed if re.search(rf"\b{k}\b", texts)]
+    print("of those, named in the generated code: " + (", ".join(used) or "none"))
 
 
 def main(argv=None) -> int:
