@@ -1,0 +1,146 @@
+"""Reconstruction of exact tableaux from decimals (issue 33, item 3): exact/recognise.py and
+analysis/reconstruct.py against independent facts — the published exact tableaux of the library,
+turned into decimal balls here with mpmath (not by the code under test), must come back as
+exactly those numbers, and their published orders must be re-proven; balls with too few digits
+and random numbers must give no strong claim."""
+import json
+import random
+import time
+
+import flint
+import pytest
+import sympy as sp
+from conftest import benchmark_script
+
+import tableau_lab as tl
+from tableau_lab.errors import BudgetError
+from tableau_lab.exact.grammar import format_entry, parse_entry
+from tableau_lab.exact.recognise import ball_of, limits_with, recognise, recognise_in
+
+demo = benchmark_script("reconstruct_demo")      # the balls: mpmath's rounding of the shipped exact entries
+decimal_ball, decimal_tableau = demo.decimal_ball, demo.decimal_tableau
+
+
+def assert_exact(result, exact):
+    assert demo.equals_exactly(result, exact)
+    for e in result.entries:                                  # the grammar's normal form: re-parses to itself
+        assert parse_entry(str(format_entry(e.value))) == e.value
+
+
+def test_dormand_prince_from_20_digits_is_its_rationals_and_order_5():
+    data, exact = decimal_tableau("dormand_prince54", 20)
+    start = time.process_time()
+    r = tl.reconstruct(data)
+    assert r.complete and not r.weak and not r.missing
+    assert_exact(r, exact)
+    assert {e.recognition.kind for e in r.recognised} <= {"rational", "integer"}
+    assert r.verified.order.order == 5 and r.embedded_order == 4 and r.verified.failed == ()
+    # DP's largest height is 339200 (b̂₄ = −92097/339200): 2·log10(339200) = 11.06 digits needed
+    worst = max(r.recognised, key=lambda e: e.recognition.needed).recognition
+    assert worst.height == 339200 and round(worst.needed, 2) == 11.06
+    assert time.process_time() - start < 20
+
+
+def test_rk4_from_20_digits():
+    data, exact = decimal_tableau("rk4", 20)
+    r = tl.reconstruct(data)
+    assert r.complete
+    assert_exact(r, exact)
+    assert r.verified.order.order == 4 and "order 4" in r.proven()
+
+
+def test_gauss2_from_30_digits_in_one_quadratic_field():
+    data, exact = decimal_tableau("gauss2", 30)
+    r = tl.reconstruct(data)
+    assert r.complete and r.fields == (sp.sqrt(3),)
+    assert_exact(r, exact)
+    v = r.verified
+    assert v.order.order == 4 and v.rk_symplectic.holds and v.failed == ()
+    kinds = {e.name: e.recognition.kind for e in r.recognised}
+    assert kinds == {"A row 1, column 1": "rational", "A row 1, column 2": "quadratic",
+                     "A row 2, column 1": "quadratic", "A row 2, column 2": "rational",
+                     "b[1]": "rational", "b[2]": "rational", "c[1]": "quadratic", "c[2]": "quadratic"}
+
+
+def test_sdirk34_from_30_digits_in_its_cubic_field():
+    data, exact = decimal_tableau("sdirk34", 30)
+    r = tl.reconstruct(data)
+    assert r.complete, [e.line() for e in r.entries]
+    assert len(r.fields) >= 1 and all(e.recognition.field == r.fields[0] for e in r.recognised
+                                      if not e.recognition.value.is_Rational)
+    assert_exact(r, exact)
+    assert r.verified.order.order == 4 and r.verified.failed == ()
+
+
+def test_the_shared_field_needs_fewer_digits_than_the_entry_alone():
+    """b₁ of SDIRK34, 1/(6(2γ − 1)²): in Q(γ) a relation of 4 small numbers, alone a cubic of larger height."""
+    g = parse_entry("1/2 + cos(pi/18)/sqrt(3)")
+    b1 = 1 / (6 * (2 * g - 1) ** 2)
+    x = decimal_ball(b1, 30)
+    alone, joint = recognise(x), recognise_in(x, parse_entry("root(24*x**3 - 36*x**2 + 12*x - 1, 3)"))
+    assert joint.strong and joint.needed < alone.needed
+    assert sp.minimal_polynomial(joint.value - b1, sp.Symbol("x")) == sp.Symbol("x")
+
+
+@pytest.mark.parametrize("value, digits", [("1/3", 3), ("sqrt(3)/6 + 1/2", 4), ("19372/6561", 8)])
+def test_too_few_digits_make_no_strong_claim(value, digits):
+    r = recognise(decimal_ball(parse_entry(value), digits))
+    assert not r.strong
+    assert r.value is None or r.weak
+
+
+def test_a_tableau_with_too_few_digits_is_not_complete():
+    data, _ = decimal_tableau("gauss2", 5)
+    r = tl.reconstruct(data)
+    assert not r.complete and (r.weak or r.missing)
+    assert "weak" in r.proven().lower() or "not recognised" in r.proven()
+
+
+def test_a_misprint_in_the_10th_digit_is_not_recognised_as_a_rational():
+    data, _ = decimal_tableau("dormand_prince54", 20)
+    data["A"][2][1] = decimal_ball(sp.Rational(9, 40) * (1 + sp.Rational(1, 10 ** 9)), 20)   # a₃₂ = 9/40
+    r = tl.reconstruct(data)
+    bad = [e for e in r.entries if e.name == "A row 3, column 2"][0]
+    assert not bad.recognition.strong and not r.complete
+
+
+def test_random_20_digit_numbers_have_no_small_height():
+    rng = random.Random(33)
+    for _ in range(12):
+        digits = "".join(rng.choice("0123456789") for _ in range(20))
+        with flint.ctx.workprec(160):
+            x = flint.arb(f"[0.{digits} +/- 5e-21]")
+        r = recognise(x)
+        assert not r.strong, (digits, r.verdict())
+
+
+def test_candidate_lies_inside_the_ball_and_reparses():
+    x = decimal_ball(sp.sqrt(2) + sp.sqrt(3), 40)          # degree 4: x⁴ − 10x² + 1
+    r = recognise(x)
+    assert r.strong and r.kind == "degree 4" and r.height == 10
+    b = ball_of(x)
+    assert b.lo < sp.Rational(str(sp.N(sp.sqrt(2) + sp.sqrt(3), 60))) < b.hi
+    assert parse_entry(r.text) == r.value
+    assert sp.minimal_polynomial(r.value - sp.sqrt(2) - sp.sqrt(3), sp.Symbol("x")) == sp.Symbol("x")
+
+
+def test_limits_are_named_checked_and_bind():
+    with pytest.raises(ValueError, match="unknown reconstruction limit"):
+        limits_with(depth=3)
+    with pytest.raises(ValueError, match="degree"):
+        limits_with(degree=0)
+    x = decimal_ball(sp.sqrt(2) + sp.sqrt(3), 40)
+    assert recognise(x, limits_with(degree=2)).value is None or not recognise(x, limits_with(degree=2)).strong
+    data, _ = decimal_tableau("dormand_prince54", 20)
+    with pytest.raises(BudgetError, match="reconstruction"):
+        tl.reconstruct(data, seconds=0.01)
+
+
+def test_report_renders_and_serialises():
+    data, _ = decimal_tableau("gauss2", 30)
+    r = tl.reconstruct(data)
+    text = str(r)
+    assert "Reconstruction of" in text and "sqrt(3)" in text and "order 4" in text
+    out = json.loads(r.dumps())
+    assert out["complete"] is True and out["fields"] == ["sqrt(3)"]
+    assert all(e["weak"] is False for e in out["entries"] if "weak" in e)
