@@ -6,6 +6,7 @@ tableau exactly.  docs/reconstruction.md quotes its output.
 
     python benchmarks/reconstruct_demo.py                  # the cases of docs/reconstruction.md (gauss2:30 in full)
     python benchmarks/reconstruct_demo.py --entries sdirk34:30   # one case with its table of entries
+    python benchmarks/reconstruct_demo.py --library 30     # every shipped tableau at 30 digits, one line each
 
 Times are CPU seconds of this process (``time.process_time``: the machine is shared).
 """
@@ -29,7 +30,7 @@ import tableau_lab as tl  # noqa: E402  (after the path: the checkout's package)
 from tableau_lab.exact.grammar import parse_entry  # noqa: E402  (after the path)
 from tableau_lab.exact.recognise import recognise  # noqa: E402  (after the path)
 
-CASES = ("rk4:20", "dormand_prince54:20", "gauss2:30", "sdirk34:30", "gauss2:5")
+CASES = ("rk4:20", "dormand_prince54:20", "gauss2:30", "sdirk34:30", "glm6_moonshot:60", "gauss2:5")
 SHOWN = "gauss2:30"         # the case shown with its table of entries
 
 
@@ -116,10 +117,32 @@ def chance(seed: int = 33, count: int = 100) -> None:
     print(f"{count} random 20-digit numbers: {strong} recognised, best margin {best:.1f} digits (strong from 5)")
 
 
+def library(digits: int) -> None:
+    """Every shipped tableau from ``digits`` digits: one line each (complete, equal to the shipped
+    one, the order proven), and the count."""
+    names = sorted(p.name[:-5] for p in resources.files("tableau_lab").joinpath("methods").iterdir()
+                   if p.name.endswith(".json"))
+    exact_count = 0
+    for name in names:
+        data, exact = decimal_tableau(name, digits)
+        r = tl.reconstruct(data)
+        same = r.tableau is not None and r.refused is None and equals_exactly(r, exact)
+        exact_count += same
+        order = f"order {r.verified.order.order}" if r.verified is not None and r.verified.order is not None else ""
+        balls = r.summary().split(" entries given as balls")[0]
+        print(f"{name}: {balls} balls, {len(r.weak)} weak, {len(r.missing)} not recognised; "
+              f"{'exact' if same else 'NOT reconstructed'}{'; ' + order if same and order else ''}")
+    print(f"{exact_count} of {len(names)} shipped tableaux reconstructed exactly from {digits} digits")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--entries", nargs="*", metavar="NAME:DIGITS", help="cases shown with their tables of entries")
+    ap.add_argument("--library", type=int, metavar="DIGITS", help="every shipped tableau at DIGITS digits")
     args = ap.parse_args(argv)
+    if args.library:
+        library(args.library)
+        return 0
     if args.entries:
         for spec in args.entries:
             case(spec, entries=True)

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from fractions import Fraction
+from functools import lru_cache
 from math import gcd, inf, log10
 from typing import Any, NamedTuple
 
@@ -69,7 +70,7 @@ class Limits:
     """The limits of a reconstruction, in one place (``limits_with`` changes some of them;
     ``tableau-lab``'s options and ``tl.reconstruct``'s keywords are these names)."""
     degree: int = 4             # the highest degree of an algebraic candidate (1: rationals only)
-    height: int = 10 ** 12      # the largest coefficient of a relation (a rational's numerator or denominator)
+    height: int = 10 ** 30      # the largest coefficient of a relation (a rational's numerator or denominator)
     margin: float = 5.0         # digits a ball must have beyond those its candidate needs, else "weak"
     digits: int = 200           # the most digits of a ball used (a tighter ball is used to this many)
     seconds: float = 60.0       # the time budget of one tableau's reconstruction (0: none)
@@ -338,18 +339,26 @@ def generator(r: Recognition) -> sp.Expr | None:
     return r.value
 
 
-def _powers(theta: sp.Expr, n: int, ball: Ball) -> list[Fraction]:
+def _powers(theta: sp.Expr, n: int, ball: Ball, limits: Limits) -> list[Fraction]:
     """θ⁰ … θⁿ⁻¹ as exact rationals, within far less than the ball's radius of the true powers."""
+    t = _approximation(theta, int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
+    return [t ** i for i in range(n)]
+
+
+@lru_cache(maxsize=64)
+def _approximation(theta: sp.Expr, bits: int) -> Fraction:
+    """θ within 2^−bits (the midpoint of a certified enclosure at that precision); one per field
+    and precision, so the entries of a tableau share it."""
     from mpmath.ctx_iv import MPIntervalContext
 
     from .real_roots import enclose, lower, upper
     ctx = MPIntervalContext()
-    ctx.prec = int(min(ball.digits, LIMITS.digits * 4) * 3.33) + 2 * _GUARD_BITS
+    ctx.prec = bits
     box = enclose(theta, ctx)
-    t = (_mpf_fraction(lower(box)) + _mpf_fraction(upper(box))) / 2
-    return [t ** i for i in range(n)]
+    return (_mpf_fraction(lower(box)) + _mpf_fraction(upper(box))) / 2
 
 
+@lru_cache(maxsize=64)
 def field_degree(theta: sp.Expr) -> int:
     """The degree of Q(θ) over Q (of θ's minimal polynomial).
 
@@ -376,7 +385,7 @@ def recognise_in(x: Any, theta: sp.Expr, limits: Limits = LIMITS) -> Recognition
     ball = ball_of(x)
     n = field_degree(theta)
     with computing(f"an integer relation of a ball in Q({format_entry(theta)})"):
-        c = relation([ball.mid, *_powers(theta, n, ball)], ball.digits, limits)
+        c = relation([ball.mid, *_powers(theta, n, ball, limits)], ball.digits, limits)
     if c is None or c[0] == 0 or not any(c[2:]):
         return _none(ball, limits)
     value = _normal(sp.expand(-sum(b * theta ** i for i, b in enumerate(c[1:])) / c[0]))
