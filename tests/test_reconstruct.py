@@ -13,7 +13,7 @@ import sympy as sp
 from conftest import benchmark_script
 
 import tableau_lab as tl
-from tableau_lab.errors import BudgetError
+from tableau_lab.errors import BudgetError, InputError
 from tableau_lab.exact.grammar import format_entry, parse_entry
 from tableau_lab.exact.recognise import ball_of, limits_with, recognise, recognise_in
 
@@ -144,3 +144,24 @@ def test_report_renders_and_serialises():
     out = json.loads(r.dumps())
     assert out["complete"] is True and out["fields"] == ["sqrt(3)"]
     assert all(e["weak"] is False for e in out["entries"] if "weak" in e)
+
+
+def test_claims_of_the_decimal_format_are_checked_or_named():
+    """The format's embedded_order claim is checked against the exact embedded method; a claim the
+    exact analyses here do not decide is named as not checked; the keys describing the decimals are
+    consumed, not reported."""
+    data, _ = decimal_tableau("dormand_prince54", 20)
+    data.update({"numbers": "decimal", "digits": 20,
+                 "claims": {"order": 5, "embedded_order": 5, "ssp_coefficient": "0"}})
+    r = tl.reconstruct(data)
+    assert "order = 5 (holds)" in r.proven() and "embedded_order = 5 (FAILS)" in r.proven()
+    assert r.dropped == ("claims.ssp_coefficient",)
+    assert "numbers" not in r.tableau and r.tableau["claims"] == {"order": 5}
+
+
+@pytest.mark.parametrize("entry", [0.5, "0.5", None, [1], flint.arb("nan"), flint.arb(0, "inf")])
+def test_bad_entries_are_refused_naming_the_entry(entry):
+    with pytest.raises(InputError, match="A row 2, column 1") as info:
+        tl.reconstruct({"kind": "rk", "A": [[0, 0], [entry, 0]], "b": ["1/2", "1/2"]})
+    if entry in (0.5, "0.5"):
+        assert "flint.arb" in str(info.value)

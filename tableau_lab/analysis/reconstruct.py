@@ -26,6 +26,7 @@ that the candidate is the method the decimals came from is as sure as the weakes
 """
 from __future__ import annotations
 
+import re
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -34,15 +35,19 @@ import flint
 import sympy as sp
 
 from ..budget import computing, time_limit
-from ..exact.grammar import format_entry, parse_entry
+from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.recognise import LIMITS, Limits, Recognition, field_degree, generator, limits_with, recognise, recognise_in
 from ..exact.tableau_json import CLAIMS, KINDS, META, TableauError, entry_name, from_dict
-from ..render.model import Document, Paragraph, Table
+from ..render.model import Document, Math, Paragraph, Table
 from .order import order as order_of
 from .results import Result
 from .verify import VerifyResult, verify
 
 __all__ = ["reconstruct_tableau", "reconstruct", "ReconstructResult", "EntryReport"]
+
+#: keys of a decimal file that describe its numbers (issue 33's format): the exact candidate has no use for them
+DECIMAL_KEYS = frozenset({"numbers", "radius", "digits"})
+_DECIMAL = re.compile(r"\s*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\s*")
 
 
 @dataclass(frozen=True)
@@ -76,6 +81,7 @@ class ReconstructResult(Result):
     dropped: tuple[str, ...]
     limits: Limits
     seconds: float
+    embedded_claim: int | None = None       # the claim "embedded_order" (checked here: the exact reader has none)
 
     @property
     def recognised(self) -> tuple[EntryReport, ...]:
@@ -124,12 +130,16 @@ class ReconstructResult(Result):
             parts.append(f"embedded order {self.embedded_order}")
         if v.rk_symplectic is not None:
             parts.append("symplectic" if v.rk_symplectic.holds else "not symplectic")
-        claims = "; claims " + ", ".join(f"{k} = {v.claims[k]} ({'FAILS' if k in v.failed else 'holds'})"
-                                         for k in v.claims) if v.claims else ""
+        verdicts = [f"{k} = {v.claims[k]} ({'FAILS' if k in v.failed else 'holds'})" for k in v.claims]
+        if self.embedded_claim is not None:
+            holds = self.embedded_claim == self.embedded_order
+            verdicts.append(f"embedded_order = {self.embedded_claim} ({'holds' if holds else 'FAILS'})")
+        claims = "; claims " + ", ".join(verdicts) if verdicts else ""
         return "exactly, the candidate has " + ", ".join(parts) + claims + sure
 
     def display(self) -> Document:
-        rows = tuple((e.name, e.given or "exact", str(format_entry(e.value)) if e.value is not None else "—",
+        rows = tuple((e.name, e.given or "exact",
+                      Math(sp.latex(e.value), str(format_entry(e.value))) if e.value is not None else "—",
                       _kind(e), _strength(e)) for e in self.entries)
         blocks: list[Any] = [Paragraph(self.summary()),
                              Table(("entry", "given", "exact", "kind, height, digits given/needed", "verdict"), rows,
@@ -152,7 +162,8 @@ class ReconstructResult(Result):
                         for e in self.entries],
             "fields": [str(format_entry(t)) for t in self.fields],
             "verified": None if self.verified is None else self.verified.to_json(),
-            "embedded_order": self.embedded_order, "refused": self.refused, "not_checked": list(self.dropped),
+            "embedded_order": self.embedded_order, "embedded_order_claimed": self.embedded_claim,
+            "refused": self.refused, "not_checked": list(self.dropped),
             "proven": self.proven(), "limits": dict(vars(self.limits)), "seconds": round(self.seconds, 3)}
 
 
@@ -204,11 +215,16 @@ def _positions(data: dict) -> list[tuple[tuple[str | int, ...], Any]]:
 
 
 def _exact(value: Any, where: str) -> sp.Expr:
-    """An entry given exactly: an int, a grammar string or a sympy number (checked by the grammar)."""
+    """An entry given exactly: an int, a grammar string or a sympy number (checked by the grammar);
+    a decimal is refused with the way to give it as a ball."""
     try:
         return parse_entry(str(format_entry(value)) if isinstance(value, sp.Basic) else value)
-    except Exception as exc:                   # the grammar's errors: a clear message naming the entry
-        raise TableauError("<reconstruction>", str(exc), where) from None
+    except EntryError as exc:
+        hint = ""
+        if isinstance(value, float) or (isinstance(value, str) and _DECIMAL.fullmatch(value)):
+            hint = ('; an entry known in decimals is given as a python-flint ball, e.g. flint.arb("[0.5 +/- 5e-2]") '
+                    '(read at enough precision: with flint.ctx.workprec(bits))')
+        raise TableauError("<reconstruction>", str(exc) + hint, where) from None
 
 
 def _best(ball: Any, alone: Recognition, fields: list[sp.Expr], limits: Limits) -> Recognition:
@@ -240,6 +256,8 @@ def _recognise_all(data: dict, limits: Limits) -> tuple[list[EntryReport], list[
     alone: dict[int, Recognition] = {}
     for k, (path, value) in enumerate(positions):
         if isinstance(value, flint.arb):
+            if not value.is_finite():
+                raise TableauError("<reconstruction>", f"the ball {value} is not finite", entry_name(path))
             with computing(f"recognising {entry_name(path)}"):
                 alone[k] = recognise(value, limits)
     fields = _fields(list(alone.values()), limits)
@@ -268,7 +286,8 @@ def _candidate(data: dict, reports: list[EntryReport]) -> tuple[dict, tuple[str,
     """The exact tableau dict (entries in the grammar) and what of the input it cannot carry."""
     values = iter(str(format_entry(e.value)) for e in reports)
     out: dict[str, Any] = {k: v for k, v in data.items() if k in META and k != "claims"}
-    dropped = [k for k in data if k not in META and k not in KINDS[data["kind"]][1] and k not in KINDS[data["kind"]][2]]
+    dropped = [k for k in data if k not in META and k not in DECIMAL_KEYS
+               and k not in KINDS[data["kind"]][1] and k not in KINDS[data["kind"]][2]]
     for path, _ in _positions(data):
         key = str(path[0])
         if len(path) == 3:
@@ -282,7 +301,7 @@ def _candidate(data: dict, reports: list[EntryReport]) -> tuple[dict, tuple[str,
     known = {k: v for k, v in claims.items() if k in CLAIMS}
     if known:
         out["claims"] = known
-    dropped += [f"claims.{k}" for k in claims if k not in CLAIMS]
+    dropped += [f"claims.{k}" for k in claims if k not in CLAIMS and k != "embedded_order"]
     return out, tuple(dropped)
 
 
@@ -312,8 +331,9 @@ def reconstruct_tableau(data: dict, limits: Limits = LIMITS, **changes: Any) -> 
             verified = verify(method)
             emb = method.embedded() if hasattr(method, "embedded") else None
             embedded = None if emb is None else int(order_of(emb).order)
+    claim = (data.get("claims") or {}).get("embedded_order")
     return ReconstructResult(name, candidate, tuple(reports), tuple(fields), verified, embedded, refused, dropped,
-                             limits, time.perf_counter() - start)
+                             limits, time.perf_counter() - start, claim if isinstance(claim, int) else None)
 
 
 def reconstruct(data: dict, **limits: Any) -> ReconstructResult:
