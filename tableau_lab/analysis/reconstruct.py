@@ -5,7 +5,8 @@ gives them, or exact values where the file is exact) is reconstructed entry by e
 (:func:`~tableau_lab.exact.recognise.recognise`: the simplest rational of the ball, then algebraic
 numbers of degree ≤ 4 by an integer relation found by LLL), and then jointly: the number fields
 Q(θ) that the recognised entries show (√3 in Gauss 2, SDIRK34's cubic γ) are tried for every
-non-rational entry (:func:`~tableau_lab.exact.recognise.recognise_in`).  A relation in the right
+non-rational entry (:func:`~tableau_lab.exact.recognise.recognise_in`), then the field they make
+together (:func:`~tableau_lab.exact.recognise.joint_basis`: Gauss 4's entries, of degree 8).  A relation in the right
 field has fewer numbers and smaller coefficients than the entry's own minimal polynomial, so it
 needs fewer digits, and the whole tableau lands in one field, where the exact analyses are fast.
 
@@ -36,7 +37,19 @@ import sympy as sp
 
 from ..budget import computing, time_limit
 from ..exact.grammar import EntryError, format_entry, parse_entry
-from ..exact.recognise import LIMITS, Limits, Recognition, field_degree, generator, limits_with, recognise, recognise_in
+from ..exact.recognise import (
+    LIMITS,
+    Basis,
+    Limits,
+    Recognition,
+    field_degree,
+    generator,
+    joint_basis,
+    limits_with,
+    recognise,
+    recognise_in,
+    recognise_in_basis,
+)
 from ..exact.tableau_json import CLAIMS, KINDS, META, TableauError, entry_name, from_dict
 from ..render.model import Document, Math, Paragraph, Table
 from .order import order as order_of
@@ -158,7 +171,7 @@ class ReconstructResult(Result):
                              "kind": e.recognition.kind, "height": e.recognition.height,
                              "digits": _finite(e.recognition.digits), "needed": _finite(e.recognition.needed),
                              "weak": e.recognition.weak,
-                             "field": None if e.recognition.field is None else str(format_entry(e.recognition.field))})}
+                             "field": [str(format_entry(t)) for t in e.recognition.field]})}
                         for e in self.entries],
             "fields": [str(format_entry(t)) for t in self.fields],
             "verified": None if self.verified is None else self.verified.to_json(),
@@ -177,7 +190,7 @@ def _kind(e: EntryReport) -> str:
         return "exact"
     if r.value is None:
         return "none"
-    where = f" in Q({format_entry(r.field)})" if r.field is not None else ""
+    where = f" in Q({', '.join(str(format_entry(t)) for t in r.field)})" if r.field else ""
     return f"{r.kind}{where}, {r.height}, {r.digits:.1f}/{r.needed:.1f}"
 
 
@@ -227,15 +240,39 @@ def _exact(value: Any, where: str) -> sp.Expr:
         raise TableauError("<reconstruction>", str(exc) + hint, where) from None
 
 
-def _best(ball: Any, alone: Recognition, fields: list[sp.Expr], limits: Limits) -> Recognition:
-    """The first strong recognition of the ball in the tableau's fields, in order, else ``alone``."""
+def _best(ball: Any, alone: Recognition, fields: list[sp.Expr], joint: _Joint, limits: Limits) -> Recognition:
+    """The first strong recognition of the ball in the tableau's fields, in order, then in the field
+    they generate together, else ``alone``."""
     if alone.strong and alone.value is not None and alone.value.is_Rational:
         return alone
     for theta in fields:
         r = recognise_in(ball, theta, limits)
         if r.strong:
             return r
+    basis = joint.basis()
+    if basis is not None:
+        r = recognise_in_basis(ball, basis, limits)
+        if r.strong:
+            return r
     return alone
+
+
+class _Joint:
+    """The basis of the field all the tableau's generators make together, computed when first
+    asked (None: one generator, or a field of degree above ``limits.basis``)."""
+
+    def __init__(self, fields: list[sp.Expr], limits: Limits):
+        self.fields, self.limits, self.done = fields, limits, False
+        self.value: Basis | None = None
+
+    def basis(self) -> Basis | None:
+        if not self.done:
+            self.done = True
+            if len(self.fields) > 1:
+                with computing("the field of the tableau's generators"):
+                    b = joint_basis(tuple(self.fields), self.limits)
+                self.value = b if b is not None and len(b.elements) > max(map(field_degree, self.fields)) else None
+        return self.value
 
 
 def _fields(found: list[Recognition], limits: Limits) -> list[sp.Expr]:
@@ -261,6 +298,7 @@ def _recognise_all(data: dict, limits: Limits) -> tuple[list[EntryReport], list[
             with computing(f"recognising {entry_name(path)}"):
                 alone[k] = recognise(value, limits)
     fields = _fields(list(alone.values()), limits)
+    joint = _Joint(fields, limits)
     reports = []
     for k, (path, value) in enumerate(positions):
         name = entry_name(path)
@@ -268,11 +306,10 @@ def _recognise_all(data: dict, limits: Limits) -> tuple[list[EntryReport], list[
             reports.append(EntryReport(name, None, None, _exact(value, name)))
             continue
         with computing(f"recognising {name} in the tableau's fields"):
-            r = _best(value, alone[k], fields, limits)
+            r = _best(value, alone[k], fields, joint, limits)
         reports.append(EntryReport(name, _ball_text(value, r.digits), r, r.value))
-    used = {str(format_entry(e.recognition.field)) for e in reports
-            if e.recognition is not None and e.recognition.field is not None}
-    return reports, [t for t in fields if str(format_entry(t)) in used]
+    used = {t for e in reports if e.recognition is not None for t in e.recognition.field}
+    return reports, [t for t in fields if t in used]
 
 
 def _ball_text(x: Any, digits: float) -> str:

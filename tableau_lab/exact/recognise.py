@@ -15,7 +15,9 @@ that number needs.  Three searches, cheapest first:
    ball (a Sturm count with the ball's exact ends) is the candidate's minimal polynomial.
 3. **Elements of a given field Q(θ)** (:func:`recognise_in`): a relation c·x + a₀ + a₁θ + … = 0,
    used by the tableau reconstruction (``analysis/reconstruct.py``) once one entry has shown the
-   field: every entry of Gauss 2 lies in Q(√3), every entry of SDIRK34 in Q(γ).
+   field: every entry of Gauss 2 lies in Q(√3), every entry of SDIRK34 in Q(γ); and of the field
+   several generators make together (:func:`joint_basis`, :func:`recognise_in_basis`): Gauss 4's
+   entries lie in the field of degree 8 of two of its quartic nodes.
 
 Every candidate is checked, by certified interval arithmetic (:func:`~tableau_lab.exact.real_roots.enclose`),
 to lie inside the ball, and is returned in the tableau grammar's normal form (it re-parses to itself).
@@ -61,8 +63,8 @@ from ..budget import computing
 from .grammar import format_entry, parse_entry
 from .rationals import height as rational_height, simplest_between
 
-__all__ = ["Limits", "LIMITS", "Ball", "Recognition", "ball_of", "recognise", "recognise_in", "generator",
-           "inside", "limits_with"]
+__all__ = ["Limits", "LIMITS", "Ball", "Basis", "Recognition", "ball_of", "recognise", "recognise_in", "generator",
+           "inside", "limits_with", "joint_basis", "recognise_in_basis", "field_degree", "relation", "PROBE_DIGITS"]
 
 
 @dataclass(frozen=True)
@@ -75,11 +77,15 @@ class Limits:
     digits: int = 200           # the most digits of a ball used (a tighter ball is used to this many)
     seconds: float = 60.0       # the time budget of one tableau's reconstruction (0: none)
     fields: int = 3             # the most number fields Q(θ) tried for every entry of one tableau
+    basis: int = 16             # the largest degree of the joint field of a tableau's generators tried
 
 
 LIMITS = Limits()
 _X = sp.Symbol("x")
 _GUARD_BITS = 32                # extra bits of an exact enclosure beyond the ball's
+PROBE_DIGITS = 600              # digits at which exact numbers are tested for relations (independence, degree)
+PROBE_DEGREE = 16               # the highest degree field_degree tries
+_PROBE_BITS = int(PROBE_DIGITS * 3.33) + _GUARD_BITS
 
 
 def limits_with(**changes: Any) -> Limits:
@@ -138,14 +144,14 @@ class Recognition:
     None: nothing within the limits), its ``kind``, the ``height`` of the relation that found it,
     the ball's ``digits`` and the digits the candidate ``needed``; ``strong`` when the ball has the
     margin beyond them, else the candidate is *weak*.  ``field``: the generator θ of the field
-    Q(θ) the relation was sought in (None: by its own powers)."""
+    Q(θ) (or the generators of the field) the relation was sought in (empty: by its own powers)."""
     value: sp.Expr | None
     kind: str                   # "integer", "rational", "quadratic", "degree 3", …, or "none"
     height: int
     digits: float
     needed: float
     margin: float               # Limits.margin when it was found
-    field: sp.Expr | None = None
+    field: tuple[sp.Expr, ...] = ()
     minimal_polynomial: sp.Expr | None = None
 
     @property
@@ -164,7 +170,7 @@ class Recognition:
         """One line: the value, how it was found and how sure."""
         if self.value is None:
             return f"not recognised (no candidate of height ≤ the limit from {_digits(self.digits)} digits)"
-        where = f" in Q({format_entry(self.field)})" if self.field is not None else ""
+        where = f" in Q({', '.join(str(format_entry(t)) for t in self.field)})" if self.field else ""
         sure = "recognised" if self.strong else f"WEAK (fewer than {self.margin:g} digits to spare)"
         return (f"{self.text}: {self.kind}{where}, height {self.height}, {_digits(self.digits)} digits given, "
                 f"{self.needed:.1f} needed: {sure}")
@@ -257,18 +263,46 @@ def _rational(ball: Ball, limits: Limits) -> Recognition | None:
                        minimal_polynomial=r.denominator * _X - r.numerator)
 
 
+def _radical_roots(P: sp.Poly) -> list[sp.Expr]:
+    """The real roots of P in square roots, when they are: a quadratic, or a quartic that is a
+    quadratic in (x − m)² after the shift m = −b/(4a) (the nodes of Gauss 4 and 5:
+    1/2 ± √(…± …√30)/70); none otherwise (a cubic's Cardano form is left as ``root(P, k)``).  Not in
+    normal form yet: only the one inside the ball is put in it."""
+    n = P.degree()
+    if n == 2:
+        a, b, c = P.all_coeffs()
+        return [(-b + s * sp.sqrt(b * b - 4 * a * c)) / (2 * a) for s in (1, -1)]
+    if n != 4:
+        return []
+    a, b = P.all_coeffs()[:2]
+    shift = -b / (4 * a)
+    Q = sp.Poly(P.as_expr().subs(_X, _X + shift), _X)
+    q = Q.all_coeffs()
+    if q[1] != 0 or q[3] != 0:
+        return []
+    A, B, C = q[0], q[2], q[4]                         # A y⁴ + B y² + C with y = x − shift
+    disc = B * B - 4 * A * C
+    if disc < 0:
+        return []
+    out = []
+    for s in (1, -1):
+        y2 = (-B + s * sp.sqrt(disc)) / (2 * A)
+        if y2 >= 0:
+            out += [shift + t * sp.sqrt(y2) for t in (1, -1)]
+    return out
+
+
 def _root_in(P: sp.Poly, ball: Ball) -> sp.Expr | None:
-    """The one root of the irreducible ``P`` (degree ≥ 2) in the ball, exactly (radicals for a
-    quadratic, ``root(P, k)`` above), or None when the ball does not hold exactly one."""
+    """The one root of the irreducible ``P`` (degree ≥ 2) in the ball, exactly (square roots where
+    :func:`_radical_roots` finds them, else ``root(P, k)``), or None when the ball does not hold
+    exactly one."""
     lo, hi = sp.Rational(ball.lo.numerator, ball.lo.denominator), sp.Rational(ball.hi.numerator, ball.hi.denominator)
     if P.count_roots(lo, hi) != 1:                     # Sturm: exact
         return None
+    for v in _radical_roots(P):
+        if inside(v, ball):
+            return _normal(v)
     if P.degree() == 2:
-        a, b, c = P.all_coeffs()
-        for s in (1, -1):
-            v = _normal((-b + s * sp.sqrt(b * b - 4 * a * c)) / (2 * a))
-            if inside(v, ball):
-                return v
         return None
     below = P.count_roots(None, lo)                    # lo is no root: P is irreducible of degree ≥ 2
     v = _normal(sp.CRootOf(P.as_expr(), int(below)))
@@ -339,12 +373,6 @@ def generator(r: Recognition) -> sp.Expr | None:
     return r.value
 
 
-def _powers(theta: sp.Expr, n: int, ball: Ball, limits: Limits) -> list[Fraction]:
-    """θ⁰ … θⁿ⁻¹ as exact rationals, within far less than the ball's radius of the true powers."""
-    t = _approximation(theta, int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
-    return [t ** i for i in range(n)]
-
-
 @lru_cache(maxsize=64)
 def _approximation(theta: sp.Expr, bits: int) -> Fraction:
     """θ within 2^−bits (the midpoint of a certified enclosure at that precision); one per field
@@ -360,14 +388,30 @@ def _approximation(theta: sp.Expr, bits: int) -> Fraction:
 
 @lru_cache(maxsize=64)
 def field_degree(theta: sp.Expr) -> int:
-    """The degree of Q(θ) over Q (of θ's minimal polynomial).
+    """The degree of Q(θ) over Q (of θ's minimal polynomial), for θ of degree ≤ :data:`PROBE_DEGREE`:
+    the least d with a relation among 1, θ, …, θ^d found at :data:`PROBE_DIGITS` digits that needs at
+    most half of them (exact algebraic numbers have relations of small height; chance at 600
+    digits gives none needing fewer than 600).
 
     >>> field_degree(sp.sqrt(3)), field_degree(parse_entry("root(24*x**3 - 36*x**2 + 12*x - 1, 3)"))
     (2, 3)
+    >>> field_degree(parse_entry("1/2 - sqrt(sqrt(30)/70 + 3/28)"))      # a node of Gauss 4
+    4
     """
     if isinstance(theta, sp.CRootOf):
         return int(sp.Poly(theta.poly.as_expr(), theta.poly.gen).degree())
-    return int(sp.degree(sp.minimal_polynomial(theta, _X), _X))
+    return _degree_of(_approximation(theta, _PROBE_BITS), range(1, PROBE_DEGREE + 1))
+
+
+def _degree_of(v: Fraction, degrees: Any) -> int:
+    """The least d of ``degrees`` with a small relation among v⁰ … v^d at :data:`PROBE_DIGITS` digits."""
+    probe = replace(LIMITS, digits=PROBE_DIGITS, height=10 ** PROBE_DIGITS)
+    for d in degrees:
+        with computing(f"the degree of a number (at most {d}?)"):
+            c = relation([v ** i for i in range(d + 1)], PROBE_DIGITS, probe)
+        if c is not None and c[-1] != 0 and _needed(c)[1] < PROBE_DIGITS / 2:
+            return int(d)
+    raise ValueError(f"a number of degree above {max(degrees)}")
 
 
 def recognise_in(x: Any, theta: sp.Expr, limits: Limits = LIMITS) -> Recognition:
@@ -382,15 +426,85 @@ def recognise_in(x: Any, theta: sp.Expr, limits: Limits = LIMITS) -> Recognition
     >>> r.text, r.height, r.kind
     ('1 - 4*root(24*x**3 - 36*x**2 + 12*x - 1, 3)', 4, 'degree 3')
     """
-    ball = ball_of(x)
     n = field_degree(theta)
-    with computing(f"an integer relation of a ball in Q({format_entry(theta)})"):
-        c = relation([ball.mid, *_powers(theta, n, ball, limits)], ball.digits, limits)
+    return recognise_in_basis(x, Basis((theta,), tuple((i,) for i in range(n)),
+                                       tuple(_element((theta,), (i,)) for i in range(n))), limits)
+
+
+class Basis(NamedTuple):
+    """A basis over Q of the field Q(θ₁, …, θ_k): its ``elements`` (exact, normal form), each the
+    product of the ``generators``' powers in ``exponents``."""
+    generators: tuple[sp.Expr, ...]
+    exponents: tuple[tuple[int, ...], ...]
+    elements: tuple[sp.Expr, ...]
+
+    def values(self, bits: int) -> list[Fraction]:
+        """The elements as rationals within about 2^−bits (the generators' certified enclosures)."""
+        approx = [_approximation(t, bits) for t in self.generators]
+        out = []
+        for e in self.exponents:
+            v = Fraction(1)
+            for a, k in zip(approx, e, strict=True):
+                v *= a ** k
+            out.append(v)
+        return out
+
+
+def _element(generators: tuple[sp.Expr, ...], e: tuple[int, ...]) -> sp.Expr:
+    return _normal(sp.expand(sp.Mul(*(t ** k for t, k in zip(generators, e, strict=True)))))
+
+
+def joint_basis(generators: tuple[sp.Expr, ...], limits: Limits = LIMITS) -> Basis | None:
+    """A basis over Q of the field Q(θ₁, …, θ_k): the products θ₁^i₁ ⋯ θ_k^i_k (i_j below the degree
+    of θ_j), lowest total degree first, each kept unless it is a rational combination of those kept
+    (an integer relation found at :data:`PROBE_DIGITS` digits that needs at most half of them —
+    a relation among exact numbers has small coefficients, chance gives none that small); None when
+    the basis would pass ``limits.basis`` numbers.
+
+    >>> joint_basis((sp.sqrt(2), sp.sqrt(3))).elements        # Q(√2, √3) has degree 4
+    (1, sqrt(2), sqrt(3), sqrt(6))
+    >>> joint_basis((sp.sqrt(3), sp.sqrt(12) + 1)).elements   # the same field twice: degree 2
+    (1, sqrt(3))
+    """
+    from itertools import product
+    degrees = [field_degree(t) for t in generators]
+    exponents = sorted(product(*(range(n) for n in degrees)), key=lambda e: (sum(e), e[::-1]))
+    every = Basis(generators, tuple(exponents), ())
+    values = every.values(_PROBE_BITS)
+    probe = replace(limits, digits=PROBE_DIGITS, height=10 ** PROBE_DIGITS)
+    kept: list[tuple[int, ...]] = []
+    kept_values: list[Fraction] = []
+    for e, v in zip(exponents, values, strict=True):
+        if kept:
+            with computing(f"a basis of the field of {len(generators)} numbers"):
+                c = relation([*kept_values, v], PROBE_DIGITS, probe)
+            if c is not None and c[-1] != 0 and _needed(c)[1] < PROBE_DIGITS / 2:
+                continue                               # v is a rational combination of the kept ones
+        if len(kept) == limits.basis:
+            return None
+        kept.append(e)
+        kept_values.append(v)
+    return Basis(generators, tuple(kept), tuple(_element(generators, e) for e in kept))
+
+
+def recognise_in_basis(x: Any, basis: Basis, limits: Limits = LIMITS) -> Recognition:
+    """x as a rational combination of a basis of a field (its first element 1): an integer
+    relation c·x + Σ bᵢ·basisᵢ = 0 with c ≠ 0; its height and needed digits are those of this
+    relation (len(basis) + 1 numbers)."""
+    ball = ball_of(x)
+    values = basis.values(int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
+    names = ", ".join(str(format_entry(t)) for t in basis.generators)
+    with computing(f"an integer relation of a ball in Q({names})"):
+        c = relation([ball.mid, *values], ball.digits, limits)
     if c is None or c[0] == 0 or not any(c[2:]):
         return _none(ball, limits)
-    value = _normal(sp.expand(-sum(b * theta ** i for i, b in enumerate(c[1:])) / c[0]))
-    if not inside(value, ball):
+    raw = sp.expand(-sum(b * e for b, e in zip(c[1:], basis.elements, strict=True)) / c[0])
+    if not inside(raw, ball):
         return _none(ball, limits)
+    value = _normal(raw)
     h, need = _needed(c)
-    deg = n if sp.isprime(n) else int(sp.degree(sp.minimal_polynomial(value, _X), _X))
-    return Recognition(value, _kind(deg, value), h, ball.digits, need, limits.margin, field=theta)
+    n = len(basis.elements)
+    exact = basis.values(_PROBE_BITS)
+    v = -sum((b * e for b, e in zip(c[1:], exact, strict=True)), Fraction(0)) / c[0]
+    deg = _degree_of(v, [d for d in range(2, n + 1) if n % d == 0])      # its degree divides the field's
+    return Recognition(value, _kind(deg, value), h, ball.digits, need, limits.margin, field=basis.generators)
