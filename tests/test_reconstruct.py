@@ -141,11 +141,19 @@ def test_limits_are_named_checked_and_bind():
         limits_with(depth=3)
     with pytest.raises(ValueError, match="degree"):
         limits_with(degree=0)
+    with pytest.raises(ValueError, match="from 1 to 5000"):
+        limits_with(digits=10 ** 6)
+    # a ball tighter than the digits limit is used to that many digits: still recognised, never slower
+    tight = decimal_ball(sp.sqrt(3) / 6 + sp.Rational(1, 2), 3000)
+    r = recognise(tight, limits_with(digits=50))
+    assert r.strong and r.value == parse_entry("sqrt(3)/6 + 1/2") and 49.9 < r.digits <= 50
     x = decimal_ball(sp.sqrt(2) + sp.sqrt(3), 40)
     assert recognise(x, limits_with(degree=2)).value is None or not recognise(x, limits_with(degree=2)).strong
     data, _ = decimal_tableau("dormand_prince54", 20)
     with pytest.raises(BudgetError, match="reconstruction"):
         tl.reconstruct(data, seconds=0.01)
+    with pytest.raises(InputError, match="size budget"):
+        tl.reconstruct({"kind": "rk", "A": [[0] * 41] * 41, "b": [0] * 41})
 
 
 def test_report_renders_and_serialises():

@@ -38,6 +38,7 @@ import sympy as sp
 from ..budget import computing, time_limit
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.recognise import (
+    LIMIT_OPTION,
     LIMITS,
     Basis,
     Limits,
@@ -50,7 +51,7 @@ from ..exact.recognise import (
     recognise_in,
     recognise_in_basis,
 )
-from ..exact.tableau_json import CLAIMS, KINDS, META, TableauError, entry_name, from_dict
+from ..exact.tableau_json import CLAIMS, KINDS, MAX_SIZE, META, TableauError, entry_name, from_dict
 from ..render.model import Document, Math, Paragraph, Table
 from .order import order as order_of
 from .results import Result
@@ -353,7 +354,11 @@ def reconstruct_tableau(data: dict, limits: Limits = LIMITS, **changes: Any) -> 
         raise TableauError("<reconstruction>", "a tableau is a dict such as {\"kind\": \"rk\", \"A\": ..., \"b\": ...}")
     name = str(data.get("name", "the tableau"))
     start = time.perf_counter()
-    with time_limit(limits.seconds, "the reconstruction limit seconds"), computing(f"reconstruction of {name}"):
+    for key in KINDS[str(data.get("kind"))][1] if data.get("kind") in KINDS else ():
+        if isinstance(data.get(key), list) and len(data[key]) > MAX_SIZE:
+            raise TableauError("<reconstruction>", f"{len(data[key])} rows: beyond the size budget MAX_SIZE = "
+                                                   f"{MAX_SIZE} of the exact analyses (tableau_json.py)", key)
+    with time_limit(limits.seconds, LIMIT_OPTION), computing(f"reconstruction of {name}"):
         reports, fields = _recognise_all(data, limits)
         if any(e.value is None for e in reports):
             return ReconstructResult(name, None, tuple(reports), tuple(fields), None, None, None, (), limits,

@@ -59,12 +59,13 @@ from typing import Any, NamedTuple
 import flint
 import sympy as sp
 
-from ..budget import computing
+from ..budget import computing, time_limit
 from .grammar import format_entry, parse_entry
 from .rationals import height as rational_height, simplest_between
 
-__all__ = ["Limits", "LIMITS", "Ball", "Basis", "Recognition", "ball_of", "recognise", "recognise_in", "generator",
-           "inside", "limits_with", "joint_basis", "recognise_in_basis", "field_degree", "relation", "PROBE_DIGITS"]
+__all__ = ["Limits", "LIMITS", "LIMIT_OPTION", "CEILINGS", "Ball", "Basis", "Recognition", "ball_of", "recognise",
+           "recognise_in", "recognise_in_basis", "joint_basis", "generator", "inside", "limits_with", "field_degree",
+           "relation", "PROBE_DIGITS"]
 
 
 @dataclass(frozen=True)
@@ -81,6 +82,10 @@ class Limits:
 
 
 LIMITS = Limits()
+LIMIT_OPTION = "the reconstruction limit seconds"      # how a user raises the time budget (BudgetError's message)
+#: the most a user may raise a limit to (each one's cost grows with it: a lattice of degree + 1 rows
+#: of digits-digit numbers, a joint basis of ``basis`` numbers tested at PROBE_DIGITS)
+CEILINGS = {"degree": 16, "digits": 5000, "fields": 8, "basis": 64}
 _X = sp.Symbol("x")
 _GUARD_BITS = 32                # extra bits of an exact enclosure beyond the ball's
 PROBE_DIGITS = 600              # digits at which exact numbers are tested for relations (independence, degree)
@@ -97,9 +102,10 @@ def limits_with(**changes: Any) -> Limits:
     for k, v in changes.items():
         if k not in Limits.__dataclass_fields__:
             raise ValueError(f"unknown reconstruction limit {k!r} (known: {', '.join(Limits.__dataclass_fields__)})")
-        least = 1 if k in ("degree", "height") else 0
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or v < least:
-            raise ValueError(f"the reconstruction limit {k} must be a number ≥ {least}, not {v!r}")
+        least, most = (1 if k in ("degree", "height", "digits", "basis") else 0), CEILINGS.get(k)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v < least or (most is not None and v > most):
+            raise ValueError(f"the reconstruction limit {k} must be a number from {least}"
+                             f"{'' if most is None else f' to {most}'}, not {v!r}")
     return replace(LIMITS, **changes)
 
 
@@ -135,7 +141,26 @@ def ball_of(x: Any) -> Ball:
     if not x.is_finite():
         raise ValueError(f"the ball {x} is not finite")
     mid, rad = _fraction(x.mid()), _fraction(x.rad())
-    return Ball(mid, rad, inf if rad == 0 else log10(max(Fraction(1), abs(mid)) / rad))
+    return Ball(mid, rad, inf if rad == 0 else _log10(max(Fraction(1), abs(mid)) / rad))
+
+
+def _log10(f: Fraction) -> float:
+    """log10 of a positive rational of any size (a float of it may overflow)."""
+    return log10(f.numerator) - log10(f.denominator)
+
+
+def _used(x: Any, limits: Limits) -> Ball:
+    """The ball of ``x`` as the search uses it: a ball tighter than ``limits.digits`` digits widened
+    to that many (its midpoint rounded to as many bits; the rounding added to the radius), so that
+    no step works at more precision than the limit allows.  Still a ball around the true value."""
+    ball = ball_of(x)
+    if ball.digits <= limits.digits:
+        return ball
+    scale = max(Fraction(1), abs(ball.mid))
+    step = scale / 10 ** (limits.digits + 2)
+    mid = round(ball.mid / step) * step
+    rad = ball.rad + abs(mid - ball.mid) + scale / 10 ** limits.digits
+    return Ball(mid, rad, _log10(scale / rad))
 
 
 @dataclass(frozen=True)
@@ -220,7 +245,7 @@ def inside(value: sp.Expr, ball: Ball) -> bool:
     from .real_roots import enclose, lower, upper
     ctx = MPIntervalContext()
     width = ball.rad if ball.rad else Fraction(1, 2 ** 64)
-    ctx.prec = max(64, int(log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS)
+    ctx.prec = max(64, int(_log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS)
     box = enclose(value, ctx)
     return ball.lo <= _mpf_fraction(lower(box)) and _mpf_fraction(upper(box)) <= ball.hi
 
@@ -337,9 +362,14 @@ def recognise(x: Any, limits: Limits = LIMITS) -> Recognition:
     >>> recognise(flint.arb("[3.14159265358979323846 +/- 1e-20]")).strong     # π: nothing of small height
     False
     """
-    ball = ball_of(x)
+    ball = _used(x, limits)
     if ball.digits < 0.5:
         return _none(ball, limits)
+    with time_limit(limits.seconds, LIMIT_OPTION), computing("recognising a ball"):
+        return _search(ball, limits)
+
+
+def _search(ball: Ball, limits: Limits) -> Recognition:
     found = [r for r in [_rational(ball, limits)] if r is not None]
     if not (found and found[0].strong):
         for k in range(2, limits.degree + 1):
@@ -491,7 +521,7 @@ def recognise_in_basis(x: Any, basis: Basis, limits: Limits = LIMITS) -> Recogni
     """x as a rational combination of a basis of a field (its first element 1): an integer
     relation c·x + Σ bᵢ·basisᵢ = 0 with c ≠ 0; its height and needed digits are those of this
     relation (len(basis) + 1 numbers)."""
-    ball = ball_of(x)
+    ball = _used(x, limits)
     values = basis.values(int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
     names = ", ".join(str(format_entry(t)) for t in basis.generators)
     with computing(f"an integer relation of a ball in Q({names})"):
