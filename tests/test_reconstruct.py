@@ -11,11 +11,13 @@ import flint
 import pytest
 import sympy as sp
 from conftest import benchmark_script
+from printed import latex_to_grammar
 
 import tableau_lab as tl
 from tableau_lab.errors import BudgetError, InputError
 from tableau_lab.exact.grammar import format_entry, parse_entry
 from tableau_lab.exact.recognise import ball_of, limits_with, recognise, recognise_in
+from tableau_lab.exact.render import entry_latex
 
 demo = benchmark_script("reconstruct_demo")      # the balls: mpmath's rounding of the shipped exact entries
 decimal_ball, decimal_tableau = demo.decimal_ball, demo.decimal_tableau
@@ -154,6 +156,20 @@ def test_limits_are_named_checked_and_bind():
         tl.reconstruct(data, seconds=0.01)
     with pytest.raises(InputError, match="size budget"):
         tl.reconstruct({"kind": "rk", "A": [[0] * 41] * 41, "b": [0] * 41})
+
+
+@pytest.mark.parametrize("name, digits", [("sdirk34", 30), ("gauss2", 30)])
+def test_printed_entries_reparse_to_the_candidate(name, digits):
+    """A printed formula is a claim: each entry's text, LaTeX (root(P, k) counted from 1, as the
+    grammar counts, not sympy's CRootOf from 0) and JSON re-parse to the candidate's exact value."""
+    data, _ = decimal_tableau(name, digits)
+    r = tl.reconstruct(data)
+    latex, out = r.to_latex(), json.loads(r.dumps())
+    for e, j in zip(r.entries, out["entries"], strict=True):
+        tex = entry_latex(e.value)
+        assert tex in latex
+        assert parse_entry(latex_to_grammar(tex)) == e.value and parse_entry(j["value"]) == e.value
+    assert "CRootOf" not in latex and ("root" in latex) == (name == "sdirk34")
 
 
 def test_report_renders_and_serialises():

@@ -51,6 +51,7 @@ from ..exact.recognise import (
     recognise_in,
     recognise_in_basis,
 )
+from ..exact.render import entry_latex
 from ..exact.tableau_json import CLAIMS, KINDS, MAX_SIZE, META, TableauError, entry_name, from_dict
 from ..render.model import Document, Math, Paragraph, Table
 from .order import order as order_of
@@ -153,7 +154,7 @@ class ReconstructResult(Result):
 
     def display(self) -> Document:
         rows = tuple((e.name, e.given or "exact",
-                      Math(sp.latex(e.value), str(format_entry(e.value))) if e.value is not None else "—",
+                      Math(entry_latex(e.value), str(format_entry(e.value))) if e.value is not None else "—",
                       _kind(e), _strength(e)) for e in self.entries)
         blocks: list[Any] = [Paragraph(self.summary()),
                              Table(("entry", "given", "exact", "kind, height, digits given/needed", "verdict"), rows,
