@@ -63,6 +63,8 @@ class _LatexPrinter(LatexPrinter):  # type: ignore[misc]  # sympy ships no types
     k counted from 1 (sympy's own LaTeX, ``CRootOf(P, k − 1)``, counts from 0 and is no entry)."""
 
     def _print_ComplexRootOf(self, r: sp.Expr) -> str:
+        if not r.is_real:                              # no root(P, k) for it: sympy's own form
+            return str(super()._print_ComplexRootOf(r))
         P = sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
         return rf"\operatorname{{root}}\left({self._print(P.as_expr())}, {real_root_index(r, P)}\right)"
 
@@ -76,6 +78,8 @@ def entry_latex(e: Any) -> str:
     >>> from tableau_lab.exact.grammar import parse_entry
     >>> entry_latex(parse_entry("1 - 4*root(24*x**3 - 36*x**2 + 12*x - 1, 3)"))
     '1 - 4 \\operatorname{root}\\left(24 x^{3} - 36 x^{2} + 12 x - 1, 3\\right)'
+    >>> entry_latex(sp.CRootOf(sp.Symbol("x") ** 3 - 2, 1))        # not real: sympy's form
+    '\\operatorname{CRootOf} {\\left(x^{3} - 2, 1\\right)}'
     """
     return str(_LatexPrinter().doprint(sp.sympify(e)))
 
