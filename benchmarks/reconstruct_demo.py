@@ -31,7 +31,7 @@ from tableau_lab.exact.grammar import parse_entry  # noqa: E402  (after the path
 from tableau_lab.exact.recognise import recognise  # noqa: E402  (after the path)
 from tableau_lab.exact.tableau_json import to_dict  # noqa: E402  (after the path)
 
-CASES = ("rk4:20", "dormand_prince54:20", "gauss2:30", "sdirk34:30", "glm6_moonshot:60", "gauss:4:60", "gauss2:5")
+CASES = ("rk4:20", "dormand_prince54:20", "gauss2:30", "sdirk34:30", "glm6_moonshot:60", "gauss:4:40", "gauss2:5")
 SHOWN = "gauss2:30"         # the case shown with its table of entries
 
 
