@@ -37,6 +37,7 @@ import sympy as sp
 
 from ..budget import computing, time_limit
 from ..exact.grammar import EntryError, format_entry, parse_entry
+from ..exact.methods import Method
 from ..exact.recognise import (
     LIMIT_OPTION,
     LIMITS,
@@ -97,6 +98,7 @@ class ReconstructResult(Result):
     limits: Limits
     seconds: float
     embedded_claim: int | None = None       # the claim "embedded_order" (checked here: the exact reader has none)
+    method: Method | None = None            # the candidate as a method object (None: no valid candidate)
 
     @property
     def recognised(self) -> tuple[EntryReport, ...]:
@@ -365,7 +367,7 @@ def reconstruct_tableau(data: dict, limits: Limits = LIMITS, **changes: Any) -> 
             return ReconstructResult(name, None, tuple(reports), tuple(fields), None, None, None, (), limits,
                                      time.perf_counter() - start)
         candidate, dropped = _candidate(data, reports)
-        verified, embedded, refused = None, None, None
+        verified, embedded, refused, method = None, None, None, None
         try:
             method = from_dict(candidate, f"reconstruction of {name}")
         except TableauError as exc:
@@ -376,15 +378,17 @@ def reconstruct_tableau(data: dict, limits: Limits = LIMITS, **changes: Any) -> 
             embedded = None if emb is None else int(order_of(emb).order)
     claim = (data.get("claims") or {}).get("embedded_order")
     return ReconstructResult(name, candidate, tuple(reports), tuple(fields), verified, embedded, refused, dropped,
-                             limits, time.perf_counter() - start, claim if isinstance(claim, int) else None)
+                             limits, time.perf_counter() - start, claim if isinstance(claim, int) else None, method)
 
 
 def reconstruct(data: dict, **limits: Any) -> ReconstructResult:
     """``tl.reconstruct``: the exact tableau behind a decimal one (entries as python-flint ``arb``
     balls), recognised entry by entry and in the fields the entries share, and what the exact
-    analyses prove about it.  Keywords: the limits (``degree=4``, ``height=10**12``, ``margin=5``
-    digits, ``digits=200``, ``seconds=60``, ``fields=3``).  How it works, what "weak" means and the
-    references (LLL, Ferguson–Bailey PSLQ, Bailey's integer relation detection): docs/reconstruction.md.
+    analyses prove about it (``r.method``: the exact candidate as a method object, for
+    ``tl.save(r.method, path)``).  Keywords: the limits (``degree=4``, ``height=10**30``,
+    ``margin=5`` digits, ``digits=200``, ``seconds=60``, ``fields=3``, ``basis=16``).  How it works,
+    what "weak" means and the references (LLL, Ferguson–Bailey PSLQ, Bailey's integer relation
+    detection): docs/reconstruction.md.
 
     >>> import flint, tableau_lab as tl
     >>> with flint.ctx.workprec(128):
@@ -395,5 +399,7 @@ def reconstruct(data: dict, **limits: Any) -> ReconstructResult:
     ...                     "A": [["1/4", a12], [a21, "1/4"]]})
     >>> r.tableau["c"], int(r.verified.order.order), r.verified.rk_symplectic.holds
     (['1/2 - sqrt(3)/6', 'sqrt(3)/6 + 1/2'], 4, True)
+    >>> r.method.A == tl.load("gauss2").A
+    True
     """
     return reconstruct_tableau(data, **limits)
