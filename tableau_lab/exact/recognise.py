@@ -70,13 +70,13 @@ __all__ = ["Limits", "LIMITS", "LIMIT_OPTION", "CEILINGS", "Ball", "Basis", "Rec
 
 @dataclass(frozen=True)
 class Limits:
-    """The limits of a reconstruction, in one place (``limits_with`` changes some of them;
-    ``tableau-lab``'s options and ``tl.reconstruct``'s keywords are these names)."""
+    """The limits of a reconstruction, in one place (``limits_with`` changes some of them, within
+    :data:`CEILINGS`; ``tl.reconstruct``'s keywords are these names)."""
     degree: int = 4             # the highest degree of an algebraic candidate (1: rationals only)
     height: int = 10 ** 30      # the largest coefficient of a relation (a rational's numerator or denominator)
     margin: float = 5.0         # digits a ball must have beyond those its candidate needs, else "weak"
     digits: int = 200           # the most digits of a ball used (a tighter ball is used to this many)
-    seconds: float = 60.0       # the time budget of one tableau's reconstruction (0: none)
+    seconds: float = 60.0       # the time budget of one tableau's reconstruction, or of one recognise (0: none)
     fields: int = 3             # the most number fields Q(θ) tried for every entry of one tableau
     basis: int = 16             # the largest degree of the joint field of a tableau's generators tried
 
