@@ -46,6 +46,7 @@ _LAZY = {
     "design": "tableau_lab.experiments.design_search",
     "error_constant": "tableau_lab.analysis.error_constant",
     "ssp_coefficient": "tableau_lab.analysis.ssp",
+    "reconstruct": "tableau_lab.analysis.reconstruct",
     "trees_of_order": "tableau_lab.analysis.trees",
     # running: the user's own problem, built-in problems by name
     "integrate": "tableau_lab.experiments.user",

@@ -116,6 +116,9 @@ class _LatexReader:
             return call if power is None else f"({call})^{power}"
         if t == r"\pi":
             return "pi"
+        if t == r"\operatorname":                    # \operatorname{root}\left(P, k\right): the grammar's root(P, k)
+            name = self.group().strip("()")
+            return name + self.atom(self.take())
         if t == r"\kappa":
             assert self.take() == "_"
             return "kappa" + self.group().strip("()")
@@ -131,6 +134,10 @@ class _LatexReader:
                     self.take()
                 return "".join(out)
             if t in (r"\,", r"\ ", r"\;"):
+                continue
+            if t == ",":                              # between the arguments of root(P, k)
+                out.append(", ")
+                operand = False
                 continue
             if t in "+-/":
                 out.append(f" {t} ")

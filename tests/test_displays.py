@@ -144,12 +144,18 @@ def _results() -> list:
             method_hamiltonian(m["implicit_midpoint"], p ** 2 / 2 - sp.cos(q), 3)]
     parametric = stability_report(loads('{"name": "sdirk_g", "kind": "rk", "A": [["g", 0], ["1 - 2*g", "g"]], '
                                         '"b": ["1/2", "1/2"]}'))
+    import flint
+
     from tableau_lab.analysis.error_constant import error_constant
     certified = verify(loads_any('{"name": "Heun_[3]*", "kind": "rk", "numbers": "decimal", "A": [[0, 0], [1, 0]], '
                                  '"b": ["0.500", "0.499"], "claims": {"order": 2}}'))
-    return out + [certified, parametric, error_constant(family("bdf:3")),
-                  Combined((out[7], out[-14]), ("parasitism", "series")),
-                  Combined((out[0], out[7]))]
+    from tableau_lab.analysis.reconstruct import reconstruct
+    with flint.ctx.workprec(128):
+        third = flint.arb("[0.33333333333333333333 +/- 5e-21]")
+    rebuilt = reconstruct({"name": "Heun 3", "kind": "rk", "A": [[0, 0, 0], [third, 0, 0], [0, "2/3", 0]],
+                           "b": ["1/4", 0, "3/4"]})
+    return out + [certified, parametric, error_constant(family("bdf:3")), rebuilt,
+                  Combined((out[7], out[-14]), ("parasitism", "series")), Combined((out[0], out[7]))]
 
 
 @pytest.fixture(scope="module")

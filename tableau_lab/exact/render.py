@@ -35,11 +35,12 @@ from collections.abc import Callable, Iterable
 from typing import Any, NamedTuple
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
 
-from .grammar import format_entry, format_matrix
+from .grammar import format_entry, format_matrix, real_root_index
 
-__all__ = ["Notation", "TEXT", "LATEX", "signed_term", "exact_sum", "is_sum", "matrix_text", "matrix_latex",
-           "markdown_literal", "latex_text"]
+__all__ = ["Notation", "TEXT", "LATEX", "entry_latex", "signed_term", "exact_sum", "is_sum", "matrix_text",
+           "matrix_latex", "markdown_literal", "latex_text"]
 
 
 class Notation(NamedTuple):
@@ -57,8 +58,34 @@ class Notation(NamedTuple):
         return self._replace(number=number)
 
 
+class _LatexPrinter(LatexPrinter):  # type: ignore[misc]  # sympy ships no types: LatexPrinter is Any
+    """sympy's LaTeX printer, with a real root written as the grammar writes it, ``root(P, k)`` with
+    k counted from 1 (sympy's own LaTeX, ``CRootOf(P, k − 1)``, counts from 0 and is no entry)."""
+
+    def _print_ComplexRootOf(self, r: sp.Expr) -> str:
+        if not r.is_real:                              # no root(P, k) for it: sympy's own form
+            return str(super()._print_ComplexRootOf(r))
+        P = sp.Poly(r.poly.as_expr().subs(r.poly.gen, _X), _X, domain=sp.QQ)
+        return rf"\operatorname{{root}}\left({self._print(P.as_expr())}, {real_root_index(r, P)}\right)"
+
+
+_X = sp.Symbol("x")
+
+
+def entry_latex(e: Any) -> str:
+    r"""An exact value in LaTeX (sympy's, with ``root(P, k)`` as the grammar writes it).
+
+    >>> from tableau_lab.exact.grammar import parse_entry
+    >>> entry_latex(parse_entry("1 - 4*root(24*x**3 - 36*x**2 + 12*x - 1, 3)"))
+    '1 - 4 \\operatorname{root}\\left(24 x^{3} - 36 x^{2} + 12 x - 1, 3\\right)'
+    >>> entry_latex(sp.CRootOf(sp.Symbol("x") ** 3 - 2, 1))        # not real: sympy's form
+    '\\operatorname{CRootOf} {\\left(x^{3} - 2, 1\\right)}'
+    """
+    return str(_LatexPrinter().doprint(sp.sympify(e)))
+
+
 TEXT = Notation(lambda e: str(format_entry(e)), " ", "(", ")", "-")
-LATEX = Notation(sp.latex, r"\, ", r"\left(", r"\right)", "- ")
+LATEX = Notation(entry_latex, r"\, ", r"\left(", r"\right)", "- ")
 
 _OPEN, _CLOSE = "([{", ")]}"
 
