@@ -34,7 +34,8 @@ from .errors import (
 from .files import derived_name
 from .inputs import MAX_STEPS, SAFE_NAME, printable  # --steps, --max-steps
 
-EXACT_COMMANDS = ("verify", "order", "stability", "solve", "report", "modified", "design")     # within --timeout
+# within --timeout
+EXACT_COMMANDS = ("verify", "reconstruct", "order", "stability", "solve", "report", "modified", "design")
 # their exact stage (problem, method, generated code) within --timeout
 BUILT_WITHIN = ("run", "workprecision", "convergence")
 MAX_ORDER = 20                # --max-order
@@ -76,6 +77,28 @@ def _verify(args) -> int:
         res = verify(method)
         return res, res.failed
     return _each_method(args, analyse, decimal=True)
+
+
+def _reconstruct(args) -> int:
+    """The exact tableau behind a decimal one (analysis/reconstruct.py), re-proven; --save it."""
+    from dataclasses import replace
+
+    from .analysis.reconstruct import reconstruct
+    from .budget import computing
+    from .exact.tableau_json import save, saved_by_tableau_lab
+    from .files import refuse_outputs
+    if args.save:
+        refuse_outputs([args.save], [args.file], mine=saved_by_tableau_lab, what="--save")
+    limits = {k: v for k, v in (("degree", args.degree), ("digits", args.digits)) if v is not None}
+    with computing(f"reconstruct of {args.file}"):
+        res = reconstruct(args.file, **limits)
+    print(json.dumps({"file": args.file, **res.to_json()}, ensure_ascii=False) if args.json else str(res))
+    failed = res.method is None or bool(res.verified is not None and res.verified.failed)
+    if args.save and res.method is not None:
+        save(replace(res.method, notes=tuple(res.method.notes) + (
+            f"Reconstructed by tableau-lab reconstruct from {args.file}: {res.proven()}",)), args.save)
+        print(f"saved the exact candidate to {args.save}", file=sys.stderr)
+    return EXIT_CLAIM if failed else EXIT_OK
 
 
 def _order(args) -> int:
@@ -715,6 +738,16 @@ def _verify_options(p) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object per file, one per line")
 
 
+def _reconstruct_options(p) -> None:
+    p.add_argument("file", metavar="FILE", help='a decimal tableau ("numbers": "decimal")')
+    p.add_argument("--save", metavar="OUT", help="write the exact candidate here (not over the input)")
+    p.add_argument("--degree", type=_count(1, 16), default=None, metavar="N",
+                   help="largest degree of an algebraic entry looked for (default 4)")
+    p.add_argument("--digits", type=_count(10, 5000), default=None, metavar="N",
+                   help="most digits of a ball used (default 200)")
+    p.add_argument("--json", action="store_true", help="the report as one JSON object")
+
+
 def _order_options(p) -> None:
     p.add_argument("files", nargs="+", metavar="FILE")
     p.add_argument("--max-order", type=_count(1, MAX_ORDER), default=None, metavar="N",
@@ -940,6 +973,14 @@ COMMANDS = (
                         "instead: each property certified, refuted or undecided (to the stated precision where a "
                         "ball contains 0). Exit 0: no claim fails (a decimal tableau's undecided claims are listed as "
                         "UNDECIDED); 1: a claim fails (is refuted); 2: a file could not be read."),
+    Command("reconstruct", _reconstruct, _reconstruct_options,
+            help="the exact tableau behind a decimal one (rationals, algebraic numbers), re-proven exactly",
+            description="Each decimal entry of a \"numbers\": \"decimal\" tableau is a ball; the simplest rational "
+                        "inside it, or an algebraic number of small height found by an integer relation (LLL), "
+                        "alone or in the number field the entries share, is certified to lie in the ball; the exact "
+                        "candidate is then analysed exactly (order, stage order, symplecticity, the file's claims). "
+                        "An entry recognised from too few digits is flagged WEAK (docs/reconstruction.md). Exit 0: "
+                        "a candidate whose claims hold; 1: no candidate, or a claim fails; 2: bad input."),
     Command("order", _order, _order_options,
             help="order, stage order, starting and finishing methods (GLM theory)",
             description="RK methods: classical order by elementary weights (pinned at p + 1), principal error "

@@ -35,7 +35,8 @@ def test_shared_options_after_the_command(cmd):
     """--debug and --entry-limit after every command; --timeout and --max-field-degree after the
     exact commands and the runs with an exact stage, refused (exit 2) after the others."""
     parser = cli.build_parser()
-    needed = {"verify": ["f.json"], "order": ["f.json"], "modified": ["f.json"], "stability": ["f.json"],
+    needed = {"verify": ["f.json"], "reconstruct": ["f.json"], "order": ["f.json"], "modified": ["f.json"],
+              "stability": ["f.json"],
               "solve": ["f.json", "--require", "symplectic"], "design": ["f.json"], "report": ["f.json"],
               "convergence": ["f.json", "--problem", "harmonic"], "workprecision": ["s.json"],
               "replot": ["x"], "completion": ["bash"],

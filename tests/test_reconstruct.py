@@ -202,3 +202,55 @@ def test_bad_entries_are_refused_naming_the_entry(entry):
         tl.reconstruct({"kind": "rk", "A": [[0, 0], [entry, 0]], "b": ["1/2", "1/2"]})
     if entry in (0.5, "0.5"):
         assert "flint.arb" in str(info.value)
+
+
+def _decimal_file(path, name: str, digits: int, change=None):
+    """A shipped tableau as a decimal file (``"numbers": "decimal"``): every non-integer entry its
+    decimal to ``digits`` significant digits (mpmath); ``change``: (key, i, j) of an entry whose
+    10th digit is altered."""
+    from importlib import resources
+
+    import mpmath
+    data = json.loads(resources.files("tableau_lab").joinpath(f"methods/{name}.json").read_text())
+    with mpmath.workdps(digits + 10):
+        def dec(text):
+            v = parse_entry(text)
+            return int(v) if v.is_Integer else mpmath.nstr(mpmath.mpf(sp.Rational(v).p) / sp.Rational(v).q, digits,
+                                                            strip_zeros=False)
+        for key in ("A", "b", "c", "bhat"):
+            if key in data:
+                data[key] = [[dec(x) for x in row] for row in data[key]] if isinstance(data[key][0], list) \
+                    else [dec(x) for x in data[key]]
+    if change is not None:
+        key, i, j = change
+        text = data[key][i][j]
+        places = [n for n, ch in enumerate(text) if ch.isdigit()]
+        first = next(m for m, n in enumerate(places) if text[n] != "0")
+        k = places[first + 9]                                      # the 10th significant digit
+        data[key][i][j] = text[:k] + str((int(text[k]) + 1) % 10) + text[k + 1:]
+    data["numbers"] = "decimal"
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_the_command_reconstructs_saves_and_refuses(tmp_path, capsys):
+    """`tableau-lab reconstruct FILE --save OUT`: Dormand–Prince from 20 digits back as the shipped
+    rationals (the saved file is the shipped method, exactly), its order claim re-proven (exit 0);
+    a 10th-digit change: no candidate whose claims hold (exit 1); an exact input, --save over the
+    input: exit 2, nothing written."""
+    from tableau_lab.cli import main
+    src = _decimal_file(tmp_path / "dp5.json", "dormand_prince54", 20)
+    out = tmp_path / "dp5_exact.json"
+    assert main(["reconstruct", str(src), "--save", str(out)]) == 0
+    assert "order = 5 (holds)" in capsys.readouterr().out
+    saved, shipped = tl.load(str(out)), tl.load("dormand_prince54")
+    assert (saved.A, saved.b, saved.bhat) == (shipped.A, shipped.b, shipped.bhat)
+    bad = _decimal_file(tmp_path / "dp5_bad.json", "dormand_prince54", 20, change=("A", 2, 1))
+    assert main(["reconstruct", str(bad)]) == 1
+    capsys.readouterr()
+    assert main(["reconstruct", str(src), "--save", str(src)]) == 2
+    assert "overwrite the input" in capsys.readouterr().err
+    exact = tmp_path / "rk4.json"
+    exact.write_text(json.dumps({"name": "Euler", "kind": "rk", "A": [[0]], "b": [1]}))
+    assert main(["reconstruct", str(exact)]) == 2
+    assert "exact already" in capsys.readouterr().err

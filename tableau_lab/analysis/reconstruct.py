@@ -27,6 +27,7 @@ that the candidate is the method the decimals came from is as sure as the weakes
 """
 from __future__ import annotations
 
+import os
 import re
 import time
 from dataclasses import dataclass
@@ -36,6 +37,7 @@ import flint
 import sympy as sp
 
 from ..budget import computing, time_limit
+from ..exact.balls import BallMethod
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import Method
 from ..exact.recognise import (
@@ -59,7 +61,7 @@ from .order import order as order_of
 from .results import Result
 from .verify import VerifyResult, verify
 
-__all__ = ["reconstruct_tableau", "reconstruct", "ReconstructResult", "EntryReport"]
+__all__ = ["reconstruct_tableau", "reconstruct", "ball_tableau", "ReconstructResult", "EntryReport"]
 
 #: keys of a decimal file that describe its numbers (issue 33's format): the exact candidate has no use for them
 DECIMAL_KEYS = frozenset({"numbers", "radius", "digits"})
@@ -381,7 +383,28 @@ def reconstruct_tableau(data: dict, limits: Limits = LIMITS, **changes: Any) -> 
                              limits, time.perf_counter() - start, claim if isinstance(claim, int) else None, method)
 
 
-def reconstruct(data: dict, **limits: Any) -> ReconstructResult:
+def ball_tableau(m: BallMethod) -> dict:
+    """A decimal tableau (:class:`~tableau_lab.exact.balls.BallMethod`, ``tl.load`` of a
+    ``"numbers": "decimal"`` file) as :func:`reconstruct_tableau`'s dict: each decimal entry its
+    ball, each exact entry its exact value; name, source, notes, claims and provenance kept."""
+    out: dict[str, Any] = {"name": m.name, "kind": m.kind}
+    def one(e, x):
+        return str(format_entry(e.exact)) if e.exact is not None else x
+    for key in ("A", "b", "c", "bhat", "Ahat", "chat"):
+        entries, balls = getattr(m, key), m.balls(key)
+        if entries is None:
+            continue
+        if key in ("A", "Ahat"):
+            out[key] = [[one(e, x) for e, x in zip(row, xs, strict=True)]
+                        for row, xs in zip(entries, balls, strict=True)]
+        else:
+            out[key] = [one(e, x) for e, x in zip(entries, balls, strict=True)]
+    out.update({k: v for k, v in (("source", m.source), ("notes", list(m.notes)), ("claims", dict(m.claims)),
+                                  ("provenance", dict(m.provenance))) if v})
+    return out
+
+
+def reconstruct(data: dict | BallMethod | str | os.PathLike, **limits: Any) -> ReconstructResult:
     """``tl.reconstruct``: the exact tableau behind a decimal one (entries as python-flint ``arb``
     balls), recognised entry by entry and in the fields the entries share, and what the exact
     analyses prove about it (``r.method``: the exact candidate as a method object, for
@@ -402,4 +425,11 @@ def reconstruct(data: dict, **limits: Any) -> ReconstructResult:
     >>> r.method.A == tl.load("gauss2").A
     True
     """
-    return reconstruct_tableau(data, **limits)
+    if isinstance(data, (str, os.PathLike)):
+        from ..exact.tableau_json import load_any
+        loaded = load_any(data)
+        if not isinstance(loaded, BallMethod):
+            raise TableauError(str(data), 'the tableau is exact already: reconstruction reads a decimal one '
+                               '("numbers": "decimal")')
+        data = loaded
+    return reconstruct_tableau(ball_tableau(data) if isinstance(data, BallMethod) else data, **limits)

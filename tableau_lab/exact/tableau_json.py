@@ -550,11 +550,13 @@ def dumps(m: Method) -> str:
     return "{\n" + ",\n".join(lines) + "\n}\n"
 
 
-SAVED_BY = ("Solved by tableau-lab solve", "Found by tableau-lab design")     # the note --save writes
+SAVED_BY = ("Solved by tableau-lab solve", "Found by tableau-lab design",     # the note --save writes
+            "Reconstructed by tableau-lab reconstruct")
 
 
 def saved_by_tableau_lab(path: str | os.PathLike[str]) -> bool:
-    """Whether the file at ``path`` is a tableau that ``solve --save`` or ``design --save`` wrote
+    """Whether the file at ``path`` is a tableau that ``solve --save``, ``design --save`` or
+    ``reconstruct --save`` wrote
     (a note starting with one of :data:`SAVED_BY`): only such a file is replaced by ``--save``."""
     try:
         data = read_json(path, _error, "tableau", max_bytes=MAX_BYTES, input=False, **_HOOKS)    # our own output
