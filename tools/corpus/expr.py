@@ -140,7 +140,7 @@ TOKEN = re.compile(r"""
   | (?P<nl>\n)
   | (?P<num>(?:\d[\d_]*\.?[\d_]*|\.\d[\d_]*)(?:[eEdD][+-]?\d+)?)
   | (?P<str>big"[^"]*"|"[^"]*"|'[^'\n]*')
-  | (?P<name>[^\W\d][\w\u0300-\u036f!]*)
+  | (?P<name>[^\W\d][\w\u0300-\u036f!\u2070-\u209f\u221e]*|@\w+)
   | (?P<op>//|\*\*|->|==|[-+*/^(),;\[\]{}=.:'<>&|?])
 """, re.VERBOSE | re.DOTALL)
 
@@ -226,6 +226,7 @@ class Parser:
             if self.space[-1] and t.space and not (self.peek(1) and self.peek(1).space) and t.text in "+-":
                 return x                     # Julia: [a -b] is two elements
             self.i += 1
+            self.skip_nl()                   # an operator at the end of a line continues it
             op = "^" if t.text == "**" else t.text
             if op == "^":
                 y = self.unary()             # right-associative, binds tighter than unary minus
@@ -272,6 +273,8 @@ class Parser:
             return self.postfix(self.name(t))
         if t.kind == "str":
             return t.text[1:-1]
+        if t.text == ":" and self.peek() is not None and self.peek().kind == "name":
+            return self.take().text                         # a Julia symbol, :Name
         raise Unsupported(f"unexpected {t.text!r} at line {t.line}")
 
     def postfix(self, x):
@@ -280,6 +283,15 @@ class Parser:
             idx = self.args("]")
             x = index(x, idx)
         return x
+
+    def args_until_end(self) -> list:
+        out = [self.expr()]
+        while self.at(","):
+            self.i += 1
+            out.append(self.expr())
+        if self.peek() is not None:
+            raise Unsupported(f"cannot read {self.peek().text!r}")
+        return out
 
     def args(self, close: str) -> list:
         self.space.append(False)
@@ -419,8 +431,8 @@ def call(name: str, args: list, functions: dict):
         if len(vals) != 1:
             raise Unsupported(f"{name} with {len(vals)} arguments")
         return vals[0]
-    if name in ("zeros", "ones"):
-        dims = [int(a.exact) for a in plain if isinstance(a, Val)]
+    if name in ("zeros", "ones", "Matrix", "Vector"):
+        dims = [int(a.exact) for a in plain if isinstance(a, Val) and a.exact is not None]
         fill = ZERO if name == "zeros" else ONE
         if len(dims) == 1:
             return Array(items=[fill] * dims[0])
