@@ -96,7 +96,7 @@ def _put(target: list, where: list[int], value) -> None:
         value.rows[0] if isinstance(value, Array) and len(value.rows) == 1 else None)
     if items is None or len(items) != len(where):
         raise Unsupported("a slice assignment of a different length")
-    for k, v in zip(where, items):
+    for k, v in zip(where, items, strict=True):
         target[k - 1] = v
 
 

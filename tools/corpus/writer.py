@@ -69,7 +69,11 @@ class Entries:
         if v.text is not None:
             self.literal_ulp = max(self.literal_ulp, half_ulp(v.text))
             return numeral(v.text)
+        if v.ball.is_zero():
+            return 0
         mid = v.ball.mid().str(DERIVED_DIGITS, radius=False)
+        if "." in mid and "e" not in mid:
+            mid = mid.rstrip("0").rstrip(".")
         miss = abs(arb(mid) - v.ball.mid()) + v.ball.rad()
         self.radius = miss if self.radius is None else max(self.radius, miss, key=lambda x: x.upper())
         return mid
