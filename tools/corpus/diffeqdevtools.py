@@ -8,6 +8,7 @@ argument and ``adaptiveorder`` (the order of the embedded weights ``αEEst``).  
 """
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -38,13 +39,14 @@ CONSTRUCTORS = {"ExplicitRKTableau": constructor("ExplicitRKTableau"),
                 "ImplicitRKTableau": constructor("ImplicitRKTableau")}
 
 
-def extract(git_dir: str, out: Path) -> Library:
-    lib = Library(out, "diffeqdevtools", "SciML/DiffEqDevTools.jl", git_dir)
-    text = show(git_dir, FILE)
+def read_functions(lib: Library, path: str, text: str, keep) -> None:
+    """Every function of ``text`` that ``keep(name, body)`` selects, as a tableau of ``lib``."""
+    text = text.replace("DiffEqBase.", "")
+    text = re.sub(r";\s*αEEst\s*,", ", αEEst = αEEst,", text)      # Julia's keyword shorthand f(…; αEEst, …)
     for name, _args, body, line, doc in functions(text):
-        if not name.startswith("construct"):
+        if not keep(name, body):
             continue
-        where = lib.provenance(FILE, line)
+        where = lib.provenance(path, line)
         try:
             r = run(body, line + 1, CONSTRUCTORS)
             if not isinstance(r, dict):
@@ -53,10 +55,16 @@ def extract(git_dir: str, out: Path) -> Library:
             lib.skip(name, f"unreadable: {exc}", where)
             continue
         first = " ".join(doc.split())[:300]
-        lib.add(Tableau(name=name[len("construct"):], kind="rk", A=r["A"], b=r["b"], c=r["c"], bhat=r["bhat"],
+        short = name[len("construct"):] if name.startswith("construct") else name
+        lib.add(Tableau(name=short, kind="rk", A=r["A"], b=r["b"], c=r["c"], bhat=r["bhat"],
                         claims={k: v for k, v in r["claims"].items() if v is not None},
                         notes=[r["note"]] + ([f"docstring: {first}"] if first else []),
-                        source=f"DiffEqDevTools.jl, {FILE}, function {name}", provenance=where))
+                        source=f"{lib.repository}, {path}, function {name}", provenance=where))
+
+
+def extract(git_dir: str, out: Path) -> Library:
+    lib = Library(out, "diffeqdevtools", "SciML/DiffEqDevTools.jl", git_dir)
+    read_functions(lib, FILE, show(git_dir, FILE), lambda name, body: name.startswith("construct"))
     return lib
 
 

@@ -112,7 +112,9 @@ def apply(op: str, a, b):
     return a / b
 
 
-def _binary(op: str, x: Val, y: Val) -> Val:
+def _binary(op: str, x, y):
+    if isinstance(x, Array) or isinstance(y, Array):
+        return _elementwise(op, x, y)
     if x.exact is not None and y.exact is not None:
         a, b = x.exact, y.exact
         if op in "/" and b == 0:
@@ -125,6 +127,21 @@ def _binary(op: str, x: Val, y: Val) -> Val:
         return Val(ball=x.as_arb() ** int(y.exact))
     a, b = x.as_arb(), y.as_arb()
     return Val(ball=apply(op, a, b))
+
+
+def _elementwise(op: str, x, y):
+    """Julia's broadcast of an operation over an array and a scalar (``ones(1, 1) ./ 2``)."""
+    if isinstance(x, Array) and isinstance(y, Array):
+        if x.items is None or y.items is None or len(x.items) != len(y.items):
+            raise Unsupported("an operation on two arrays of different shapes")
+        return Array(items=[_binary(op, u, v) for u, v in zip(x.items, y.items, strict=True)])
+    arr, scalar = (x, y) if isinstance(x, Array) else (y, x)
+
+    def f(v):
+        return _binary(op, v, scalar) if arr is x else _binary(op, scalar, v)
+    if arr.items is not None:
+        return Array(items=[f(v) for v in arr.items])
+    return Array(rows=[[f(v) for v in r] for r in arr.rows])
 
 
 def vsqrt(x: Val) -> Val:
@@ -141,7 +158,7 @@ TOKEN = re.compile(r"""
   | (?P<num>(?:\d[\d_]*\.?[\d_]*|\.\d[\d_]*)(?:[eEdD][+-]?\d+)?)
   | (?P<str>big"[^"]*"|"[^"]*"|'[^'\n]*')
   | (?P<name>[^\W\d][\w\u0300-\u036f!\u2070-\u209f\u221e]*|@\w+)
-  | (?P<op>//|\*\*|->|==|[-+*/^(),;\[\]{}=.:'<>&|?])
+  | (?P<op>//|\*\*|->|==|\.[-+*/^]|[-+*/^(),;\[\]{}=.:'<>&|?√])
 """, re.VERBOSE | re.DOTALL)
 
 
@@ -182,11 +199,12 @@ class Array:
         return self.rows if self.rows is not None else [[x] for x in self.items]
 
 
-IGNORED_CALLS = {"convert", "map", "T", "big", "BigFloat", "Float64", "SUN_RCONST", "RCONST", "float",
+IGNORED_CALLS = {"convert", "map", "T", "T_time", "big", "BigFloat", "Float64", "SUN_RCONST", "RCONST", "float",
                  "Rational", "BigInt", "mpf", "Float", "sympy.Rational"}
 ZERO = Val(exact=sp.Integer(0))
 ONE = Val(exact=sp.Integer(1))
-BINARY = {"+": 1, "-": 1, "*": 2, "/": 2, "//": 3, "^": 4, "**": 4}
+BINARY = {"+": 1, "-": 1, "*": 2, "/": 2, "//": 3, "^": 4, "**": 4,
+          ".+": 1, ".-": 1, ".*": 2, "./": 2, ".^": 4}
 
 
 class Parser:
@@ -227,7 +245,7 @@ class Parser:
                 return x                     # Julia: [a -b] is two elements
             self.i += 1
             self.skip_nl()                   # an operator at the end of a line continues it
-            op = "^" if t.text == "**" else t.text
+            op = "^" if t.text in ("**", ".^") else t.text.lstrip(".") or t.text
             if op == "^":
                 y = self.unary()             # right-associative, binds tighter than unary minus
             else:
@@ -259,6 +277,8 @@ class Parser:
             return x
         if t.kind == "str" and t.text.startswith('big"'):
             return Val.literal(t.text[4:-1])
+        if t.text == "√":                                    # Julia's prefix square root
+            return vsqrt(self.atom())
         if t.text == "(":
             self.space.append(False)
             self.skip_nl()
@@ -330,7 +350,7 @@ class Parser:
             return call(t.text, self.args(")"), self.functions)
         if t.text in self.env:
             return self.env[t.text]
-        if t.text in ("T", "BigFloat", "Float64"):
+        if t.text in ("T", "T_time", "BigFloat", "Float64"):
             return t.text
         if t.text == "pi":
             return Val(exact=sp.pi)
@@ -431,6 +451,11 @@ def call(name: str, args: list, functions: dict):
         if len(vals) != 1:
             raise Unsupported(f"{name} with {len(vals)} arguments")
         return vals[0]
+    if name == "fill" and len(plain) >= 2:
+        dims = [int(a.exact) for a in plain[1:]]
+        if len(dims) == 1:
+            return Array(items=[plain[0]] * dims[0])
+        return Array(rows=[[plain[0]] * dims[1] for _ in range(dims[0])])
     if name in ("zeros", "ones", "Matrix", "Vector"):
         dims = [int(a.exact) for a in plain if isinstance(a, Val) and a.exact is not None]
         fill = ZERO if name == "zeros" else ONE

@@ -7,7 +7,7 @@ An entry is written as:
 * a decimal literal's text as written (a leading ``.`` gets its ``0``, a Fortran ``d`` exponent
   becomes ``e``: the digits are untouched);
 * a *derived* decimal (source arithmetic on a decimal literal, e.g. ``1 - 0.2928932188``) as the
-  ball's midpoint to ``DERIVED_DIGITS`` significant digits; the file then carries an absolute
+  ball's midpoint, two digits past the ball's width (``DERIVED_DIGITS``); the file then carries an absolute
   ``"radius"`` covering every decimal entry of the file (the propagated ball, the rounding of the
   midpoint and each literal's half unit in its last digit).
 """
@@ -27,7 +27,7 @@ from tableau_lab.exact.grammar import format_entry
 from .expr import Array, Unsupported, Val, half_ulp
 
 FORMAT = "tableau_lab/1"
-DERIVED_DIGITS = 40
+DERIVED_DIGITS = (17, 110)     # a derived decimal's significant digits: two past its ball's width, within these
 CLAIM_KEYS = ("order", "embedded_order", "stage_order", "symplectic", "ssp_coefficient")
 
 
@@ -43,6 +43,17 @@ def show(git_dir: str, path: str) -> str:
 
 def file_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9._+-]+", "_", name).strip("_") + ".json"
+
+
+def derived_digits(ball: arb) -> int:
+    """Significant digits that write a derived ball's midpoint two digits past the ball's width."""
+    lo, hi = DERIVED_DIGITS
+    if ball.rad() == 0:
+        return hi
+    width = abs(ball.mid()) / ball.rad()
+    if not width > 1:
+        return lo
+    return max(lo, min(hi, int((width.log() / arb(10).log()).mid().floor().unique_fmpz()) + 3))
 
 
 def numeral(text: str) -> str:
@@ -71,7 +82,7 @@ class Entries:
             return numeral(v.text)
         if v.ball.is_zero():
             return 0
-        mid = v.ball.mid().str(DERIVED_DIGITS, radius=False)
+        mid = v.ball.mid().str(derived_digits(v.ball), radius=False)
         if "." in mid and "e" not in mid:
             mid = mid.rstrip("0").rstrip(".")
         miss = abs(arb(mid) - v.ball.mid()) + v.ball.rad()
