@@ -53,8 +53,15 @@ def index(out: Path) -> list[dict]:
             rows.append({"file": f"{lib}/{f.name}", "library": lib, "name": d["name"], "kind": d["kind"],
                          "numbers": d.get("numbers", "exact"), "stages": len(d["A"]),
                          "embedded": "bhat" in d, "order": d["claims"].get("order"),
-                         "embedded_order": d["claims"].get("embedded_order")})
+                         "embedded_order": d["claims"].get("embedded_order"), "integer_digits": integer_digits(d)})
     return rows
+
+
+def integer_digits(d: dict) -> int:
+    """The longest integer written in the file's entries (the grammar's ``integer_digits`` limit)."""
+    texts = [str(x) for key in ("A", "b", "c", "bhat") for x in (sum(d[key], []) if key == "A" else d.get(key, []))]
+    exact = [t for t in texts if not re.fullmatch(r"-?\d+(\.\d*)?([eE][+-]?\d+)?", t) or t.lstrip("-").isdigit()]
+    return max((len(m) for t in exact for m in re.findall(r"\d+", t)), default=0)
 
 
 def not_read(mirrors: Path) -> list[dict]:
@@ -94,6 +101,10 @@ def readme(records: list[dict], rows: list[dict], unread: list[dict], head: str)
              "## Per library", ""]
     for rec in records:
         lines += library_section(rec, rows)
+    long = [r["file"] for r in rows if r["integer_digits"] > 100]
+    lines += [f"{len(long)} files write integers longer than the grammar's default 100 digits (INDEX.json's "
+              f"`integer_digits`; read them with `--entry-limit integer_digits=N`): "
+              + ", ".join(f"`{f}`" for f in long) + ".", ""]
     lines += ["## Source files of other kinds, not read", "",
               "| repository | file | kind | functions (or tables) in it |", "|---|---|---|---|"]
     lines += [f"| {u['repository']} | `{u['file']}` | {u['kind']} | {u['functions']} |" for u in unread]
