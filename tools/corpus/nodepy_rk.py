@@ -148,7 +148,7 @@ def method(rkm, key: str, text: str, doc: str):
 
 
 def docstring_line(text: str, key: str) -> str:
-    m = re.search(rf"\* '{re.escape(key)}'?:?\s*(.*)", text)
+    m = re.search(rf"\* '{re.escape(key)}'?:?[ \t]*([^\n]*)", text)
     return m.group(1) if m else ""
 
 
