@@ -14,9 +14,7 @@ from pathlib import Path
 
 from .writer import show
 
-LIBRARIES = ("nodepy", "diffeqdevtools", "ordinarydiffeq", "sundials", "rungekutta_jl")
-SCRIPTS = {"nodepy": "nodepy_rk", "diffeqdevtools": "diffeqdevtools", "ordinarydiffeq": "ordinarydiffeq",
-           "sundials": "sundials", "rungekutta_jl": "rungekutta_jl"}
+LIBRARIES = ("nodepy", "diffeqdevtools", "ordinarydiffeq", "sundials", "rungekutta_jl", "kauri")
 #: source files of other kinds, not read: (repository, path, what, count pattern)
 NOT_READ = [
     ("LLNL/sundials", "src/arkode/arkode_sprk.c", "symplectic partitioned RK in the a/â (splitting) form",
@@ -149,6 +147,7 @@ Regenerate everything (the mirrors are bare git directories, e.g. from the `fetc
     PYTHONPATH=$PWD python -m tools.corpus.ordinarydiffeq $M/SciML+OrdinaryDiffEq.jl/repo corpus
     PYTHONPATH=$PWD python -m tools.corpus.sundials $M/LLNL+sundials/repo corpus
     PYTHONPATH=$PWD python -m tools.corpus.rungekutta_jl $M/JuliaGNI+RungeKutta.jl/repo corpus
+    PYTHONPATH=$PWD python -m tools.corpus.kauri $M/daniil-shmelev+kauri/repo corpus
     PYTHONPATH=$PWD python -m tools.corpus.nodepy_reference corpus
     PYTHONPATH=$PWD python -m tools.corpus.index $M corpus
 
