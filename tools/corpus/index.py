@@ -17,6 +17,9 @@ from .writer import show
 LIBRARIES = ("nodepy", "diffeqdevtools", "ordinarydiffeq", "sundials", "rungekutta_jl", "kauri")
 #: source files of other kinds, not read: (repository, path, what, count pattern)
 NOT_READ = [
+    ("ketch/nodepy", "nodepy/low_storage_rk.py", "low-storage forms (2N, 2R+, 3S*): Butcher A built by NodePy from "
+     "the storage coefficients, some of them floats", r"RK\[shortname\] ="),
+    ("ketch/nodepy", "nodepy/linear_multistep_method.py", "linear multistep methods", r"^def \w+\("),
     ("LLNL/sundials", "src/arkode/arkode_sprk.c", "symplectic partitioned RK in the a/â (splitting) form",
      r"^static ARKodeSPRKTable arkodeSymplectic\w+\(void\)"),
     ("LLNL/sundials", "src/arkode/arkode_mri_tables.def", "multirate (MRI) coupling tables", r"ARK_MRI_TABLE\("),
