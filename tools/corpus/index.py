@@ -124,7 +124,9 @@ from a library's source text by the scripts in `tools/corpus/` (one per library,
   human `"source"`;
 * `"claims"`: exactly what the source states — `order`, `embedded_order` (the order of the
   embedded weights `bhat`), `symplectic` — and a note saying where each was read (a constructor's
-  argument, a struct field, a docstring); nothing is inferred;
+  argument, a table's field, a docstring, or a name whose convention states it: NodePy's "SSP 75",
+  7 stages, order 5); nothing else is inferred, and no source here states an SSP coefficient or a
+  stage order as data;
 * `"numbers": "decimal"` when an entry is a decimal: it is then written as the literal's text
   as it stands in the source (a leading `.` gains its `0`); its ball is ± half a unit in its last digit.
 
