@@ -156,3 +156,18 @@ def test_cli_writes_inside_out_and_exits_by_verdict(corpus, tmp_path, capsys):
     target = out / "audit.json"
     assert main(["audit", str(target), "--out", str(out)]) == 2
     assert "overwrite the input" in capsys.readouterr().err
+
+
+def test_the_library_is_the_first_folder_below_the_one_given(tmp_path):
+    nested = tmp_path / "libA" / "deeper"
+    nested.mkdir(parents=True)
+    shutil.copy(METHODS / "rk4.json", nested / "rk4.json")
+    shutil.copy(METHODS / "gauss2.json", tmp_path / "gauss2.json")
+    r = tl.audit([tmp_path], workers=1)
+    assert sorted(row.library for row in r.rows) == sorted(["libA", tmp_path.name])
+
+
+def test_nothing_to_audit_is_bad_input(tmp_path, capsys):
+    _write(tmp_path / "INDEX.json", {"methods": []})
+    assert main(["audit", str(tmp_path)]) == 2
+    assert "no tableau file to audit" in capsys.readouterr().err

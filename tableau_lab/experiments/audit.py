@@ -125,8 +125,9 @@ def _skipped_by_name(path: Path) -> str | None:
 
 def collect(paths) -> tuple[list[tuple[str, str]], list[Skipped], list[Bad]]:
     """The tableau files of ``paths`` (files, and folders searched for ``*.json`` recursively, in
-    sorted order) as (file, library folder) pairs; the files skipped by name; the paths that
-    are neither a file nor a folder."""
+    sorted order) as (file, library folder) pairs — the library of a file found in a folder is the
+    first folder below it (``corpus/<library>/…``), of a file given by name its own folder; the
+    files skipped by name; the paths that are neither a file nor a folder."""
     files: list[tuple[str, str]] = []
     skipped: list[Skipped] = []
     bad: list[Bad] = []
@@ -137,8 +138,9 @@ def collect(paths) -> tuple[list[tuple[str, str]], list[Skipped], list[Bad]]:
                 why = _skipped_by_name(x)
                 if why:
                     skipped.append(Skipped(str(x), why))
-                else:
-                    files.append((str(x), x.parent.name if x.parent != p else p.resolve().name))
+                else:            # the library: the first folder below the one given (corpus/<library>/…)
+                    parts = x.relative_to(p).parts
+                    files.append((str(x), parts[0] if len(parts) > 1 else p.resolve().name))
         elif p.exists():
             files.append((str(p), p.resolve().parent.name))
         else:
