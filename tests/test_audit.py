@@ -146,6 +146,8 @@ def test_cli_writes_inside_out_and_exits_by_verdict(corpus, tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "DISAGREES" in printed and "agrees" in printed
     assert {"audit.json", "audit.md", "audit.tex"} <= {p.name for p in out.iterdir()}
+    if shutil.which("pdflatex"):                   # the LaTeX compiles (τ, ⁴, → declared for pdflatex), no overfull box
+        assert (out / "audit.pdf").exists() and "Overfull" not in (out / "audit.log").read_text()
     assert not [p for p in tmp_path.iterdir() if p != out]          # nothing outside --out
     data = json.loads((out / "audit.json").read_text())
     assert [r["verdict"] for r in data["rows"]] == ["agrees", "DISAGREES"]

@@ -33,7 +33,9 @@ _UNICODE = {"Φ": r"\ensuremath{\Phi}", "γ": r"\ensuremath{\gamma}", "τ": r"\e
             "→": r"\ensuremath{\to}", "≥": r"\ensuremath{\ge}", "≤": r"\ensuremath{\le}", "−": "-",
             "≠": r"\ensuremath{\neq}", "…": r"\dots{}", "ᵢ": r"\ensuremath{_i}", "ⱼ": r"\ensuremath{_j}",
             "\u0302": r"\^{}", "β": r"\ensuremath{\beta}", "∞": r"\ensuremath{\infty}", "√": r"\ensuremath{\surd}",
-            "–": "--", "—": "---", "’": "'", "·": r"\ensuremath{\cdot}", "±": r"\ensuremath{\pm}"}
+            "–": "--", "—": "---", "’": "'", "·": r"\ensuremath{\cdot}", "±": r"\ensuremath{\pm}",
+            "∈": r"\ensuremath{\in}", "θ": r"\ensuremath{\theta}", "Ψ": r"\ensuremath{\Psi}",
+            **{sup: rf"\textsuperscript{{{d}}}" for d, sup in enumerate("⁰¹²³⁴⁵⁶⁷⁸⁹")}}
 
 
 def _unicode_declarations(tex: str) -> str:
@@ -58,19 +60,20 @@ def audit_tex(result: AuditResult) -> str:
     body = [r"\begin{document}", r"\begin{center}\Large Audit of tableau files\end{center}",
             cell(result.summary()) + ".", r"\par Decimal files are certified in ball arithmetic (a claim holds "
             r"\emph{to the stated precision}); exact files by the exact analyses.",
-            r"{\scriptsize\begin{longtable}{p{3.2cm}p{2.2cm}llr p{4.4cm}p{2.6cm}p{1.4cm}r} \toprule method & library & "
+            r"{\scriptsize\setlength{\tabcolsep}{3pt}\begin{longtable}{p{2.6cm}p{1.6cm}llr p{3.2cm}p{2.2cm}p{1.8cm}r} "
+            r"\toprule method & library & "
             r"kind & numbers & $s$ & claimed $\to$ found & found & verdict & s \\ \midrule \endhead",
             "\n".join(rows), r"\bottomrule \end{longtable}}"]
     evidence = [(r, c) for r in result.rows for c in r.checks
                 if c.verdict == DISAGREES or (c.verdict == UNDECIDED and c.evidence)]
     if evidence:
-        body.append(r"\section*{Evidence}\begin{itemize}")
+        body.append(r"\section*{Evidence}\sloppy\begin{itemize}")
         body += [rf"\item \textbf{{{cell(r.name)}}} ({cell(r.file)}): {cell(c.prop)} claimed {cell(c.claimed)}, found "
                  rf"{cell(c.found or '?')}: {cell(c.verdict)}" + "".join(rf"\\ {cell(e)}" for e in c.evidence)
                  for r, c in evidence]
         body.append(r"\end{itemize}")
     if result.bad or result.skipped:
-        body.append(r"\section*{Files not audited}\begin{itemize}")
+        body.append(r"\section*{Files not audited}\sloppy\begin{itemize}")
         body += [rf"\item bad: {cell(b.message)}" for b in result.bad]
         body += [rf"\item skipped: {cell(s.file)}: {cell(s.why)}" for s in result.skipped]
         body.append(r"\end{itemize}")
