@@ -49,7 +49,8 @@ def audit_tex(result: AuditResult) -> str:
     """The audit as a LaTeX document: the summary, one longtable line per method, every
     disagreement (and undecided claim with a reason) with its evidence, the bad and skipped files."""
     def cell(text: str) -> str:
-        return latex_text(text)
+        """Plain text, literal, with a line break allowed after each / (file paths)."""
+        return "/\\allowbreak{}".join(latex_text(part) for part in text.split("/"))
     rows = []
     for r in result.rows:
         claims = "; ".join(f"{c.prop} {c.claimed} → {c.found or '?'}" for c in r.checks) or "none"
