@@ -50,6 +50,7 @@ USER_DEFAULTS = ("TABLEAU_LAB_KERNEL", "TABLEAU_LAB_SPECIALISE", "TABLEAU_LAB_FI
 # block name -> benchmarks script whose make() writes it (no runs: reads saved outputs)
 BLOCKS = {"bench-table": "bench_block", "wp-kepler": "wp_block", "suite-tables": "suite_tables",
           "wp-glm4s": "wp_glm4s", "dense-table": "dense_matrices", "nodepy-stability": "nodepy_stability",
+          "nodepy-float": "nodepy_float",
           "scene-format": "scene_doc", "lint-exceptions": "lint_exceptions"}
 # blocks made by rerunning searches or sweeps: checked by their tests (tests/test_moonshot.py,
 # tests/test_pareto_table.py, tests/test_design_search.py)

@@ -59,6 +59,7 @@ _LAZY = {
     "plot_imaginary_axis": "tableau_lab.experiments.inline_plots",
     # faces
     "report": "tableau_lab.proofs.latex",
+    "audit": "tableau_lab.proofs.audit",
 }
 
 __all__ = ["__version__", *_LAZY]

@@ -656,6 +656,27 @@ def _report(args) -> int:
     return status
 
 
+def _audit(args) -> int:
+    from .proofs.audit import audit
+    from .proofs.latex import ReportError
+    try:
+        result = audit(args.paths, args.out, seconds=args.seconds, workers=args.jobs, scheduler=args.scheduler,
+                       pdf=True if args.pdf else None)
+    except ReportError as exc:
+        print(f"tableau-lab: error: {exc}", file=sys.stderr)
+        return EXIT_INPUT
+    if args.json:
+        print(json.dumps(result.to_json(), ensure_ascii=False))
+    else:
+        print(result)
+    for b in result.bad:
+        print(f"tableau-lab: error: {b.message}", file=sys.stderr)
+    if args.out:
+        print(f"wrote {Path(args.out) / 'audit.json'}, audit.md, audit.tex"
+              + (", audit.pdf" if (Path(args.out) / "audit.pdf").exists() else " (no pdflatex: no PDF)"))
+    return result.exit_code
+
+
 def _figures_of(method_path, out, reports="reports", most=2):
     """Invariant plots of scenes (under reports/) that ran this method file, as vector PDF where
     the figure style wrote one, else PNG: (path relative to the report's directory, caption)."""
@@ -908,6 +929,19 @@ def _report_options(p) -> None:
                    help="add the exact imaginary-axis stability interval Y* (seconds to minutes per method)")
 
 
+def _audit_options(p) -> None:
+    from .experiments.audit import AUDIT_SECONDS
+    p.add_argument("paths", nargs="+", metavar="PATH", help="tableau files, and folders searched for *.json")
+    p.add_argument("--out", metavar="DIR", help="write audit.json, audit.md, audit.tex (and audit.pdf with pdflatex)")
+    p.add_argument("--jobs", type=_count(1, MAX_REPEATS), metavar="N",
+                   help="processes of the local pool (default: every core; 1: in this process)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://HOST:8786), or 'serial'")
+    p.add_argument("--seconds", type=_seconds, default=AUDIT_SECONDS, metavar="S",
+                   help=f"time budget of one method (default {AUDIT_SECONDS:g}); a method over it is undecided")
+    p.add_argument("--pdf", action="store_true", help="fail if pdflatex is missing")
+    p.add_argument("--json", action="store_true", help="print the audit as one JSON object")
+
+
 def _list_options(p) -> None:
     fmt = p.add_mutually_exclusive_group()
     fmt.add_argument("--json", action="store_true", help="one JSON object")
@@ -1075,6 +1109,17 @@ COMMANDS = (
             description="For each method: the tableau, the G-symplecticity proof step by step, the symplecticity "
                         "matrix, the order conditions and starting method, parasitism; NAME.tex, NAME.report.json "
                         "(the facts stated) and NAME.pdf under --out; never over an input (exit 2)."),
+    Command("audit", _audit, _audit_options,
+            help="audit tableau files: every claim checked by the exact or the certified analyses, one line per method",
+            description="Every tableau file (exact, or decimal: \"numbers\": \"decimal\") of the PATHs (folders "
+                        "searched for *.json; INDEX.json, *_reference.json and JSON that is no tableau skipped, "
+                        "counted) through the exact analyses or the certified ones in ball arithmetic, on a process "
+                        "pool or a Dask cluster, each method within --seconds; every claim of its \"claims\" "
+                        "checked: claimed against found, the verdict (agrees / DISAGREES / undecided) and the "
+                        "evidence of each disagreement (the failing condition, its tree and residual). --out DIR "
+                        "writes audit.json, audit.md, audit.tex (and audit.pdf with pdflatex). Exit 0: every "
+                        "claim agrees or is undecided; 1: a disagreement; 2: a bad file (the others are audited); "
+                        "3: an internal error in some file."),
     Command("list", _list, _list_options,
             help="the method library: shipped tableaux and families, with kind, size, order, source",
             description="Every method name the commands take besides a file: the shipped tableaux (e.g. rk4, gauss2) "
@@ -1253,8 +1298,8 @@ def _command_of(args) -> str:
         names = [str(x) for x in method] if isinstance(method, (list, tuple)) else [str(method)]
     from .inputs import printable
     return printable(f"{args.command} of {', '.join(names)}" if names else args.command)
-WRITING_COMMANDS = ("report", "run", "solve", "design", "convergence", "roundoff", "workprecision", "suite", "replot",
-                    "stability", "bench")     # those that may write files (files.py guards every output)
+WRITING_COMMANDS = ("report", "audit", "run", "solve", "design", "convergence", "roundoff", "workprecision", "suite",
+                    "replot", "stability", "bench")     # those that may write files (files.py guards every output)
 NUMERIC_COMMANDS = ("run", "roundoff", "convergence", "workprecision", "suite", "bench")     # compiled kernels
 
 

@@ -39,7 +39,7 @@ def test_shared_options_after_the_command(cmd):
               "stability": ["f.json"],
               "solve": ["f.json", "--require", "symplectic"], "design": ["f.json"], "report": ["f.json"],
               "convergence": ["f.json", "--problem", "harmonic"], "workprecision": ["s.json"],
-              "replot": ["x"], "completion": ["bash"],
+              "replot": ["x"], "completion": ["bash"], "audit": ["d"],
               "roundoff": ["--method", "m", "--problem", "p", "--h", "1", "--steps", "1"]}.get(cmd, [])
     args = parser.parse_args([cmd, *needed, "--debug", "--entry-limit", "depth=9"])
     assert args.debug and args.entry_limit == ["depth=9"]
