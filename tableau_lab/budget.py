@@ -48,6 +48,7 @@ MODIFIED_ORDER = 10           # the highest --order of `tableau-lab modified` (o
 OPTION = "--timeout S"        # how a user raises it
 #: the certified (ball) analysis of a decimal tableau: its order conditions stop after this many seconds or trees
 #: and say "undecided" (order 10 of a 7-stage tableau: 1842 trees, well under a second at 20 digits)
+AUDIT_SECONDS = 60.0        # the default budget of one method in `tableau-lab audit` (--seconds)
 CERTIFIED_SECONDS = 60.0
 CERTIFIED_TREES = 100_000
 #: the certified SSP coefficient looks for an upper bound r = 1, 2, 4, … up to this (beyond: "R ≥ …", undecided)

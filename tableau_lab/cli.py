@@ -930,7 +930,7 @@ def _report_options(p) -> None:
 
 
 def _audit_options(p) -> None:
-    from .experiments.audit import AUDIT_SECONDS
+    from .budget import AUDIT_SECONDS
     p.add_argument("paths", nargs="+", metavar="PATH", help="tableau files, and folders searched for *.json")
     p.add_argument("--out", metavar="DIR", help="write audit.json, audit.md, audit.tex (and audit.pdf with pdflatex)")
     p.add_argument("--jobs", type=_count(1, MAX_REPEATS), metavar="N",

@@ -8,6 +8,7 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import sys
 from functools import cache
 from pathlib import Path
 
@@ -16,8 +17,10 @@ import pytest
 import sympy as sp
 
 from tableau_lab.exact.grammar import LIMITS, EntryError, parse_entry, raise_limit
-from tools.corpus.expr import Array, Unsupported, half_ulp, parse_value
-from tools.corpus.writer import Entries
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))      # tools/ lives beside the package, not in it
+from tools.corpus.expr import Array, Unsupported, half_ulp, parse_value  # noqa: E402 -- after the path: the checkout's tools
+from tools.corpus.writer import Entries  # noqa: E402 -- after the path
 
 ROOT = Path(__file__).resolve().parents[1]
 CORPUS = ROOT / "corpus"

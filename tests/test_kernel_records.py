@@ -42,11 +42,16 @@ def test_loop_state_arguments_are_the_records():
     assert np.allclose(st.Y[0], pade ** 4, rtol=1e-13, atol=0)
 
 
-def test_pure_loop_runs_stepcores_own_function_objects():
-    """The pure loop is stepcore's code, rebound to an arithmetic (no text executed)."""
+def test_pure_loop_is_stepcores_code_with_operations_in_place():
+    """The pure loop is stepcore's code, its one-line operations written in place
+    (numeric/inliner.py; bit for bit the same numbers: tests/test_inliner.py): every function of
+    stepcore.LOOP with its name and parameters, no call left of an operation written in place, and
+    the arithmetic's operations themselves bound as they are."""
     loop = kernels.pure_loop(type("P", (), {"f": None})(), "float64")
     for fn in stepcore.LOOP:
-        assert getattr(loop, fn.__name__).__code__ is fn.__code__
+        mine, theirs = getattr(loop, fn.__name__).__code__, fn.__code__
+        assert mine.co_varnames[:mine.co_argcount] == theirs.co_varnames[:theirs.co_argcount]
+    assert not {"wmadd", "wmul", "uses", "isnz"} & set(loop.combine.__code__.co_names)
     assert loop.wadd is ops_f64.wadd and kernels.pure_loop(type("P", (), {})(), "mp").wadd is ops_mp.wadd
 
 

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from ..budget import computing, time_limit
+from ..budget import AUDIT_SECONDS, computing, time_limit
 from ..errors import EXIT_BUG, EXIT_CLAIM, EXIT_INPUT, EXIT_OK, BudgetError, InputError
 from ..render.displayed import Displayed
 from ..render.model import Document, Paragraph, Table, Text
@@ -46,7 +46,6 @@ __all__ = ["audit_files", "audit_file", "collect", "AuditResult", "Row", "Check"
 
 AGREES, DISAGREES, UNDECIDED = "agrees", "DISAGREES", "undecided"
 #: the default time budget of one method (seconds): beyond it the method is "undecided: budget"
-AUDIT_SECONDS = 60.0
 #: file names that are never tableaux (a corpus's index, a library's reference values)
 SKIPPED_NAMES = ("INDEX.json", "*_reference.json")
 #: the conditions shown as evidence per disagreement (all are counted)

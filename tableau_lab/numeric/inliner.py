@@ -17,16 +17,15 @@ is a name or a constant, whose evaluation has no effect and costs nothing).  The
 where they are — stepcore's algorithm and the arithmetic module's operations; this module only
 moves their text.
 
->>> def wmadd(acc, a, b):
-...     return acc + a * b
->>> def dot(x, y, n):
-...     acc = 0.0
-...     for i in range(n):
-...         acc = wmadd(acc, x[i], y[i])
-...     return acc
->>> ns = inline_functions([dot], {"wmadd": wmadd}, {})
->>> ns["dot"]([1.0, 2.0], [3.0, 4.0], 2), "wmadd" in ns["dot"].__code__.co_names
-(11.0, False)
+>>> import numpy as np
+>>> from tableau_lab.numeric import ops_f64, stepcore
+>>> ops = {name: getattr(ops_f64, name) for name in ops_f64.OPERATIONS}
+>>> ns = inline_functions([stepcore.uses, stepcore.combine], ops, {"DENSE_A": 0})
+>>> A, F, cls = np.array([[[0.5, 0.0], [0.25, 0.25]]]), np.array([[1.0], [2.0]]), np.array([0])
+>>> float(ns["combine"](0.1, A, 0, cls, 1, F, 0, 2))         # h (a₂₁F₁ + a₂₂F₂)
+0.07500000000000001
+>>> sorted(set(ns["combine"].__code__.co_names) & {"wmadd", "wmul", "g3", "uses", "isnz"})
+[]
 """
 from __future__ import annotations
 
