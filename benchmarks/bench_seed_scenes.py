@@ -5,17 +5,22 @@ issue 32's bound is cold ≤ 1.5× warm.
 
 One ``tableau-lab run reports/scenes/*.json --out DIR`` with a fresh, empty ``TABLEAU_LAB_CACHE``
 ("cold"), then the same command on the cache it left ("warm"); wall seconds of each and their
-ratio.  The loops shared by every problem (``tableau-lab warm-up``) live apart from that cache:
-``--shared DIR`` uses (and, if empty, first builds with ``tableau-lab warm-up``, timed apart) the
-shared loops in DIR; ``--fresh-shared`` gives the cold run an empty shared folder too — an
-installation's very first run.  ``--tree``: the checkout on PYTHONPATH (default this one; an
-older checkout has no shared loops).  A benchmark, not a test.
+ratio, and the CPU seconds (user + system) of the command's process tree (its background
+compiles included, except one still running when the command ends: it dies unwaited) with the
+load average before and after — the machine's other work shows in the wall time, less in the
+CPU time.  The loops shared by every problem (``tableau-lab warm-up``) live apart from that
+cache: ``--shared DIR`` uses (and, if empty, first builds with ``tableau-lab warm-up``, timed
+apart) the shared loops in DIR; ``--fresh-shared`` gives the cold run an empty shared folder too
+— an installation's very first run (the runs build the ones they need in the background).
+``--tree``: the checkout on PYTHONPATH (default this one; an older checkout has no shared
+loops).  A benchmark, not a test.
 """
 from __future__ import annotations
 
 import argparse
 import glob
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -25,13 +30,24 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def timed(cmd: list, env: dict, cwd: Path) -> float:
-    """Wall seconds of ``cmd`` (its output discarded; exit 4, a degraded run, is the seed's own)."""
-    t = time.perf_counter()
+def _children_cpu() -> float:
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def timed(cmd: list, env: dict, cwd: Path) -> tuple:
+    """(wall seconds, CPU seconds of its process tree, load averages before and after) of ``cmd``
+    (its output discarded; exit 4, a degraded run, is the seed's own)."""
+    load, cpu, t = os.getloadavg()[0], _children_cpu(), time.perf_counter()
     done = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if done.returncode not in (0, 4):
         sys.exit(f"{' '.join(cmd[:4])} …: exit {done.returncode}\n{done.stderr[-2000:]}")
-    return time.perf_counter() - t
+    return time.perf_counter() - t, _children_cpu() - cpu, (load, os.getloadavg()[0])
+
+
+def _said(what: str, measured: tuple) -> str:
+    wall, cpu, (before, after) = measured
+    return f"{what} {wall:.1f} s wall, {cpu:.1f} s CPU (load {before:.1f} → {after:.1f})"
 
 
 def main(argv=None) -> int:
@@ -51,13 +67,14 @@ def main(argv=None) -> int:
             env["TABLEAU_LAB_SHARED_CACHE"] = args.shared or str(Path(tmp) / "shared")
         if args.shared and not any(Path(args.shared).glob("*.py")):
             built = timed([sys.executable, "-m", "tableau_lab", "warm-up"], env, scenes)
-            print(f"warm-up (the shared loops, once): {built:.1f} s")
+            print(_said("warm-up (the shared loops, once):", built))
         cold = timed(cmd + [str(Path(tmp) / "out1")], env, scenes)
         warm = timed(cmd + [str(Path(tmp) / "out2")], env, scenes)
     shared = ("built" if args.shared else "empty (a fresh installation)" if args.fresh_shared
               else f"the default ({os.environ.get('TABLEAU_LAB_SHARED_CACHE', '~/.cache/tableau_lab/shared')})")
     print(f"{len(files)} seed scenes, {tree}, shared loops {shared}:")
-    print(f"  cold {cold:.1f} s, warm {warm:.1f} s: cold/warm {cold / warm:.2f} (issue 32: ≤ 1.5)")
+    print(f"  {_said('cold', cold)}\n  {_said('warm', warm)}")
+    print(f"  cold/warm {cold[0] / warm[0]:.2f} wall, {cold[1] / warm[1]:.2f} CPU (issue 32: ≤ 1.5)")
     return 0
 
 

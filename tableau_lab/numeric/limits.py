@@ -76,6 +76,8 @@ NUMBA_START_SECONDS = 0.6      # a process's first: importing numba (0.3 s) and 
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
 LINKED_PROBLEM_SECONDS = 1.0    # a problem's entry points for the linked loop, compiled (kernels.linked_loop: ~1 s)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
+LINKED_SAVED_FRACTION = 1 / 500    # of a run's predicted Python time, what the specialised loop saves against the
+                                   # linked one (linked: Python/330-800 a step; specialised 2.2-3.2× cheaper)
 COMPILE_NOTICE_SECONDS = 2.0    # a first call whose compile state is not known is announced on a terminal after this
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
@@ -87,7 +89,7 @@ MISFIT = 5                  # the loop's status when its arrays do not fit its s
 
 __all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs",
                                                                    "python_step_seconds", "choose_loop",
-                                                                   "build_here"]
+                                                                   "build_here", "specialised_repays", "load_seconds"]
 
 
 def iteration_costs(contraction: float, *, separable: bool, s: int, d: int, f_ops: float,
@@ -143,6 +145,18 @@ def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
     110
     """
     return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+
+
+def specialised_repays(python_seconds: float) -> bool:
+    """Whether a run predicted at ``python_seconds`` in the pure loop is long enough to repay the
+    compile of the loop specialised to it (``COMPILE_COLD_SECONDS``, in the background) against
+    the loop shared by every problem: its saving, ``LINKED_SAVED_FRACTION`` of the Python time,
+    larger than the compile — about an hour in Python (Gauss 2 on the pendulum: 4·10⁷ steps).
+
+    >>> specialised_repays(600.0), specialised_repays(5000.0)
+    (False, True)
+    """
+    return python_seconds * LINKED_SAVED_FRACTION > COMPILE_COLD_SECONDS
 
 
 def load_seconds() -> float:
