@@ -172,3 +172,25 @@ def test_switch_moves_only_to_a_better_loop(monkeypatch):
     failed.ok = False
     switch = background.switch_when_ready((failed, lambda: "specialised"), (shared, lambda: "linked"))
     assert switch() == "linked" and switch() is None
+
+
+def test_cost_rule_prices_projection(monkeypatch):
+    """The Python loop's predicted time counts the projection (limits.PYTHON_PROJECTION_FACTOR):
+    explicit Euler projected onto the pendulum's energy costs about three times its step
+    unprojected (docs/speed.md), and the cost rule's prediction for such a run is within a factor
+    two of the run's measured CPU time (before: a third of it, so long projected runs stayed in
+    Python)."""
+    import re
+    import time
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, disk=True, **k: "cold" if disk else None)
+    monkeypatch.setattr(kernels, "linked_state", lambda shape: "cold")
+    monkeypatch.setattr(background, "possible", lambda: False)
+    nm, cp = to_numeric(load(METHODS / "explicit_euler.json")), compile_problem("pendulum")
+    steps = 20000
+    t = time.process_time()
+    run = integrate(nm, cp, cp.y0, 0.01, steps, kernel="cost", project=("H",))
+    cpu = time.process_time() - t
+    assert run.loop == "python"
+    predicted = float(re.search(r"predicted at ([0-9.e+-]+) s", run.loop_why).group(1))
+    assert 0.5 * cpu <= predicted <= 2 * cpu, (predicted, cpu)

@@ -427,7 +427,7 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
     (:func:`.background.worth`) starts in Python while its loop compiles in the background, and
     ``switch`` (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
     shape = kernels.run_shape(pk)
-    python, load = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit), limits.load_seconds()
+    python, load = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit, len(pk.proj)), limits.load_seconds()
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
     if state is None and steps * python > load:
         state = kernels.compile_state(prob.problem, "f64", shape)

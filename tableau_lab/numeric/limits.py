@@ -70,6 +70,7 @@ PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 PYTHON_STAGE_SECONDS = 5e-6     # one stage of an explicit method in the pure float64 loop: this …
 PYTHON_COMPONENT_SECONDS = 3e-6     # … plus this per state component (RK4: 27-40 µs/step at d = 2, 43-111 at d = 4)
 PYTHON_IMPLICIT_FACTOR = 5.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
+PYTHON_PROJECTION_FACTOR = 2.0  # a projected invariant, a step, in explicit stages (measured 0.8-2.1: docs/speed.md)
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 NUMBA_START_SECONDS = 0.6      # a process's first: importing numba (0.3 s) and its target's set-up at the first load
@@ -136,15 +137,20 @@ def choose_iteration(solver: str, *, explicit: bool, separable: bool, contractio
     return SPLIT if separable else FIXED
 
 
-def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
+def python_step_seconds(s: int, r: int, d: int, explicit: bool, projected: int = 0) -> float:
     """The predicted seconds of one step of the pure (Python) float64 loop: s·r stages (a GLM's r
     input values multiply its work), each ``PYTHON_STAGE_SECONDS`` + d·``PYTHON_COMPONENT_SECONDS``,
-    ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method (measured: module constants).
+    ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method, and ``PYTHON_PROJECTION_FACTOR``
+    such stages for each of the ``projected`` invariants (measured: module constants).
 
     >>> round(python_step_seconds(2, 1, 2, explicit=False) * 1e6)       # Gauss 2, d = 2: measured 77-122 µs
     110
+    >>> round(python_step_seconds(1, 1, 2, explicit=True, projected=1) * 1e6)   # Euler + projection: 36 µs
+    33
     """
-    return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+    stage = PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS
+    return (s * r * stage * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+            + projected * PYTHON_PROJECTION_FACTOR * stage)
 
 
 def specialised_repays(python_seconds: float) -> bool:
