@@ -77,8 +77,9 @@ NUMBA_START_SECONDS = 0.6      # a process's first: importing numba (0.3 s) and 
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
 LINKED_PROBLEM_SECONDS = 1.0    # a problem's entry points for the linked loop, compiled (kernels.linked_loop: ~1 s)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
-LINKED_SAVED_FRACTION = 1 / 500    # of a run's predicted Python time, what the specialised loop saves against the
-                                   # linked one (linked: Python/330-800 a step; specialised 2.2-3.2× cheaper)
+LINKED_SAVED_FRACTION = 1 / 500    # of a run's predicted Python time, what the specialised loop saves against
+                                   # the linked one (linked: Python/330-800 a step, specialised 2.2-3.2× cheaper:
+                                   # 1/1450-1/480; docs/speed.md)
 COMPILE_NOTICE_SECONDS = 2.0    # a first call whose compile state is not known is announced on a terminal after this
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
