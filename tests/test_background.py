@@ -194,3 +194,38 @@ def test_cost_rule_prices_projection(monkeypatch):
     assert run.loop == "python"
     predicted = float(re.search(r"predicted at ([0-9.e+-]+) s", run.loop_why).group(1))
     assert 0.5 * cpu <= predicted <= 2 * cpu, (predicted, cpu)
+
+
+def test_long_linked_run_moves_to_its_specialised_loop(monkeypatch):
+    """A run on the built linked loop long enough to repay its specialised loop's compile
+    (limits.specialised_repays) has that compiled in the background and moves to it between
+    chunks (record 'linked, then compiled'); a shorter one asks for no compile.  The loops here
+    are stand-ins (the pure loop), so the move must change no number."""
+    monkeypatch.setenv("TABLEAU_LAB_KERNEL", "auto")
+    monkeypatch.setenv("TABLEAU_LAB_SPECIALISE", "1")
+    nm, cp, inv = _glm_on_kepler()
+    monkeypatch.setattr(kernels, "compile_state", lambda *a, disk=True, **k: "cold" if disk else None)
+    monkeypatch.setattr(kernels, "linked_state", lambda shape: "cached")
+    monkeypatch.setattr(kernels, "linked_loop", lambda problem, shape: kernels.pure_loop(cp, "float64"))
+    monkeypatch.setattr(kernels, "compiled_loop", lambda problem, kind, shape: kernels.pure_loop(cp, "float64"))
+    monkeypatch.setattr(background, "possible", lambda: True)
+    monkeypatch.setattr(limits, "NUMBA_START_SECONDS", 0.0)    # as if numba were imported: a load costs 0.5 s
+    asked = []
+
+    class Done:
+        ok = True
+
+        def poll(self):
+            return True
+
+    def start(problem, kind, shape, args):
+        asked.append(shape)
+        return Done()
+    monkeypatch.setattr(background, "start", start)
+    plain = integrate(nm, cp, cp.y0, 0.01, 2000, kernel="python", invariants=inv, record_every=7)
+    short = integrate(nm, cp, cp.y0, 0.01, 2000, kernel="cost", invariants=inv, record_every=7)
+    assert short.loop == "linked" and asked == []
+    monkeypatch.setattr(limits, "specialised_repays", lambda seconds: True)
+    long = integrate(nm, cp, cp.y0, 0.01, 2000, kernel="cost", invariants=inv, record_every=7)
+    assert len(asked) == 1 and long.loop == "linked, then compiled" and long.switched_at == 256
+    assert np.array_equal(long.final, plain.final) and long.invariant_errors == plain.invariant_errors
