@@ -596,9 +596,11 @@ def integrate(method, f, y0, t_span, h, *, variables=None, time=None, invariants
         f_calls = cp.calls
         loop, why = "Python", loop_why
     else:
-        loop = {"compiled": "compiled with numba", "linked": "compiled with numba (the loop shared by every problem)",
-                "python, then compiled": f"Python, then compiled with numba after step {run.switched_at}"
-                }.get(run.loop, "Python")
+        words = {"python": "Python", "compiled": "compiled with numba",
+                 "linked": "compiled with numba (the loop shared by every problem)"}
+        loop = ", then ".join(words.get(part, part) for part in run.loop.split(", then "))
+        if run.switched_at is not None:
+            loop += f" after step {run.switched_at}"
         why = _loop_why(run, traced)
     if nm.r > 1 and run_start == "naive" and nm.starting and isinstance(cp, _Callable):
         why += "; a GLM with a callable f starts naively (y^[0] = u y0): its order may drop to the naive start's"

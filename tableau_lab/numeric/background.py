@@ -28,7 +28,8 @@ import time
 from ..process import die_with_parent
 from . import kernels, limits as L
 
-__all__ = ["worth", "possible", "Compile", "start", "announce", "switch_when_ready", "wait_all", "pending"]
+__all__ = ["worth", "possible", "Compile", "start", "start_shared", "announce", "announce_shared", "switch_when_ready",
+           "wait_all", "pending"]
 
 
 def possible() -> bool:
@@ -96,11 +97,28 @@ def start(problem, kind: str, shape, args: tuple) -> Compile:
     (:func:`kernels.loop_files <.kernels.loop_files>`, written now), for arguments of the types
     of ``args`` (a :class:`~.kernels.LoopState`'s ``args(0, 0)``): started, or queued behind the
     one running; the same compile once per process."""
-    files = kernels.loop_files(problem, kind, shape)
+    return _queued(kernels.loop_files(problem, kind, shape), args, lambda: announce(problem, kind))
+
+
+def start_shared(shape, args: tuple) -> Compile:
+    """The background build of the float64 loop shared by every problem for the stage iteration
+    and projection of ``shape`` (:func:`kernels.linked_loop <.kernels.linked_loop>`; its files
+    written now in :func:`~.kernels.shared_dir`), for arguments of the types of ``args`` (those of
+    a pure run, ``c`` made the linked record with no address: :func:`~.kernels.linked_data`):
+    started, or queued behind the one running; once per process, whichever problem asks.  Once
+    built, it serves every later run of that stage iteration and projection, of any problem, in
+    this process and the next ones (the cost rule's linked loop)."""
+    data = kernels.linked_data(args[4])                      # LoopState.args: the problem's data fifth
+    return _queued(kernels.linked_files(shape), (*args[:4], data, *args[5:]), lambda: announce_shared(shape))
+
+
+def _queued(files: tuple, args: tuple, told) -> Compile:
+    """The compile of the loop module ``files`` (:func:`_child`'s task), once per process: queued
+    (``told()`` then announces it) and started when a place is free (:func:`_advance`)."""
     c = _ALL.get(files[2])
     if c is None:
         c = _ALL[files[2]] = Compile(files, args)
-        announce(problem, kind)
+        told()
     _advance()
     return c
 
@@ -121,15 +139,32 @@ def announce(problem, kind: str) -> None:
                    "running in Python meanwhile")
 
 
-def switch_when_ready(c: Compile, problem, kind: str, shape):
-    """The ``switch`` of :func:`kernels.drive <.kernels.drive>`: a function returning the
-    compiled loop once ``c`` has ended well (None before, and for good if it failed)."""
+def announce_shared(shape) -> None:
+    """The notice of :func:`start_shared`, once per shared loop in this process."""
+    key = ("shared", shape.mode, shape.projects)
+    if key in _TOLD:
+        return
+    _TOLD.add(key)
+    what = kernels.shape_text(kernels.generic_shape(shape))
+    kernels.notice(f"building the step loop shared by every problem (float64, {what}) in the background "
+                   f"({kernels.cached_in(kernels.shared_dir())}); running in Python meanwhile")
+
+
+def switch_when_ready(*choices):
+    """The ``switch`` of :func:`kernels.drive <.kernels.drive>`: ``choices`` are (Compile, ready)
+    pairs, the best loop first; the switch returns ``ready()`` of the best one whose compile has
+    ended well and that is better than the one it last returned (None otherwise: a failed compile
+    is passed over for good).  A pure run moves to the linked loop once built, then to its
+    specialised loop once compiled, if that was asked."""
+    best = [len(choices)]                    # the index of the loop running: none of these yet
 
     def switch():
         _advance()
-        if c.poll() is not True:
-            return None
-        return kernels.compiled_loop(problem, kind, shape)
+        for i, (c, ready) in enumerate(choices[:best[0]]):
+            if c.poll() is True:
+                best[0] = i
+                return ready()
+        return None
     return switch
 
 

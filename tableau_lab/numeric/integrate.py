@@ -75,12 +75,13 @@ class Run:
     invariant_scales: dict = field(default_factory=dict)  # name -> |I(y0)| (1 where I(y0) = 0): "relative" below
     state_scale: float = 1.0                             # max |y0_i| (1 where y0 = 0): the parasitic components' scale
     loop: str = ""                                       # the step loop that ran: "compiled" (numba) or "python"
-    switched_at: int | None = None                       # "python, then compiled": the last step in Python
+    switched_at: int | None = None                       # "python, then compiled": the last step before the switch
 
-    def switched(self, step: int | None) -> None:
-        """The pure run went on compiled after ``step`` (None: it did not)."""
+    def switched(self, step: int | None, to: str = "compiled") -> None:
+        """The run went on another loop after ``step`` (None: it did not): the loop specialised to
+        it (``to`` "compiled") or the loop shared by every problem ("linked")."""
         if step is not None:
-            self.loop, self.switched_at = "python, then compiled", step
+            self.loop, self.switched_at = f"{self.loop}, then {to}", step
 
     def max_invariant_error(self) -> dict:
         """Largest |I − I(y0)| at the records, and over every step where the compiled loop
@@ -375,7 +376,7 @@ def integrate(nm: NumericMethod, prob, y0, h, steps: int, *, start: str = "exact
             run.tracked = out.tracked
             run.velocity_evaluations, run.fallbacks = out.nvel, out.fallbacks
             run.compile_seconds = out.compile_seconds
-            run.switched(out.switched_at)
+            run.switched(out.switched_at, out.switched_to)
             run.seconds = time.perf_counter() - t0 - run.compile_seconds
 
         record(0, Y)
@@ -426,7 +427,7 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
     (:func:`.background.worth`) starts in Python while its loop compiles in the background, and
     ``switch`` (for :func:`~.kernels.drive`) moves it to the compiled loop once that is ready."""
     shape = kernels.run_shape(pk)
-    python, load = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit), limits.load_seconds()
+    python, load = limits.python_step_seconds(nm.s, nm.r, d, nm.explicit, len(pk.proj)), limits.load_seconds()
     state = kernels.compile_state(prob.problem, "f64", shape, disk=False)
     if state is None and steps * python > load:
         state = kernels.compile_state(prob.problem, "f64", shape)
@@ -442,20 +443,49 @@ def _cheaper_loop(nm, prob, pk, steps: int, d: int) -> tuple:
 def _without_compile(nm, prob, pk, steps: int, d: int, seconds: float, shape, load: float):
     """The start of a run whose specialised loop is not compiled and whose Python loop would take
     longer (``seconds``) than a cache ``load`` (:func:`_cheaper_loop`): the linked loop when built
-    and worth its problem's entry points, the Python loop with the specialised loop compiling in
-    the background when worth it, else None (the cost rule)."""
+    and worth its problem's entry points; else, when worth it, the Python loop while the linked
+    loop of its stage iteration and projection builds in the background (the specialised loop
+    when there is no shape: TABLEAU_LAB_SPECIALISE=0), moving to it once built; else None (the
+    cost rule).  A run long enough to repay its specialised loop's compile against the linked
+    loop (:func:`~.limits.specialised_repays`) also has that compiled in the background, and moves
+    to it once ready."""
     if shape is not None and kernels.linked_state(shape) != "cold" and (
             seconds > load + limits.LINKED_PROBLEM_SECONDS        # + the problem's entry points
             or kernels.entries_state(prob.problem, shape, len(pk.c), len(pk.track) > 0) != "cold"):
         return "linked", (f"the compiled loop shared by every problem: {steps} steps predicted at {seconds:.2g} s "
-                          "in Python, the specialised loop not compiled"), None
+                          "in Python, the specialised loop not compiled"), _later(prob, pk, nm, d, seconds, shape, [])
     if not (background.worth(seconds) and background.possible()):
         return None
-    args = kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
-    c = background.start(prob.problem, "f64", shape, args)
-    why = (f"the Python loop, then the compiled loop once compiled in the background ({steps} steps predicted at "
+    if shape is not None:                  # the shared loop: built once for every later problem and shape
+        c = background.start_shared(shape, _task_args(prob, pk, nm, d))
+        now = [(c, lambda: kernels.linked_loop(prob.problem, shape))]
+        what = "the compiled loop shared by every problem"
+    else:
+        now, what = _specialised(prob, pk, nm, d, shape), "the compiled loop"
+    why = (f"the Python loop, then {what} once compiled in the background ({steps} steps predicted at "
            f"{seconds:.2g} s in Python)")
-    return False, why, background.switch_when_ready(c, prob.problem, "f64", shape)
+    return False, why, _later(prob, pk, nm, d, seconds, shape, now)
+
+
+def _task_args(prob, pk, nm, d: int) -> tuple:
+    """The arguments of a loop's ``run`` with no step, of this run's types (a background compile's task)."""
+    return kernels.LoopState(kernels.pure_loop(prob, "float64"), pk, np.zeros((nm.r, d)), 1, 1).args(0, 0)
+
+
+def _specialised(prob, pk, nm, d: int, shape) -> list:
+    """[(the background compile of the loop specialised to the run, the loop once ready)]."""
+    c = background.start(prob.problem, "f64", shape, _task_args(prob, pk, nm, d))
+    return [(c, lambda: kernels.compiled_loop(prob.problem, "f64", shape))]
+
+
+def _later(prob, pk, nm, d: int, seconds: float, shape, now: list):
+    """drive's ``switch`` to the loops compiling in the background for this run: ``now`` (the
+    linked loop being built, or the specialised one), preceded by the specialised loop when the run
+    is long enough to repay its compile against the linked loop (queued behind ``now``); None
+    when there are none."""
+    if shape is not None and limits.specialised_repays(seconds) and background.possible():
+        now = _specialised(prob, pk, nm, d, shape) + now
+    return background.switch_when_ready(*now) if now else None
 
 
 def _raise_status(out, h, tol, project) -> None:

@@ -55,7 +55,7 @@ from .stepcore import Coefficients, Controls, ProblemData, Span, State
 
 __all__ = ["available", "cache_dir", "code_dir", "compile_state", "Shape", "loop_shape", "dense_matrices", "run_shape",
            "invariant_index", "write_problem_module", "module_source", "specialisation", "compiled_loop", "linked_loop",
-           "pure_loop",
+           "linked_files", "linked_data", "generic_shape", "pure_loop",
            "Pack", "LoopState", "Outcome", "drive"]
 
 HERE = Path(__file__).resolve().parent
@@ -376,7 +376,7 @@ class _LinkedLoop:
     def __init__(self, mod, problem, shape):
         self._mod, self._problem, self._shape = mod, problem, shape
         self.__name__ = f"{mod.__name__}:{problem.key}"      # compile_seconds: the problem's entry points too
-        self.described = f"every problem (float64, {shape_text(_generic(shape))})"
+        self.described = f"every problem (float64, {shape_text(generic_shape(shape))})"
         self.invariant_index = invariant_index(problem)
 
     def __getattr__(self, name):
@@ -389,11 +389,20 @@ class _LinkedLoop:
         """``data`` with ``c`` the :class:`~.linked.Linked` record: the constants and the addresses of the
         entry points this loop can call (:func:`~.linked.slots_needed`; ``rescue``: the Jacobian too,
         for :func:`~.stepcore.rescue_step`); 0 for the others."""
-        from .linked import SLOTS, Linked, slots_needed
-        c = np.ascontiguousarray(data.c, dtype=float)
+        from .linked import SLOTS, slots_needed
+        nc = len(data.c)
         wanted = slots_needed(self._shape.mode, len(data.proj) > 0, len(data.track) > 0, rescue)
-        fn = np.array([_entry(self._problem, slot, len(c)) if slot in wanted else 0 for slot in SLOTS], dtype=np.int64)
-        return data._replace(c=Linked(c, fn))
+        return linked_data(data, [_entry(self._problem, slot, nc) if slot in wanted else 0 for slot in SLOTS])
+
+
+def linked_data(data: ProblemData, addresses=None) -> ProblemData:
+    """``data`` as a linked loop takes it: ``c`` the :class:`~.linked.Linked` record of the constants and
+    the entry points' ``addresses`` (in the order of :data:`~.linked.SLOTS`; None: every one 0 — the
+    argument types a linked loop compiles for, with nothing to call: :mod:`.background`'s build, which
+    calls ``run`` with no step)."""
+    from .linked import SLOTS, Linked
+    fn = np.zeros(len(SLOTS), dtype=np.int64) if addresses is None else np.array(addresses, dtype=np.int64)
+    return data._replace(c=Linked(np.ascontiguousarray(data.c, dtype=float), fn))
 
 
 def _entry(problem, slot: str, nc: int) -> int:
@@ -455,10 +464,11 @@ def _linked_texts(shape) -> tuple:
     from .linked import PROBLEM_TEXT
     ltext = PROBLEM_TEXT.format(stamp=_linked_stamp())
     lname = _module_name("tableau_lab_linked", ltext)
-    return ("tableau_lab_linked", ltext), ("tableau_lab_kernel", module_source("f64", _generic(shape), lname, True))
+    loop = module_source("f64", generic_shape(shape), lname, True)
+    return ("tableau_lab_linked", ltext), ("tableau_lab_kernel", loop)
 
 
-def _linked_files(shape) -> tuple:
+def linked_files(shape) -> tuple:
     """(its problem module's name, path, loop module's name, path) of the linked loop for the
     stage iteration and projection of ``shape``, written in :func:`shared_dir` if not there."""
     (lprefix, ltext), (prefix, text) = _linked_texts(shape)
@@ -466,7 +476,13 @@ def _linked_files(shape) -> tuple:
     return (*_write(lprefix, ltext, folder), *_write(prefix, text, folder))
 
 
-def _generic(shape) -> Shape:
+def generic_shape(shape) -> Shape:
+    """The :class:`Shape` a linked loop is compiled for: ``shape``'s stage iteration and projection,
+    any method shape (s = r = d = 0).
+
+    >>> shape_text(generic_shape(Shape(2, 1, 2, L.SPLIT, 1, (1, 1, 1, 1))))
+    'any shape, SPLIT, projection'
+    """
     return Shape(0, 0, 0, shape.mode, shape.projects)
 
 
@@ -488,7 +504,7 @@ def linked_loop(problem, shape):
     key = (str(cache_dir()), problem.key, "linked", shape)
     if key in _BY_KEY:
         return _BY_KEY[key]
-    lname, lpath, name, path = _linked_files(shape)
+    lname, lpath, name, path = linked_files(shape)
     load_module(lname, lpath)
     _BY_KEY[key] = _LinkedLoop(load_module(name, path), problem, shape)
     return _BY_KEY[key]
@@ -701,7 +717,8 @@ class Outcome:
     projection_residual: float = 0.0
     last_correction: float = 0.0
     compile_seconds: float = 0.0
-    switched_at: int | None = None      # the step after which a pure run went on compiled (drive's switch)
+    switched_at: int | None = None      # the step after which a run went on another loop (drive's switch; the last)
+    switched_to: str = ""               # … the loop specialised to it ("compiled") or the shared one ("linked")
 
 
 class LoopState:
@@ -823,8 +840,9 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
           chunk: int | None = None, switch=None) -> Outcome:
     """Steps 1..steps of ``loop`` (a compiled module or a pure loop) from the input vector Y
     (r × d, working precision); ``record(n, Y)`` at the record steps, ``progress(n)`` after
-    each chunk.  ``switch``: for a pure loop, a function asked after each chunk, returning the
-    compiled loop to go on with once it is ready (:mod:`.background`), else None.  Returns the
+    each chunk.  ``switch``: a function asked after each chunk, returning the compiled loop to go on
+    with once it is ready (:mod:`.background`: a pure run onto a compiled loop, a linked run onto its
+    specialised loop), else None.  Returns the
     :class:`Outcome`; an exception raised by ``record`` or Ctrl-C carries the outcome so far as
     ``exc.outcome``."""
     compiled = pk.kind != "mp" and loop.__name__ != "pure"
@@ -888,7 +906,7 @@ def drive(loop, pk: Pack, Y, steps: int, every: int, *, record, progress=None, t
                 break
             if progress is not None:
                 progress(n)
-            if not compiled and n < steps and (ready := _switched(switch, st, out, n)) is not None:
+            if switch is not None and n < steps and (ready := _switched(switch, st, out, n)) is not None:
                 loop, compiled, chunk = ready, True, L.CHUNK
     except BaseException as exc:
         _stopped(out, st, done, records)
@@ -903,7 +921,7 @@ def _switched(switch, st: LoopState, out: Outcome, n: int):
     None: stay), its problem data linked and room made for its longer chunks' records."""
     ready = switch() if switch is not None else None
     if ready is not None:
-        out.switched_at = n
+        out.switched_at, out.switched_to = n, ("linked" if hasattr(ready, "link") else "compiled")
         st.link(ready)
         st.records_for(L.CHUNK)
     return ready

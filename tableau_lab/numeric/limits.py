@@ -72,12 +72,16 @@ PURE_CHUNK = 256            # steps per call of the pure (Python) loop
 PYTHON_STAGE_SECONDS = 5e-6     # one stage of an explicit method in the pure float64 loop: this …
 PYTHON_COMPONENT_SECONDS = 3e-6     # … plus this per state component (RK4: 27-40 µs/step at d = 2, 43-111 at d = 4)
 PYTHON_IMPLICIT_FACTOR = 5.0    # an implicit stage (its share of the stage iteration's sweeps) in explicit stages
+PYTHON_PROJECTION_FACTOR = 2.0  # a projected invariant, a step, in explicit stages (measured 0.8-2.1: docs/speed.md)
 COMPILE_COLD_SECONDS = 8.0      # numba's first compile of a float64 loop and its problem module, empty cache (3.2-11 s)
 COMPILE_CACHED_SECONDS = 0.5    # the same loaded from numba's disk cache (kernels.compile_state "cached"; 0.2-0.5 s)
 NUMBA_START_SECONDS = 0.6      # a process's first: importing numba (0.3 s) and its target's set-up at the first load
 BACKGROUND_AFTER_SECONDS = 2.0  # a run predicted longer in Python compiles its loop in the background (background.py)
 LINKED_PROBLEM_SECONDS = 1.0    # a problem's entry points for the linked loop, compiled (kernels.linked_loop: ~1 s)
 BACKGROUND_COMPILES = 1         # background compiles at a time (one core for the run, one for numba)
+LINKED_SAVED_FRACTION = 1 / 500    # of a run's predicted Python time, what the specialised loop saves against
+                                   # the linked one (linked: Python/330-800 a step, specialised 2.2-3.2× cheaper:
+                                   # 1/1450-1/480; docs/speed.md)
 COMPILE_NOTICE_SECONDS = 2.0    # a first call whose compile state is not known is announced on a terminal after this
 
 # -- layout of the loop's flag and counter arrays -------------------------------------------------
@@ -89,7 +93,7 @@ MISFIT = 5                  # the loop's status when its arrays do not fit its s
 
 __all__ = [name for name in list(globals()) if name.isupper()] + ["choose_iteration", "iteration_costs",
                                                                    "python_step_seconds", "choose_loop",
-                                                                   "build_here"]
+                                                                   "build_here", "specialised_repays", "load_seconds"]
 
 
 def iteration_costs(contraction: float, *, separable: bool, s: int, d: int, f_ops: float,
@@ -136,15 +140,32 @@ def choose_iteration(solver: str, *, explicit: bool, separable: bool, contractio
     return SPLIT if separable else FIXED
 
 
-def python_step_seconds(s: int, r: int, d: int, explicit: bool) -> float:
+def python_step_seconds(s: int, r: int, d: int, explicit: bool, projected: int = 0) -> float:
     """The predicted seconds of one step of the pure (Python) float64 loop: s·r stages (a GLM's r
     input values multiply its work), each ``PYTHON_STAGE_SECONDS`` + d·``PYTHON_COMPONENT_SECONDS``,
-    ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method (measured: module constants).
+    ``PYTHON_IMPLICIT_FACTOR`` times that for an implicit method, and ``PYTHON_PROJECTION_FACTOR``
+    such stages for each of the ``projected`` invariants (measured: module constants).
 
     >>> round(python_step_seconds(2, 1, 2, explicit=False) * 1e6)       # Gauss 2, d = 2: measured 77-122 µs
     110
+    >>> round(python_step_seconds(1, 1, 2, explicit=True, projected=1) * 1e6)   # Euler + projection: 36 µs
+    33
     """
-    return s * r * (PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS) * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+    stage = PYTHON_STAGE_SECONDS + d * PYTHON_COMPONENT_SECONDS
+    return (s * r * stage * (1.0 if explicit else PYTHON_IMPLICIT_FACTOR)
+            + projected * PYTHON_PROJECTION_FACTOR * stage)
+
+
+def specialised_repays(python_seconds: float) -> bool:
+    """Whether a run predicted at ``python_seconds`` in the pure loop is long enough to repay the
+    compile of the loop specialised to it (``COMPILE_COLD_SECONDS``, in the background) against
+    the loop shared by every problem: its saving, ``LINKED_SAVED_FRACTION`` of the Python time,
+    larger than the compile — about an hour in Python (Gauss 2 on the pendulum: 4·10⁷ steps).
+
+    >>> specialised_repays(600.0), specialised_repays(5000.0)
+    (False, True)
+    """
+    return python_seconds * LINKED_SAVED_FRACTION > COMPILE_COLD_SECONDS
 
 
 def load_seconds() -> float:
