@@ -220,7 +220,8 @@ def inline_functions(functions, operations: dict, constants: dict, namespace: di
     namespace.setdefault("__builtins__", builtins)
     for name, fn in operations.items():
         namespace.setdefault(name, fn)
-    consts = tuple(sorted((k, v) for k, v in constants.items() if type(v) in (bool, int, float)))
+    named = _names(tuple(functions) + tuple(operations.values()))      # a constant the code never names changes nothing
+    consts = tuple(sorted((k, v) for k, v in constants.items() if type(v) in (bool, int, float) and k in named))
     name = inlined_name(functions, operations, consts, namespace)
     path = None if folder is None else Path(folder) / name
     text = _read(SHIPPED / name)
@@ -233,6 +234,17 @@ def inline_functions(functions, operations: dict, constants: dict, namespace: di
                 atomic_write_text(path, text)
     exec(_compiled(text), namespace)            # stepcore's own source, rewritten: no user text
     return namespace
+
+
+def _names(functions: tuple) -> frozenset:
+    """Every global name the functions' code objects (nested ones too) name."""
+    out: set = set()
+    todo = [f.__code__ for f in functions if hasattr(f, "__code__")]
+    while todo:
+        code = todo.pop()
+        out.update(code.co_names)
+        todo.extend(c for c in code.co_consts if hasattr(c, "co_names"))
+    return frozenset(out)
 
 
 def _read(path: Path | None) -> str | None:
