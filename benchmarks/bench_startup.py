@@ -12,7 +12,9 @@ medians are printed with the ratios issue 32 sets targets for: cold/warm ≤ 1.5
 Each run's record says which loop ran and what it compiled (``loop``, ``compile_seconds``).
 ``--tree``: the checkout put on PYTHONPATH (default: this one); given twice or more, the
 checkouts take turns inside every round (before/after on the same machine state), each with its
-own caches.  A benchmark, not a test.
+own caches.  Python's bytecode cache (``__pycache__``) is kept, as an installation has it
+(pip compiles it; a shell with ``PYTHONDONTWRITEBYTECODE`` set recompiles every module of every
+command, about 0.1 s, and is not what a user meets).  A benchmark, not a test.
 """
 from __future__ import annotations
 
@@ -36,6 +38,7 @@ def timed(cmd: list, tree: Path, cache: Path) -> tuple:
     """(wall seconds, the command's JSON output or None) of one fresh process."""
     env = dict(os.environ, PYTHONPATH=str(tree), TABLEAU_LAB_CACHE=str(cache))
     env.pop("TABLEAU_LAB_KERNEL", None)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)     # an installation keeps its bytecode (pip compiles it)
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-m", "tableau_lab", *cmd], cwd=tree, env=env, capture_output=True,
                           text=True, check=True)

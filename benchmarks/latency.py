@@ -30,6 +30,8 @@ COMMANDS = (["verify", "methods/example4_glm.json"], ["order", "methods/gauss2.j
                                                 "--h", "0.01", "--steps", "1000"],
             ["verify", "tests/data/g6245.json"])
 TOP = 8
+# as a user's installation runs: with its bytecode cache (pip compiles it), whatever this shell says
+ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
 WATCHED = ("sympy", "numba", "scipy", "dask", "matplotlib")      # what a warm path should import only when it needs it
 # the warm paths whose imports are listed: an exact command, a short quick run, a scene (its two runs compiled, plotted)
 IMPORTED = ((COMMANDS[0], "an exact command"), (COMMANDS[3], "a short quick run (the Python loop)"),
@@ -41,12 +43,12 @@ REPEAT = 5
 def wall(argv, repeat: int) -> tuple:
     """Median wall and CPU seconds (user + system of the child) of ``repeat`` fresh processes."""
     cmd = [sys.executable, "-m", "tableau_lab", *argv]
-    subprocess.run(cmd, cwd=ROOT, capture_output=True, check=False)           # warm the disk caches
+    subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, check=False)           # warm the disk caches
     times, cpus = [], []
     for _ in range(repeat):
         r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t = time.perf_counter()
-        subprocess.run(cmd, cwd=ROOT, capture_output=True, check=False)
+        subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, check=False)
         times.append(time.perf_counter() - t)
         r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpus.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
@@ -57,8 +59,9 @@ def imports(argv) -> tuple:
     """The largest top-level packages by cumulative import seconds (a package's own line: its
     first import, with everything it pulls in), the seconds of tableau_lab's own modules (their
     self times) and which of :data:`WATCHED` were imported at all."""
-    subprocess.run([sys.executable, "-m", "tableau_lab", *argv], cwd=ROOT, capture_output=True, check=False)  # warm
-    p = subprocess.run([sys.executable, "-X", "importtime", "-m", "tableau_lab", *argv], cwd=ROOT,
+    subprocess.run([sys.executable, "-m", "tableau_lab", *argv], cwd=ROOT, env=ENV, capture_output=True,
+                   check=False)  # warm
+    p = subprocess.run([sys.executable, "-X", "importtime", "-m", "tableau_lab", *argv], cwd=ROOT, env=ENV,
                        capture_output=True, text=True, check=False)
     packages, own, seen = {}, 0.0, set()
     for line in p.stderr.splitlines():
