@@ -8,7 +8,7 @@ The cell is timed from ``import tableau_lab`` to its last result; after the cloc
 process waits for its background compiles (numeric/background.py) so that the warm rounds find
 every loop the cell wants in the cache.  A benchmark, not a test: the machine's load moves it.
 
-    python benchmarks/bench_notebook.py [--rounds 3] [--json]
+    python benchmarks/bench_notebook.py [--rounds 3] [--fresh-shared] [--json]
 """
 from __future__ import annotations
 
@@ -45,10 +45,14 @@ print(json.dumps({{"seconds": seconds, "loops": loops}}))
 """
 
 
-def cell(cache: str) -> dict:
-    """Run the cell in a fresh process on the compiled-loop cache ``cache``: its seconds, the loop
-    each run took, and the compile notices it printed per problem."""
+def cell(cache: str, shared: str | None = None) -> dict:
+    """Run the cell in a fresh process on the compiled-loop cache ``cache`` (and the shared loops'
+    folder ``shared``; None: the installation's): its seconds, the loop each run took, and the
+    compile notices it printed per problem."""
     env = dict(os.environ, TABLEAU_LAB_CACHE=cache, PYTHONPATH=str(ROOT))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)          # an installation keeps its bytecode
+    if shared is not None:
+        env["TABLEAU_LAB_SHARED_CACHE"] = shared
     done = subprocess.run([sys.executable, "-c", CELL], env=env, capture_output=True, text=True, check=True)
     out = json.loads(done.stdout.strip().splitlines()[-1])
     notices = [line for line in done.stderr.splitlines() if "compiling" in line]
@@ -60,23 +64,28 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--json", action="store_true")
+    ap.add_argument("--fresh-shared", action="store_true",
+                    help="a fresh installation: an empty shared-loop folder for each cold cell (its warm cell "
+                         "keeps what the cold one built), not the installation's")
     args = ap.parse_args(argv)
     cold, warm = [], []
     with tempfile.TemporaryDirectory(prefix="tableau_lab_bench_notebook_") as tmp:
         for k in range(args.rounds):
             cache = str(Path(tmp) / f"cache{k}")
-            cold.append(cell(cache))
-            warm.append(cell(cache))
+            shared = str(Path(tmp) / f"shared{k}") if args.fresh_shared else None
+            cold.append(cell(cache, shared))
+            warm.append(cell(cache, shared))
     c = statistics.median(r["seconds"] for r in cold)
     w = statistics.median(r["seconds"] for r in warm)
     res = {"cell": f"{len(METHODS)} methods × {len(PROBLEMS)} problems × {STEPS} steps",
            "cold_seconds": round(c, 2), "warm_seconds": round(w, 2), "cold_over_warm": round(c / w, 2),
            "notices_per_problem_cold": cold[0]["notices"], "notices_per_problem_warm": warm[0]["notices"],
-           "loops_cold": cold[0]["loops"], "loops_warm": warm[0]["loops"], "rounds": args.rounds}
+           "loops_cold": cold[0]["loops"], "loops_warm": warm[0]["loops"], "rounds": args.rounds,
+           "shared": "fresh" if args.fresh_shared else "installation's"}
     if args.json:
         print(json.dumps(res, ensure_ascii=False))
     else:
-        print(f"{res['cell']}, median of {args.rounds} interleaved rounds:")
+        print(f"{res['cell']}, median of {args.rounds} interleaved rounds, shared loops: {res['shared']}:")
         print(f"  cold {c:.2f} s, warm {w:.2f} s: cold/warm {c / w:.2f} (issue 32: < 3)")
         print(f"  compile notices per problem, cold: {res['notices_per_problem_cold']}, "
               f"warm: {res['notices_per_problem_warm']}")
