@@ -3,8 +3,8 @@ r"""The verdicts of the certified analyses of a decimal tableau (:mod:`certified
 (certified / refuted / undecided, :class:`Finding`) and a claim's check (:class:`ClaimCheck`).
 
 >>> import flint
->>> Evidence("Σbᵢ − 1", flint.arb("1e-10")).text()
-'Σbᵢ − 1: residual [1.00000e-10 +/- 1e-20]'
+>>> Evidence("Σbᵢ − 1", flint.arb(flint.fmpq(1, 2**30))).text()     # 2⁻³⁰: exact at any precision
+'Σbᵢ − 1: residual [9.31323e-10 +/- 4.26e-16]'
 """
 from __future__ import annotations
 
