@@ -240,14 +240,21 @@ def inside(value: sp.Expr, ball: Ball) -> bool:
     """
     if value.is_Rational:
         return ball.lo <= Fraction(int(value.p), int(value.q)) <= ball.hi
+    width = ball.rad if ball.rad else Fraction(1, 2 ** 64)
+    lo, hi = _enclosure(value, max(64, int(_log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS))
+    return ball.lo <= lo and hi <= ball.hi
+
+
+def _enclosure(value: sp.Expr, bits: int) -> tuple[Fraction, Fraction]:
+    """Exact rational ends of a certified enclosure of the real ``value`` at ``bits`` bits
+    (:func:`~tableau_lab.exact.real_roots.enclose`, in an interval context of its own: no global precision)."""
     from mpmath.ctx_iv import MPIntervalContext
 
     from .real_roots import enclose, lower, upper
     ctx = MPIntervalContext()
-    width = ball.rad if ball.rad else Fraction(1, 2 ** 64)
-    ctx.prec = max(64, int(_log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS)
+    ctx.prec = bits
     box = enclose(value, ctx)
-    return ball.lo <= _mpf_fraction(lower(box)) and _mpf_fraction(upper(box)) <= ball.hi
+    return _mpf_fraction(lower(box)), _mpf_fraction(upper(box))
 
 
 def _mpf_fraction(x: Any) -> Fraction:
@@ -407,13 +414,8 @@ def generator(r: Recognition) -> sp.Expr | None:
 def _approximation(theta: sp.Expr, bits: int) -> Fraction:
     """θ within 2^−bits (the midpoint of a certified enclosure at that precision); one per field
     and precision, so the entries of a tableau share it."""
-    from mpmath.ctx_iv import MPIntervalContext
-
-    from .real_roots import enclose, lower, upper
-    ctx = MPIntervalContext()
-    ctx.prec = bits
-    box = enclose(theta, ctx)
-    return (_mpf_fraction(lower(box)) + _mpf_fraction(upper(box))) / 2
+    lo, hi = _enclosure(theta, bits)
+    return (lo + hi) / 2
 
 
 @lru_cache(maxsize=64)
