@@ -28,7 +28,6 @@ that the candidate is the method the decimals came from is as sure as the weakes
 from __future__ import annotations
 
 import os
-import re
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -37,7 +36,7 @@ import flint
 import sympy as sp
 
 from ..budget import computing, time_limit
-from ..exact.balls import BallMethod
+from ..exact.balls import BallMethod, is_decimal
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import Method
 from ..exact.recognise import (
@@ -65,7 +64,6 @@ __all__ = ["reconstruct_tableau", "reconstruct", "ball_tableau", "ReconstructRes
 
 #: keys of a decimal file that describe its numbers (issue 33's format): the exact candidate has no use for them
 DECIMAL_KEYS = frozenset({"numbers", "radius", "digits"})
-_DECIMAL = re.compile(r"\s*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\s*")
 
 
 @dataclass(frozen=True)
@@ -240,7 +238,7 @@ def _exact(value: Any, where: str) -> sp.Expr:
         return parse_entry(str(format_entry(value)) if isinstance(value, sp.Basic) else value)
     except EntryError as exc:
         hint = ""
-        if isinstance(value, float) or (isinstance(value, str) and _DECIMAL.fullmatch(value)):
+        if isinstance(value, float) or is_decimal(value):
             hint = ('; an entry known in decimals is given as a python-flint ball, e.g. flint.arb("[0.5 +/- 5e-2]") '
                     '(read at enough precision: with flint.ctx.workprec(bits))')
         raise TableauError("<reconstruction>", str(exc) + hint, where) from None
@@ -390,11 +388,12 @@ def ball_tableau(m: BallMethod) -> dict:
     out: dict[str, Any] = {"name": m.name, "kind": m.kind}
     def one(e, x):
         return str(format_entry(e.exact)) if e.exact is not None else x
-    for key in ("A", "b", "c", "bhat", "Ahat", "chat"):
+    _, required, optional = KINDS[m.kind]
+    for key, shape in {**required, **optional}.items():
         entries, balls = getattr(m, key), m.balls(key)
         if entries is None:
             continue
-        if key in ("A", "Ahat"):
+        if shape == "matrix":
             out[key] = [[one(e, x) for e, x in zip(row, xs, strict=True)]
                         for row, xs in zip(entries, balls, strict=True)]
         else:
