@@ -206,21 +206,9 @@ def test_bad_entries_are_refused_naming_the_entry(entry):
 
 def _decimal_file(path, name: str, digits: int, change=None):
     """A shipped tableau as a decimal file (``"numbers": "decimal"``): every non-integer entry its
-    decimal to ``digits`` significant digits (mpmath); ``change``: (key, i, j) of an entry whose
+    decimal to ``digits`` significant digits (the demo's decimal_text); ``change``: (key, i, j) of an entry whose
     10th digit is altered."""
-    from importlib import resources
-
-    import mpmath
-    data = json.loads(resources.files("tableau_lab").joinpath(f"methods/{name}.json").read_text())
-    with mpmath.workdps(digits + 10):
-        def dec(text):
-            v = parse_entry(text)
-            return int(v) if v.is_Integer else mpmath.nstr(mpmath.mpf(sp.Rational(v).p) / sp.Rational(v).q, digits,
-                                                            strip_zeros=False)
-        for key in ("A", "b", "c", "bhat"):
-            if key in data:
-                data[key] = [[dec(x) for x in row] for row in data[key]] if isinstance(data[key][0], list) \
-                    else [dec(x) for x in data[key]]
+    data, _ = demo.decimal_copy(name, digits, demo.decimal_text)
     if change is not None:
         key, i, j = change
         text = data[key][i][j]
