@@ -46,6 +46,7 @@ from ..exact.recognise import (
     Limits,
     Recognition,
     field_degree,
+    field_text,
     generator,
     joint_basis,
     limits_with,
@@ -124,7 +125,7 @@ class ReconstructResult(Result):
             assert e.recognition is not None
             kinds[e.recognition.kind] = kinds.get(e.recognition.kind, 0) + 1
         counts = ", ".join(f"{v} {k}" for k, v in sorted(kinds.items()))
-        fields = "; fields " + ", ".join(f"Q({format_entry(t)})" for t in self.fields) if self.fields else ""
+        fields = "; fields " + ", ".join(field_text((t,)) for t in self.fields) if self.fields else ""
         return (f"{len(rec)} of {n} entries given as balls ({counts}): {len(self.weak)} weak, "
                 f"{len(self.missing)} not recognised{fields}; {self.seconds:.2f} s")
 
@@ -194,8 +195,7 @@ def _kind(e: EntryReport) -> str:
         return "exact"
     if r.value is None:
         return "none"
-    where = f" in Q({', '.join(str(format_entry(t)) for t in r.field)})" if r.field else ""
-    return f"{r.kind}{where}, {r.height}, {r.digits:.1f}/{r.needed:.1f}"
+    return f"{r.kind}{r.where}, {r.height}, {r.digits:.1f}/{r.needed:.1f}"
 
 
 def _strength(e: EntryReport) -> str:

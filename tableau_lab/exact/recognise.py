@@ -65,7 +65,7 @@ from .rationals import height as rational_height, simplest_between
 
 __all__ = ["Limits", "LIMITS", "LIMIT_OPTION", "CEILINGS", "Ball", "Basis", "Recognition", "ball_of", "recognise",
            "recognise_in", "recognise_in_basis", "joint_basis", "generator", "inside", "limits_with", "field_degree",
-           "relation", "PROBE_DIGITS"]
+           "relation", "PROBE_DIGITS", "field_text"]
 
 
 @dataclass(frozen=True)
@@ -191,14 +191,27 @@ class Recognition:
     def text(self) -> str | None:
         return None if self.value is None else str(format_entry(self.value))
 
+    @property
+    def where(self) -> str:
+        """The words " in Q(θ)" for the field its relation was sought in; "" when sought by its own powers."""
+        return f" in {field_text(self.field)}" if self.field else ""
+
     def verdict(self) -> str:
         """One line: the value, how it was found and how sure."""
         if self.value is None:
             return f"not recognised (no candidate of height ≤ the limit from {_digits(self.digits)} digits)"
-        where = f" in Q({', '.join(str(format_entry(t)) for t in self.field)})" if self.field else ""
         sure = "recognised" if self.strong else f"WEAK (fewer than {self.margin:g} digits to spare)"
-        return (f"{self.text}: {self.kind}{where}, height {self.height}, {_digits(self.digits)} digits given, "
+        return (f"{self.text}: {self.kind}{self.where}, height {self.height}, {_digits(self.digits)} digits given, "
                 f"{self.needed:.1f} needed: {sure}")
+
+
+def field_text(generators: tuple[sp.Expr, ...]) -> str:
+    """The field Q(θ₁, …) as text, each generator in the grammar.
+
+    >>> field_text((sp.sqrt(2), sp.sqrt(3)))
+    'Q(sqrt(2), sqrt(3))'
+    """
+    return f"Q({', '.join(str(format_entry(t)) for t in generators)})"
 
 
 def _digits(d: float) -> str:
@@ -525,8 +538,7 @@ def recognise_in_basis(x: Any, basis: Basis, limits: Limits = LIMITS) -> Recogni
     relation (len(basis) + 1 numbers)."""
     ball = _used(x, limits)
     values = basis.values(int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
-    names = ", ".join(str(format_entry(t)) for t in basis.generators)
-    with computing(f"an integer relation of a ball in Q({names})"):
+    with computing(f"an integer relation of a ball in {field_text(basis.generators)}"):
         c = relation([ball.mid, *values], ball.digits, limits)
     if c is None or c[0] == 0 or not any(c[2:]):
         return _none(ball, limits)
