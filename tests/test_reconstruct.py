@@ -5,6 +5,7 @@ exactly those numbers, and their published orders must be re-proven; balls with 
 and random numbers must give no strong claim."""
 import json
 import random
+import re
 import time
 
 import flint
@@ -156,6 +157,28 @@ def test_limits_are_named_checked_and_bind():
         tl.reconstruct(data, seconds=0.01)
     with pytest.raises(InputError, match="size budget"):
         tl.reconstruct({"kind": "rk", "A": [[0] * 41] * 41, "b": [0] * 41})
+
+
+def test_the_limits_table_of_the_docs_and_the_command_options_are_the_limits():
+    """docs/reconstruction.md's table of limits states each default and ceiling of recognise.Limits /
+    CEILINGS, and `tableau-lab reconstruct --degree/--digits` refuse beyond the same ceilings."""
+    from pathlib import Path
+
+    from tableau_lab.cli import main
+    from tableau_lab.exact.recognise import CEILINGS, LIMITS
+    text = (Path(__file__).resolve().parents[1] / "docs/reconstruction.md").read_text(encoding="utf-8")
+    rows = {m[1]: (m[2], m[3]) for m in re.finditer(r"^\| `(\w+)` \|([^|]*)\|([^|]*)\|", text, re.M)}
+    assert set(rows) == set(vars(LIMITS))
+    sup = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789")
+    for name, (default, most) in rows.items():
+        d = default.strip()
+        value = 10 ** int(d[2:].translate(sup)) if d.startswith("10") and len(d) > 2 else float(d)   # 10³⁰
+        assert value == getattr(LIMITS, name), name
+        assert (int(most) if most.strip() else None) == CEILINGS.get(name), name
+    for name in ("degree", "digits"):
+        with pytest.raises(SystemExit) as info:
+            main(["reconstruct", "x.json", f"--{name}", str(CEILINGS[name] + 1)])
+        assert info.value.code == 2
 
 
 @pytest.mark.parametrize("name, digits", [("sdirk34", 30), ("gauss2", 30)])
