@@ -319,8 +319,7 @@ def _recognise_all(data: dict, limits: Limits) -> tuple[list[EntryReport], list[
 def _ball_text(x: Any, digits: float) -> str:
     """The ball as text, to the digits it states (python-flint prints 15 by default)."""
     n = 60 if digits == float("inf") else max(3, min(60, int(digits) + 2))
-    with flint.ctx.workdps(n + 10):
-        return str(x.str(n, radius=True))
+    return str(x.str(n, radius=True))              # arb prints from its own bits: no working precision needed
 
 
 def _candidate(data: dict, reports: list[EntryReport]) -> tuple[dict, tuple[str, ...]]:

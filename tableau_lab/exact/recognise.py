@@ -289,9 +289,7 @@ def relation(values: list[Fraction], digits: float, limits: Limits) -> list[int]
     rows = [[int(i == j) for j in range(n)] + [round(scale * v)] for i, v in enumerate(values)]
     reduced = flint.fmpz_mat(rows).lll()
     coeffs = [int(reduced[0, j]) for j in range(n)]
-    g = 0
-    for c in coeffs:
-        g = gcd(g, c)
+    g = gcd(*coeffs)
     if g == 0 or max(abs(c) for c in coeffs) > limits.height:
         return None
     return [c // g for c in coeffs]
