@@ -30,6 +30,7 @@ from __future__ import annotations
 import os
 import time
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import flint
@@ -253,7 +254,7 @@ def _best(ball: Any, alone: Recognition, fields: list[sp.Expr], joint: _Joint, l
         r = recognise_in(ball, theta, limits)
         if r.strong:
             return r
-    basis = joint.basis()
+    basis = joint.basis
     if basis is not None:
         r = recognise_in_basis(ball, basis, limits)
         if r.strong:
@@ -266,17 +267,15 @@ class _Joint:
     asked (None: one generator, or a field of degree above ``limits.basis``)."""
 
     def __init__(self, fields: list[sp.Expr], limits: Limits):
-        self.fields, self.limits, self.done = fields, limits, False
-        self.value: Basis | None = None
+        self.fields, self.limits = fields, limits
 
+    @cached_property
     def basis(self) -> Basis | None:
-        if not self.done:
-            self.done = True
-            if len(self.fields) > 1:
-                with computing("the field of the tableau's generators"):
-                    b = joint_basis(tuple(self.fields), self.limits)
-                self.value = b if b is not None and len(b.elements) > max(map(field_degree, self.fields)) else None
-        return self.value
+        if len(self.fields) < 2:
+            return None
+        with computing("the field of the tableau's generators"):
+            b = joint_basis(tuple(self.fields), self.limits)
+        return b if b is not None and len(b.elements) > max(map(field_degree, self.fields)) else None
 
 
 def _fields(found: list[Recognition], limits: Limits) -> list[sp.Expr]:
