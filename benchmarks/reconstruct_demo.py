@@ -35,22 +35,29 @@ CASES = ("rk4:20", "dormand_prince54:20", "gauss2:30", "sdirk34:30", "glm6_moons
 SHOWN = "gauss2:30"         # the case shown with its table of entries
 
 
-def decimal_ball(value, digits: int):
-    """``value`` (exact sympy) written to ``digits`` significant digits, as the ball its decimal
-    states: the correctly rounded decimal ± half a unit in its last digit (mpmath rounds, working
-    50 digits beyond)."""
+def decimal_text(value, digits: int) -> str:
+    """``value`` (exact sympy) written to ``digits`` significant digits, correctly rounded (mpmath
+    rounds, working 50 digits beyond), as the numeral ``{m}e{k}`` (k: the exponent of its last digit)."""
     with mpmath.workdps(digits + 50):
         v = mpmath.mpf(sp.N(value, digits + 50))
         e10 = int(mpmath.floor(mpmath.log10(abs(v))))
         k = e10 - digits + 1                      # the exponent of the last digit written
         m = int(mpmath.nint(v / mpmath.mpf(10) ** k))
+    return f"{m}e{k}"
+
+
+def decimal_ball(value, digits: int):
+    """The ball :func:`decimal_text` states: the correctly rounded decimal ± half a unit in its last digit."""
+    text = decimal_text(value, digits)
+    k = int(text.split("e")[1])
     with flint.ctx.workprec(int(digits * 3.33) + 64):
-        return flint.arb(f"[{m}e{k} +/- 5e{k - 1}]")
+        return flint.arb(f"[{text} +/- 5e{k - 1}]")
 
 
-def decimal_tableau(name: str, digits: int) -> tuple[dict, dict]:
+def decimal_copy(name: str, digits: int, write=decimal_ball) -> tuple[dict, dict]:
     """A shipped tableau (or a family member, ``gauss:4``) with every entry that is not an integer
-    replaced by its decimal ball, and its exact entries (key → rows of sympy numbers)."""
+    replaced by ``write(value, digits)`` (its decimal ball; :func:`decimal_text`: its decimal, for a
+    ``"numbers": "decimal"`` file), and its exact entries (key → rows of sympy numbers)."""
     if ":" in name:
         data = to_dict(tl.load(name))
     else:
@@ -64,9 +71,14 @@ def decimal_tableau(name: str, digits: int) -> tuple[dict, dict]:
         for row in (data[key] if matrix else [data[key]]):
             vals = [parse_entry(x) for x in row]
             exact.setdefault(key, []).append(vals)
-            balls.append([int(v) if v.is_Integer else decimal_ball(v, digits) for v in vals])
+            balls.append([int(v) if v.is_Integer else write(v, digits) for v in vals])
         data[key] = balls if matrix else balls[0]
     return data, exact
+
+
+def decimal_tableau(name: str, digits: int) -> tuple[dict, dict]:
+    """:func:`decimal_copy` with every entry that is not an integer its decimal ball."""
+    return decimal_copy(name, digits, decimal_ball)
 
 
 def equals_exactly(result, exact: dict) -> bool:

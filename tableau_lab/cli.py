@@ -762,11 +762,21 @@ def _verify_options(p) -> None:
 def _reconstruct_options(p) -> None:
     p.add_argument("file", metavar="FILE", help='a decimal tableau ("numbers": "decimal")')
     p.add_argument("--save", metavar="OUT", help="write the exact candidate here (not over the input)")
-    p.add_argument("--degree", type=_count(1, 16), default=None, metavar="N",
+    p.add_argument("--degree", type=_reconstruct_limit("degree", 1), default=None, metavar="N",
                    help="largest degree of an algebraic entry looked for (default 4)")
-    p.add_argument("--digits", type=_count(10, 5000), default=None, metavar="N",
+    p.add_argument("--digits", type=_reconstruct_limit("digits", 10), default=None, metavar="N",
                    help="most digits of a ball used (default 200)")
     p.add_argument("--json", action="store_true", help="the report as one JSON object")
+
+
+def _reconstruct_limit(name: str, least: int):
+    """An argparse type: an integer from ``least`` to the limit's ceiling (recognise.CEILINGS, imported
+    only when the option is given: the parser is built for every command)."""
+    def read(text: str) -> int:
+        from .exact.recognise import CEILINGS
+        return int(_count(least, CEILINGS[name])(text))
+    read.__name__ = "integer"
+    return read
 
 
 def _order_options(p) -> None:

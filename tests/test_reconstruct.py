@@ -5,6 +5,7 @@ exactly those numbers, and their published orders must be re-proven; balls with 
 and random numbers must give no strong claim."""
 import json
 import random
+import re
 import time
 
 import flint
@@ -158,6 +159,28 @@ def test_limits_are_named_checked_and_bind():
         tl.reconstruct({"kind": "rk", "A": [[0] * 41] * 41, "b": [0] * 41})
 
 
+def test_the_limits_table_of_the_docs_and_the_command_options_are_the_limits():
+    """docs/reconstruction.md's table of limits states each default and ceiling of recognise.Limits /
+    CEILINGS, and `tableau-lab reconstruct --degree/--digits` refuse beyond the same ceilings."""
+    from pathlib import Path
+
+    from tableau_lab.cli import main
+    from tableau_lab.exact.recognise import CEILINGS, LIMITS
+    text = (Path(__file__).resolve().parents[1] / "docs/reconstruction.md").read_text(encoding="utf-8")
+    rows = {m[1]: (m[2], m[3]) for m in re.finditer(r"^\| `(\w+)` \|([^|]*)\|([^|]*)\|", text, re.M)}
+    assert set(rows) == set(vars(LIMITS))
+    sup = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹", "0123456789")
+    for name, (default, most) in rows.items():
+        d = default.strip()
+        value = 10 ** int(d[2:].translate(sup)) if d.startswith("10") and len(d) > 2 else float(d)   # 10³⁰
+        assert value == getattr(LIMITS, name), name
+        assert (int(most) if most.strip() else None) == CEILINGS.get(name), name
+    for name in ("degree", "digits"):
+        with pytest.raises(SystemExit) as info:
+            main(["reconstruct", "x.json", f"--{name}", str(CEILINGS[name] + 1)])
+        assert info.value.code == 2
+
+
 @pytest.mark.parametrize("name, digits", [("sdirk34", 30), ("gauss2", 30)])
 def test_printed_entries_reparse_to_the_candidate(name, digits):
     """A printed formula is a claim: each entry's text, LaTeX (root(P, k) counted from 1, as the
@@ -206,21 +229,9 @@ def test_bad_entries_are_refused_naming_the_entry(entry):
 
 def _decimal_file(path, name: str, digits: int, change=None):
     """A shipped tableau as a decimal file (``"numbers": "decimal"``): every non-integer entry its
-    decimal to ``digits`` significant digits (mpmath); ``change``: (key, i, j) of an entry whose
+    decimal to ``digits`` significant digits (the demo's decimal_text); ``change``: (key, i, j) of an entry whose
     10th digit is altered."""
-    from importlib import resources
-
-    import mpmath
-    data = json.loads(resources.files("tableau_lab").joinpath(f"methods/{name}.json").read_text())
-    with mpmath.workdps(digits + 10):
-        def dec(text):
-            v = parse_entry(text)
-            return int(v) if v.is_Integer else mpmath.nstr(mpmath.mpf(sp.Rational(v).p) / sp.Rational(v).q, digits,
-                                                            strip_zeros=False)
-        for key in ("A", "b", "c", "bhat"):
-            if key in data:
-                data[key] = [[dec(x) for x in row] for row in data[key]] if isinstance(data[key][0], list) \
-                    else [dec(x) for x in data[key]]
+    data, _ = demo.decimal_copy(name, digits, demo.decimal_text)
     if change is not None:
         key, i, j = change
         text = data[key][i][j]

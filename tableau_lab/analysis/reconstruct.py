@@ -28,16 +28,16 @@ that the candidate is the method the decimals came from is as sure as the weakes
 from __future__ import annotations
 
 import os
-import re
 import time
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import flint
 import sympy as sp
 
 from ..budget import computing, time_limit
-from ..exact.balls import BallMethod
+from ..exact.balls import BallMethod, is_decimal
 from ..exact.grammar import EntryError, format_entry, parse_entry
 from ..exact.methods import Method
 from ..exact.recognise import (
@@ -47,6 +47,7 @@ from ..exact.recognise import (
     Limits,
     Recognition,
     field_degree,
+    field_text,
     generator,
     joint_basis,
     limits_with,
@@ -65,7 +66,6 @@ __all__ = ["reconstruct_tableau", "reconstruct", "ball_tableau", "ReconstructRes
 
 #: keys of a decimal file that describe its numbers (issue 33's format): the exact candidate has no use for them
 DECIMAL_KEYS = frozenset({"numbers", "radius", "digits"})
-_DECIMAL = re.compile(r"\s*[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\s*")
 
 
 @dataclass(frozen=True)
@@ -126,7 +126,7 @@ class ReconstructResult(Result):
             assert e.recognition is not None
             kinds[e.recognition.kind] = kinds.get(e.recognition.kind, 0) + 1
         counts = ", ".join(f"{v} {k}" for k, v in sorted(kinds.items()))
-        fields = "; fields " + ", ".join(f"Q({format_entry(t)})" for t in self.fields) if self.fields else ""
+        fields = "; fields " + ", ".join(field_text((t,)) for t in self.fields) if self.fields else ""
         return (f"{len(rec)} of {n} entries given as balls ({counts}): {len(self.weak)} weak, "
                 f"{len(self.missing)} not recognised{fields}; {self.seconds:.2f} s")
 
@@ -196,8 +196,7 @@ def _kind(e: EntryReport) -> str:
         return "exact"
     if r.value is None:
         return "none"
-    where = f" in Q({', '.join(str(format_entry(t)) for t in r.field)})" if r.field else ""
-    return f"{r.kind}{where}, {r.height}, {r.digits:.1f}/{r.needed:.1f}"
+    return f"{r.kind}{r.where}, {r.height}, {r.digits:.1f}/{r.needed:.1f}"
 
 
 def _strength(e: EntryReport) -> str:
@@ -240,7 +239,7 @@ def _exact(value: Any, where: str) -> sp.Expr:
         return parse_entry(str(format_entry(value)) if isinstance(value, sp.Basic) else value)
     except EntryError as exc:
         hint = ""
-        if isinstance(value, float) or (isinstance(value, str) and _DECIMAL.fullmatch(value)):
+        if isinstance(value, float) or is_decimal(value):
             hint = ('; an entry known in decimals is given as a python-flint ball, e.g. flint.arb("[0.5 +/- 5e-2]") '
                     '(read at enough precision: with flint.ctx.workprec(bits))')
         raise TableauError("<reconstruction>", str(exc) + hint, where) from None
@@ -255,7 +254,7 @@ def _best(ball: Any, alone: Recognition, fields: list[sp.Expr], joint: _Joint, l
         r = recognise_in(ball, theta, limits)
         if r.strong:
             return r
-    basis = joint.basis()
+    basis = joint.basis
     if basis is not None:
         r = recognise_in_basis(ball, basis, limits)
         if r.strong:
@@ -268,17 +267,15 @@ class _Joint:
     asked (None: one generator, or a field of degree above ``limits.basis``)."""
 
     def __init__(self, fields: list[sp.Expr], limits: Limits):
-        self.fields, self.limits, self.done = fields, limits, False
-        self.value: Basis | None = None
+        self.fields, self.limits = fields, limits
 
+    @cached_property
     def basis(self) -> Basis | None:
-        if not self.done:
-            self.done = True
-            if len(self.fields) > 1:
-                with computing("the field of the tableau's generators"):
-                    b = joint_basis(tuple(self.fields), self.limits)
-                self.value = b if b is not None and len(b.elements) > max(map(field_degree, self.fields)) else None
-        return self.value
+        if len(self.fields) < 2:
+            return None
+        with computing("the field of the tableau's generators"):
+            b = joint_basis(tuple(self.fields), self.limits)
+        return b if b is not None and len(b.elements) > max(map(field_degree, self.fields)) else None
 
 
 def _fields(found: list[Recognition], limits: Limits) -> list[sp.Expr]:
@@ -321,8 +318,7 @@ def _recognise_all(data: dict, limits: Limits) -> tuple[list[EntryReport], list[
 def _ball_text(x: Any, digits: float) -> str:
     """The ball as text, to the digits it states (python-flint prints 15 by default)."""
     n = 60 if digits == float("inf") else max(3, min(60, int(digits) + 2))
-    with flint.ctx.workdps(n + 10):
-        return str(x.str(n, radius=True))
+    return str(x.str(n, radius=True))              # arb prints from its own bits: no working precision needed
 
 
 def _candidate(data: dict, reports: list[EntryReport]) -> tuple[dict, tuple[str, ...]]:
@@ -390,11 +386,12 @@ def ball_tableau(m: BallMethod) -> dict:
     out: dict[str, Any] = {"name": m.name, "kind": m.kind}
     def one(e, x):
         return str(format_entry(e.exact)) if e.exact is not None else x
-    for key in ("A", "b", "c", "bhat", "Ahat", "chat"):
+    _, required, optional = KINDS[m.kind]
+    for key, shape in {**required, **optional}.items():
         entries, balls = getattr(m, key), m.balls(key)
         if entries is None:
             continue
-        if key in ("A", "Ahat"):
+        if shape == "matrix":
             out[key] = [[one(e, x) for e, x in zip(row, xs, strict=True)]
                         for row, xs in zip(entries, balls, strict=True)]
         else:

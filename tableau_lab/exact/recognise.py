@@ -65,7 +65,7 @@ from .rationals import height as rational_height, simplest_between
 
 __all__ = ["Limits", "LIMITS", "LIMIT_OPTION", "CEILINGS", "Ball", "Basis", "Recognition", "ball_of", "recognise",
            "recognise_in", "recognise_in_basis", "joint_basis", "generator", "inside", "limits_with", "field_degree",
-           "relation", "PROBE_DIGITS"]
+           "relation", "PROBE_DIGITS", "field_text"]
 
 
 @dataclass(frozen=True)
@@ -191,14 +191,27 @@ class Recognition:
     def text(self) -> str | None:
         return None if self.value is None else str(format_entry(self.value))
 
+    @property
+    def where(self) -> str:
+        """The words " in Q(θ)" for the field its relation was sought in; "" when sought by its own powers."""
+        return f" in {field_text(self.field)}" if self.field else ""
+
     def verdict(self) -> str:
         """One line: the value, how it was found and how sure."""
         if self.value is None:
             return f"not recognised (no candidate of height ≤ the limit from {_digits(self.digits)} digits)"
-        where = f" in Q({', '.join(str(format_entry(t)) for t in self.field)})" if self.field else ""
         sure = "recognised" if self.strong else f"WEAK (fewer than {self.margin:g} digits to spare)"
-        return (f"{self.text}: {self.kind}{where}, height {self.height}, {_digits(self.digits)} digits given, "
+        return (f"{self.text}: {self.kind}{self.where}, height {self.height}, {_digits(self.digits)} digits given, "
                 f"{self.needed:.1f} needed: {sure}")
+
+
+def field_text(generators: tuple[sp.Expr, ...]) -> str:
+    """The field Q(θ₁, …) as text, each generator in the grammar.
+
+    >>> field_text((sp.sqrt(2), sp.sqrt(3)))
+    'Q(sqrt(2), sqrt(3))'
+    """
+    return f"Q({', '.join(str(format_entry(t)) for t in generators)})"
 
 
 def _digits(d: float) -> str:
@@ -240,14 +253,21 @@ def inside(value: sp.Expr, ball: Ball) -> bool:
     """
     if value.is_Rational:
         return ball.lo <= Fraction(int(value.p), int(value.q)) <= ball.hi
+    width = ball.rad if ball.rad else Fraction(1, 2 ** 64)
+    lo, hi = _enclosure(value, max(64, int(_log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS))
+    return ball.lo <= lo and hi <= ball.hi
+
+
+def _enclosure(value: sp.Expr, bits: int) -> tuple[Fraction, Fraction]:
+    """Exact rational ends of a certified enclosure of the real ``value`` at ``bits`` bits
+    (:func:`~tableau_lab.exact.real_roots.enclose`, in an interval context of its own: no global precision)."""
     from mpmath.ctx_iv import MPIntervalContext
 
     from .real_roots import enclose, lower, upper
     ctx = MPIntervalContext()
-    width = ball.rad if ball.rad else Fraction(1, 2 ** 64)
-    ctx.prec = max(64, int(_log10(max(Fraction(2), abs(ball.mid)) / width) * 3.33) + _GUARD_BITS)
+    ctx.prec = bits
     box = enclose(value, ctx)
-    return ball.lo <= _mpf_fraction(lower(box)) and _mpf_fraction(upper(box)) <= ball.hi
+    return _mpf_fraction(lower(box)), _mpf_fraction(upper(box))
 
 
 def _mpf_fraction(x: Any) -> Fraction:
@@ -269,9 +289,7 @@ def relation(values: list[Fraction], digits: float, limits: Limits) -> list[int]
     rows = [[int(i == j) for j in range(n)] + [round(scale * v)] for i, v in enumerate(values)]
     reduced = flint.fmpz_mat(rows).lll()
     coeffs = [int(reduced[0, j]) for j in range(n)]
-    g = 0
-    for c in coeffs:
-        g = gcd(g, c)
+    g = gcd(*coeffs)
     if g == 0 or max(abs(c) for c in coeffs) > limits.height:
         return None
     return [c // g for c in coeffs]
@@ -407,13 +425,8 @@ def generator(r: Recognition) -> sp.Expr | None:
 def _approximation(theta: sp.Expr, bits: int) -> Fraction:
     """θ within 2^−bits (the midpoint of a certified enclosure at that precision); one per field
     and precision, so the entries of a tableau share it."""
-    from mpmath.ctx_iv import MPIntervalContext
-
-    from .real_roots import enclose, lower, upper
-    ctx = MPIntervalContext()
-    ctx.prec = bits
-    box = enclose(theta, ctx)
-    return (_mpf_fraction(lower(box)) + _mpf_fraction(upper(box))) / 2
+    lo, hi = _enclosure(theta, bits)
+    return (lo + hi) / 2
 
 
 @lru_cache(maxsize=64)
@@ -523,8 +536,7 @@ def recognise_in_basis(x: Any, basis: Basis, limits: Limits = LIMITS) -> Recogni
     relation (len(basis) + 1 numbers)."""
     ball = _used(x, limits)
     values = basis.values(int(min(ball.digits, limits.digits) * 3.33) + 2 * _GUARD_BITS)
-    names = ", ".join(str(format_entry(t)) for t in basis.generators)
-    with computing(f"an integer relation of a ball in Q({names})"):
+    with computing(f"an integer relation of a ball in {field_text(basis.generators)}"):
         c = relation([ball.mid, *values], ball.digits, limits)
     if c is None or c[0] == 0 or not any(c[2:]):
         return _none(ball, limits)

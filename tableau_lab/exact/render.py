@@ -81,7 +81,7 @@ def entry_latex(e: Any) -> str:
     >>> entry_latex(sp.CRootOf(sp.Symbol("x") ** 3 - 2, 1))        # not real: sympy's form
     '\\operatorname{CRootOf} {\\left(x^{3} - 2, 1\\right)}'
     """
-    return str(_LatexPrinter().doprint(sp.sympify(e)))
+    return str(_LatexPrinter().doprint(sp.sympify(e, strict=True)))      # strict: text is never evaluated
 
 
 TEXT = Notation(lambda e: str(format_entry(e)), " ", "(", ")", "-")
