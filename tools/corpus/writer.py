@@ -16,6 +16,8 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -212,3 +214,11 @@ class Library:
         (self.out / "extraction.json").write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n",
                                                   encoding="utf-8")
         print(f"{self.library}: {len(self.files)} tableaux, {len(self.skipped)} skipped -> {self.out}")
+
+
+def command_line(extract: Callable[[str, Path], Library], module: str, argv: list[str] | None = None) -> None:
+    """An extractor's command line, ``python -m MODULE GIT_DIR [OUT]`` (OUT defaults to ``corpus``):
+    extract from the bare git directory GIT_DIR and write OUT/<library>/, its record naming the command."""
+    argv = sys.argv[1:] if argv is None else argv
+    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
+    extract(git_dir, out).write(f"python -m {module} {git_dir} {out}")
