@@ -25,6 +25,7 @@ import sympy as sp
 from flint import arb
 
 from tableau_lab.exact.grammar import format_entry
+from tableau_lab.files import atomic_write_text
 
 from .expr import Array, Unsupported, Val, half_ulp
 
@@ -207,12 +208,11 @@ class Library:
             if old.name not in self.files and old.name not in ("extraction.json", "nodepy_reference.json"):
                 old.unlink()
         for fname, text in sorted(self.files.items()):
-            (self.out / fname).write_text(text, encoding="utf-8")
+            atomic_write_text(self.out / fname, text)
         record = {"library": self.library, "repository": self.repository, "commit": self.commit,
                   "files_read": sorted(self.read), "tableaux": len(self.files), "command": command,
                   "skipped": sorted(self.skipped, key=lambda s: (s["reason"], s["name"]))}
-        (self.out / "extraction.json").write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n",
-                                                  encoding="utf-8")
+        atomic_write_text(self.out / "extraction.json", json.dumps(record, indent=1, ensure_ascii=False) + "\n")
         print(f"{self.library}: {len(self.files)} tableaux, {len(self.skipped)} skipped -> {self.out}")
 
 
