@@ -29,6 +29,7 @@ rendering layer; ``proofs/audit.py`` writes the report files.
 """
 from __future__ import annotations
 
+import fnmatch
 import functools
 import os
 import time
@@ -45,13 +46,15 @@ __all__ = ["audit_files", "audit_file", "collect", "AuditResult", "Row", "Check"
            "DISAGREES", "UNDECIDED", "AUDIT_SECONDS", "SKIPPED_NAMES"]
 
 AGREES, DISAGREES, UNDECIDED = "agrees", "DISAGREES", "undecided"
-#: the default time budget of one method (seconds): beyond it the method is "undecided: budget"
-#: file names that are never tableaux (a corpus's index, a library's reference values)
-SKIPPED_NAMES = ("INDEX.json", "*_reference.json")
+#: file names that are never tableaux (a corpus's index, a library's reference values), with what each is
+_NOT_TABLEAUX = {"INDEX.json": "an index", "*_reference.json": "reference values"}
+SKIPPED_NAMES = tuple(_NOT_TABLEAUX)
 #: the conditions shown as evidence per disagreement (all are counted)
 EVIDENCE_SHOWN = 3
 #: the found properties reported for every method, claimed or not (claim name → the findings' name)
 FOUND = (("order", "order"), ("embedded_order", "embedded order"), ("stage_order", "stage order"))
+#: a claim's finding in a certified result (a claim not here: its name with spaces)
+_FINDING_OF_CLAIM = {**dict(FOUND), "ssp_coefficient": "SSP coefficient"}
 
 
 @dataclass(frozen=True)
@@ -90,6 +93,17 @@ class Row:
     def disagreements(self) -> tuple[Check, ...]:
         return tuple(c for c in self.checks if c.verdict == DISAGREES)
 
+    def claims_text(self) -> str:
+        """The table's "claimed → found" cell."""
+        return "; ".join(f"{c.prop} {c.claimed} → {c.found or '?'}" for c in self.checks) or "none"
+
+    def found_text(self) -> str:
+        """The table's "found" cell: the orders found (:data:`FOUND`)."""
+        return ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in self.found if k in dict(FOUND))
+
+    def verdict_text(self) -> str:
+        return self.verdict + (f": {self.note}" if self.note else "")
+
     def to_json(self) -> dict:
         return {"file": self.file, "name": self.name, "library": self.library, "kind": self.kind,
                 "numbers": self.numbers, "stages": self.stages, "verdict": self.verdict, "note": self.note,
@@ -115,11 +129,8 @@ class Skipped:
 # ------------------------------------------------------------------ the files
 
 def _skipped_by_name(path: Path) -> str | None:
-    if path.name == "INDEX.json":
-        return "an index (INDEX.json), not a tableau"
-    if path.name.endswith("_reference.json"):
-        return "reference values (*_reference.json), not a tableau"
-    return None
+    return next((f"{what} ({pattern}), not a tableau" for pattern, what in _NOT_TABLEAUX.items()
+                 if fnmatch.fnmatchcase(path.name, pattern)), None)
 
 
 def collect(paths) -> tuple[list[tuple[str, str]], list[Skipped], list[Bad]]:
@@ -224,9 +235,7 @@ def _certified_checks(res: Any) -> tuple[tuple[Check, ...], tuple[tuple[str, str
     for c in res.claims:
         verdict = DISAGREES if c.status == REFUTED else UNDECIDED if c.status == NOT_DECIDED else AGREES
         evidence = tuple(e.text() for e in c.evidence) or ((c.why,) if c.why and verdict != AGREES else ())
-        f = findings.get(dict(FOUND).get(c.claim, c.claim.replace("_", " ")))
-        if c.claim == "ssp_coefficient":
-            f = findings.get("SSP coefficient")
+        f = findings.get(_FINDING_OF_CLAIM.get(c.claim, c.claim.replace("_", " ")))
         checks.append(Check(c.claim, _shown(c.claimed), "" if f is None else _finding_text(f), verdict, evidence))
     found = tuple((k, _finding_text(findings[name])) for k, name in FOUND if name in findings)
     extra = tuple((name, _finding_text(findings[name])) for name in ("SSP coefficient", "real stability interval")
@@ -338,21 +347,22 @@ class AuditResult(Displayed):
                 "skipped": [{"file": s.file, "why": s.why} for s in self.skipped]}
 
     def _table(self) -> Table:
-        rows = tuple((Text(r.name), Text(r.library), Text(r.kind), Text(r.numbers), Text(str(r.stages)),
-                      Text("; ".join(f"{c.prop} {c.claimed} → {c.found or '?'}" for c in r.checks) or "none"),
-                      Text(", ".join(f"{k.replace('_', ' ')} {v}" for k, v in r.found if k in dict(FOUND))),
-                      Text(r.verdict + (f": {r.note}" if r.note else "")), Text(f"{r.seconds:.2f}"))
+        rows = tuple(tuple(map(Text, (r.name, r.library, r.kind, r.numbers, str(r.stages), r.claims_text(),
+                                      r.found_text(), r.verdict_text(), f"{r.seconds:.2f}")))
                      for r in self.rows)
         return Table(("method", "library", "kind", "numbers", "s", "claimed → found", "found", "verdict", "s (time)"),
                      rows, "lllllllll")
 
+    def with_evidence(self) -> list[tuple[Row, Check]]:
+        """Every disagreement, and every undecided claim with a reason, with its row."""
+        return [(r, c) for r in self.rows for c in r.checks
+                if c.verdict == DISAGREES or (c.verdict == UNDECIDED and c.evidence)]
+
     def _evidence(self) -> list[Paragraph]:
         out = []
-        for r in self.rows:
-            for c in r.checks:
-                if c.verdict == DISAGREES or (c.verdict == UNDECIDED and c.evidence):
-                    head = f"{r.name} ({r.file}): {c.prop} claimed {c.claimed}, found {c.found or '?'}: {c.verdict}"
-                    out.append(Paragraph(Text(head + (": " + "; ".join(c.evidence) if c.evidence else ""))))
+        for r, c in self.with_evidence():
+            head = f"{r.name} ({r.file}): {c.prop} claimed {c.claimed}, found {c.found or '?'}: {c.verdict}"
+            out.append(Paragraph(Text(head + (": " + "; ".join(c.evidence) if c.evidence else ""))))
         return out
 
     def display(self) -> Document:

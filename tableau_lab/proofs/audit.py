@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from ..exact.render import latex_text
-from ..experiments.audit import AUDIT_SECONDS, DISAGREES, FOUND, UNDECIDED, AuditResult, audit_files, markdown_report
+from ..experiments.audit import AUDIT_SECONDS, AuditResult, audit_files, markdown_report
 from ..files import atomic_write_text, output_phase, refuse_outputs
 from .latex import PREAMBLE, compile_pdf
 
@@ -53,11 +53,8 @@ def audit_tex(result: AuditResult) -> str:
         return "/\\allowbreak{}".join(latex_text(part) for part in text.split("/"))
     rows = []
     for r in result.rows:
-        claims = "; ".join(f"{c.prop} {c.claimed} → {c.found or '?'}" for c in r.checks) or "none"
-        found = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in r.found if k in dict(FOUND))
-        verdict = r.verdict + (f": {r.note}" if r.note else "")
-        rows.append(" & ".join(cell(x) for x in (r.name, r.library, r.kind, r.numbers, str(r.stages), claims, found,
-                                                  verdict, f"{r.seconds:.2f}")) + r" \\")
+        rows.append(" & ".join(cell(x) for x in (r.name, r.library, r.kind, r.numbers, str(r.stages), r.claims_text(),
+                                                  r.found_text(), r.verdict_text(), f"{r.seconds:.2f}")) + r" \\")
     body = [r"\begin{document}", r"\begin{center}\Large Audit of tableau files\end{center}",
             cell(result.summary()) + ".", r"\par Decimal files are certified in ball arithmetic (a claim holds "
             r"\emph{to the stated precision}); exact files by the exact analyses.",
@@ -65,8 +62,7 @@ def audit_tex(result: AuditResult) -> str:
             r"\toprule method & library & "
             r"kind & numbers & $s$ & claimed $\to$ found & found & verdict & s \\ \midrule \endhead",
             "\n".join(rows), r"\bottomrule \end{longtable}}"]
-    evidence = [(r, c) for r in result.rows for c in r.checks
-                if c.verdict == DISAGREES or (c.verdict == UNDECIDED and c.evidence)]
+    evidence = result.with_evidence()
     if evidence:
         body.append(r"\section*{Evidence}\sloppy\begin{itemize}")
         body += [rf"\item \textbf{{{cell(r.name)}}} ({cell(r.file)}): {cell(c.prop)} claimed {cell(c.claimed)}, found "

@@ -9,12 +9,11 @@ argument and ``adaptiveorder`` (the order of the embedded weights ``αEEst``).  
 from __future__ import annotations
 
 import re
-import sys
 from pathlib import Path
 
 from .expr import Unsupported
 from .julia import functions, integer, keywords, positional, run
-from .writer import Library, Tableau, show
+from .writer import Library, Tableau, command_line, show
 
 FILE = "src/ode_tableaus.jl"
 
@@ -68,10 +67,5 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.diffeqdevtools {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.diffeqdevtools")

@@ -12,6 +12,8 @@ import sys
 from collections import Counter
 from pathlib import Path
 
+from tableau_lab.files import atomic_write_text
+
 from .writer import show
 
 LIBRARIES = ("nodepy", "diffeqdevtools", "ordinarydiffeq", "sundials", "rungekutta_jl", "kauri")
@@ -165,9 +167,8 @@ def main(argv: list[str]) -> None:
     mirrors, out = Path(argv[0]), Path(argv[1] if len(argv) > 1 else "corpus")
     records = [json.loads((out / lib / "extraction.json").read_text(encoding="utf-8")) for lib in LIBRARIES]
     rows = index(out)
-    (out / "INDEX.json").write_text(json.dumps({"tableaux": rows}, indent=1, ensure_ascii=False) + "\n",
-                                    encoding="utf-8")
-    (out / "README.md").write_text(readme(records, rows, not_read(mirrors), HEAD), encoding="utf-8")
+    atomic_write_text(out / "INDEX.json", json.dumps({"tableaux": rows}, indent=1, ensure_ascii=False) + "\n")
+    atomic_write_text(out / "README.md", readme(records, rows, not_read(mirrors), HEAD))
     print(f"{len(rows)} tableaux indexed")
 
 

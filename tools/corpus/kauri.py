@@ -9,11 +9,10 @@ extracted (counted).  Usage::
 from __future__ import annotations
 
 import re
-import sys
 from pathlib import Path
 
 from .expr import Parser, Unsupported, tokenize
-from .writer import Library, Tableau, show
+from .writer import Library, Tableau, command_line, show
 
 FILE = "kauri/rk_methods.py"
 ASSIGN = re.compile(r"^(\w+) = RK\(", re.M)
@@ -60,10 +59,5 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.kauri {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.kauri")

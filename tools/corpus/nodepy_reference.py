@@ -14,6 +14,8 @@ import time
 import warnings
 from pathlib import Path
 
+from tableau_lab.files import atomic_write_text
+
 #: the methods whose values are recorded: NodePy's floating-point methods (docs/nodepy.md skips
 #: them) and the exact ones of loadRKM, keyed as in loadRKM
 FLOATING = ("CMR6", "PD8", "SSP22star", "SSP33", "SSP53", "SSP54", "SSP63", "SSP75", "SSP85", "SSP95", "Tsit5")
@@ -60,8 +62,8 @@ def main(argv: list[str]) -> None:
         record["methods"][key] = {"floating_point": key in FLOATING, **values(methods[key])}
         print(f"{key}: {time.process_time() - t:.2f} s CPU", file=sys.stderr)
     out.mkdir(parents=True, exist_ok=True)
-    (out / "nodepy_reference.json").write_text(json.dumps(record, indent=1, ensure_ascii=False, sort_keys=True) + "\n",
-                                               encoding="utf-8")
+    atomic_write_text(out / "nodepy_reference.json",
+                      json.dumps(record, indent=1, ensure_ascii=False, sort_keys=True) + "\n")
 
 
 if __name__ == "__main__":

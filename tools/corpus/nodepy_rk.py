@@ -20,7 +20,6 @@ family function's docstring.  Usage::
 from __future__ import annotations
 
 import re
-import sys
 import warnings
 from pathlib import Path
 
@@ -28,7 +27,7 @@ import sympy as sp
 from flint import arb_mat
 
 from .expr import Unsupported, Val
-from .writer import Library, Tableau, show
+from .writer import Library, Tableau, command_line, show
 
 FILE = "nodepy/runge_kutta_method.py"
 LOWSTORAGE = "nodepy/low_storage_rk.py"
@@ -212,11 +211,6 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.nodepy_rk {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.nodepy_rk")
 

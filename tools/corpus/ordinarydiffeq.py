@@ -9,11 +9,10 @@ Usage::
 """
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 from .diffeqdevtools import read_functions
-from .writer import Library, show
+from .writer import Library, command_line, show
 
 EXPLICIT = "lib/OrdinaryDiffEqExplicitTableaus/src/"
 FILES = tuple(EXPLICIT + f"tableaus_{k}.jl" for k in ("classic", "low_order", "order5", "order6", "order7",
@@ -28,10 +27,5 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.ordinarydiffeq {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.ordinarydiffeq")

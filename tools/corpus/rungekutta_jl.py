@@ -10,12 +10,11 @@ as data: they are not extracted (the README counts them).  Usage::
 from __future__ import annotations
 
 import re
-import sys
 from pathlib import Path
 
 from .expr import Unsupported
 from .julia import functions, integer, positional, run
-from .writer import Library, Tableau, show
+from .writer import Library, Tableau, command_line, show
 
 DATA = ("src/tableaus/erk.jl", "src/tableaus/dirk.jl", "src/tableaus/firk.jl")
 COMPUTED = ("src/tableaus/gauss.jl", "src/tableaus/lobatto.jl", "src/tableaus/radau.jl", "src/tableaus/prk.jl")
@@ -63,10 +62,5 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.rungekutta_jl {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.rungekutta_jl")

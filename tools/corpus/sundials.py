@@ -10,11 +10,10 @@ names a value.  Usage::
 from __future__ import annotations
 
 import re
-import sys
 from pathlib import Path
 
 from .expr import ZERO, Array, Unsupported, parse_value
-from .writer import Library, Tableau, show
+from .writer import Library, Tableau, command_line, show
 
 FILES = ("src/arkode/arkode_butcher_erk.def", "src/arkode/arkode_butcher_dirk.def")
 BLOCK = re.compile(r"^ARK_BUTCHER_TABLE\((\w+),\s*\{(.*?)^\s*\}\)", re.S | re.M)
@@ -96,10 +95,5 @@ def extract(git_dir: str, out: Path) -> Library:
     return lib
 
 
-def main(argv: list[str]) -> None:
-    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
-    extract(git_dir, out).write(f"python -m tools.corpus.sundials {git_dir} {out}")
-
-
 if __name__ == "__main__":
-    main(sys.argv[1:])
+    command_line(extract, "tools.corpus.sundials")

@@ -16,6 +16,8 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import sys
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -23,6 +25,7 @@ import sympy as sp
 from flint import arb
 
 from tableau_lab.exact.grammar import format_entry
+from tableau_lab.files import atomic_write_text
 
 from .expr import Array, Unsupported, Val, half_ulp
 
@@ -205,10 +208,17 @@ class Library:
             if old.name not in self.files and old.name not in ("extraction.json", "nodepy_reference.json"):
                 old.unlink()
         for fname, text in sorted(self.files.items()):
-            (self.out / fname).write_text(text, encoding="utf-8")
+            atomic_write_text(self.out / fname, text)
         record = {"library": self.library, "repository": self.repository, "commit": self.commit,
                   "files_read": sorted(self.read), "tableaux": len(self.files), "command": command,
                   "skipped": sorted(self.skipped, key=lambda s: (s["reason"], s["name"]))}
-        (self.out / "extraction.json").write_text(json.dumps(record, indent=1, ensure_ascii=False) + "\n",
-                                                  encoding="utf-8")
+        atomic_write_text(self.out / "extraction.json", json.dumps(record, indent=1, ensure_ascii=False) + "\n")
         print(f"{self.library}: {len(self.files)} tableaux, {len(self.skipped)} skipped -> {self.out}")
+
+
+def command_line(extract: Callable[[str, Path], Library], module: str, argv: list[str] | None = None) -> None:
+    """An extractor's command line, ``python -m MODULE GIT_DIR [OUT]`` (OUT defaults to ``corpus``):
+    extract from the bare git directory GIT_DIR and write OUT/<library>/, its record naming the command."""
+    argv = sys.argv[1:] if argv is None else argv
+    git_dir, out = argv[0], Path(argv[1] if len(argv) > 1 else "corpus")
+    extract(git_dir, out).write(f"python -m {module} {git_dir} {out}")
