@@ -9,7 +9,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, overload
+from typing import TYPE_CHECKING, Any, overload
 
 import sympy as sp
 
@@ -18,7 +18,6 @@ from ..exact.grammar import format_entry
 from ..exact.methods import GeneralLinearMethod, Method
 from ..exact.multistep import as_lmm
 from ..render.model import Document, Paragraph, Plain, Typeset
-from .certified import CertifiedResult, certified_verify
 from .error_constant import ErrorConstantResult, error_constant
 from .glm_order import GLMOrderResult
 from .order import order as order_of
@@ -27,6 +26,9 @@ from .prk_order import PRKOrderResult
 from .results import Result
 from .rk_order import RKOrderResult
 from .symplectic import GSymplecticResult, RKSymplecticResult, g_symplectic, rk_symplectic
+
+if TYPE_CHECKING:
+    from .certified import CertifiedResult
 
 __all__ = ["verify", "VerifyResult"]
 
@@ -42,7 +44,6 @@ CHECKS = {
     "parasitism_free": lambda v: v.parasitism.free,
     "embedded_order": lambda v: None if v.order.embedded is None else v.order.embedded.order,
 }
-
 
 @dataclass(frozen=True)
 class VerifyResult(Result):
@@ -229,6 +230,7 @@ def verify(m: Method | BallMethod, **budget: Any) -> VerifyResult | CertifiedRes
     (('order',), 2, 'refuted')
     """
     if isinstance(m, BallMethod):
+        from .certified import certified_verify  # the ball analyses only when a decimal tableau needs them
         return certified_verify(m, **budget)
     if budget:
         raise TypeError(f"verify of an exact method takes no budget ({', '.join(budget)}): the exact analyses run "
