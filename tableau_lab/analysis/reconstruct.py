@@ -56,7 +56,7 @@ from ..exact.recognise import (
     recognise_in_basis,
 )
 from ..exact.render import entry_latex
-from ..exact.tableau_json import CLAIMS, KINDS, MAX_SIZE, META, TableauError, entry_name, from_dict
+from ..exact.tableau_json import CLAIMS, DECIMAL_KEYS, KINDS, MAX_SIZE, META, TableauError, entry_name, from_dict
 from ..render.model import Document, Math, Paragraph, Table
 from .order import order as order_of
 from .results import Result
@@ -64,8 +64,6 @@ from .verify import VerifyResult, verify
 
 __all__ = ["reconstruct_tableau", "reconstruct", "ball_tableau", "ReconstructResult", "EntryReport"]
 
-#: keys of a decimal file that describe its numbers (issue 33's format): the exact candidate has no use for them
-DECIMAL_KEYS = frozenset({"numbers", "radius", "digits"})
 
 
 @dataclass(frozen=True)

@@ -64,8 +64,10 @@ CLAIMS: dict[str, tuple[type, tuple[str, ...]]] = {
     "ssp_coefficient": (str, ("rk",)),            # an entry (exact, or decimal in a decimal file), or an integer
 }
 
-META = {"format", "name", "kind", "source", "notes", "claims", "constants", "numbers", "radius", "digits",
-        "provenance"}
+#: the top-level keys that describe a decimal file's numbers (docs/tableau-format.md): its rounding, and "numbers"
+DECIMAL_ROUNDING = ("radius", "digits")
+DECIMAL_KEYS = frozenset({"numbers", *DECIMAL_ROUNDING})
+META = {"format", "name", "kind", "source", "notes", "claims", "constants", "provenance"} | DECIMAL_KEYS
 #: the top-level key and value that make a tableau decimal (docs/tableau-format.md)
 DECIMAL_KEY = '"numbers": "decimal"'
 #: the largest "digits" a decimal file may state (the precision budget of exact/balls.py)
@@ -302,7 +304,7 @@ def from_dict(data: Any, source: str = "<tableau>") -> Method:
         raise TableauError(source, f"a decimal tableau ({DECIMAL_KEY}) is analysed in ball arithmetic by "
                                    "`tableau-lab verify FILE` or tl.verify(tl.load(FILE)); this needs exact entries",
                            "numbers")
-    for key in ("radius", "digits"):
+    for key in DECIMAL_ROUNDING:
         if key in data:
             raise TableauError(source, f"{key!r} belongs to a decimal tableau ({DECIMAL_KEY})", key)
     cls, required, optional = KINDS[kind]
