@@ -32,6 +32,7 @@ from __future__ import annotations
 import ast
 import builtins
 import contextlib
+import copy
 import functools
 import hashlib
 import inspect
@@ -115,13 +116,8 @@ class _Template:
 
         class Put(ast.NodeTransformer):
             def visit_Name(self, name):
-                return ast.copy_location(_copy(args[name.id]), name) if name.id in args else name
-        return Put().visit(_copy(node))
-
-
-def _copy(node):
-    return ast.parse(ast.unparse(node), mode="eval").body if isinstance(node, ast.expr) \
-        else ast.parse(ast.unparse(node)).body[0]
+                return ast.copy_location(copy.deepcopy(args[name.id]), name) if name.id in args else name
+        return Put().visit(copy.deepcopy(node))
 
 
 def _locals(fn: ast.FunctionDef) -> set:
