@@ -4,7 +4,6 @@ pure loop runs (explicit, simplified Newton, fixed point, the split iteration of
 problem), with projection, in float64 and in mpmath — and the texts the package ships are the
 ones the inliner makes from today's source."""
 from pathlib import Path
-from types import FunctionType
 
 import numpy as np
 import pytest
@@ -16,13 +15,6 @@ from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import integrate
 
 METHODS = Path(__file__).parent.parent / "methods"
-
-
-def _plain(functions, operations, constants, namespace, folder=None):
-    """stepcore's functions bound to the namespace as they are (the loop before the inliner)."""
-    namespace.update({fn.__name__: FunctionType(fn.__code__, namespace, fn.__name__, fn.__defaults__,
-                                                fn.__closure__) for fn in functions})
-    return namespace
 
 
 CASES = [("rk4", "kepler", (), "float64", "auto"), ("gauss2", "pendulum", (), "float64", "auto"),
@@ -43,7 +35,7 @@ def test_inlined_loop_is_the_loop_bit_for_bit(monkeypatch, method, problem, proj
         return integrate(nm, cp, cp.y0, 0.01, steps, kernel="python", invariants=inv, project=project,
                          record_every=10, solver=solver)
     inlined = run()
-    monkeypatch.setattr(kernels, "inline_functions", _plain)
+    monkeypatch.setattr(kernels, "inline_functions", inliner.plain_functions)
     plain = run()
     assert inlined.loop == plain.loop == "python"
     assert [str(x) for x in np.ravel(inlined.final)] == [str(x) for x in np.ravel(plain.final)]

@@ -39,10 +39,11 @@ import inspect
 import operator
 import textwrap
 from pathlib import Path
+from types import FunctionType
 
 from ..files import atomic_write_text, path_exists
 
-__all__ = ["inline_functions", "inlined_name", "inlined_text", "SHIPPED"]
+__all__ = ["inline_functions", "inlined_name", "inlined_text", "plain_functions", "SHIPPED"]
 
 SHIPPED = Path(__file__).parent / "inlined"    # the package's rewritten texts (benchmarks/write_inlined.py)
 INLINED_TEXT_BYTES = 1 << 20   # the largest cached text read back
@@ -229,6 +230,17 @@ def inline_functions(functions, operations: dict, constants: dict, namespace: di
                 path.parent.mkdir(parents=True, exist_ok=True)
                 atomic_write_text(path, text)
     exec(_compiled(text), namespace)            # stepcore's own source, rewritten: no user text
+    return namespace
+
+
+def plain_functions(functions, operations: dict, constants: dict, namespace: dict,
+                    folder: Path | None = None) -> dict:
+    """:func:`inline_functions`'s stand-in that writes nothing in place: ``functions`` bound to
+    ``namespace`` as they are (the loop before the inliner; what tests/test_inliner.py and
+    benchmarks/bench_inliner.py compare with).  ``operations``, ``constants`` and ``folder`` are
+    taken for the same signature and not used: the namespace already holds them."""
+    namespace.update({fn.__name__: FunctionType(fn.__code__, namespace, fn.__name__, fn.__defaults__,
+                                                fn.__closure__) for fn in functions})
     return namespace
 
 
