@@ -86,6 +86,12 @@ _CMP = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt, ast.Lt
 _UNARY = {ast.Not: operator.not_, ast.USub: operator.neg, ast.UAdd: operator.pos}
 
 
+def _meaning(namespace: dict, name: str):
+    """What a global ``name`` of code run in ``namespace`` is bound to (a builtin when the
+    namespace has no such name; None when neither has it)."""
+    return namespace.get(name, getattr(builtins, name, None))
+
+
 class _Template:
     """A function that can be written in place: its parameters and its expression or statement."""
 
@@ -99,7 +105,7 @@ class _Template:
         inside = self.expr if self.expr is not None else self.stmt
         names = [n.id for n in ast.walk(inside) if isinstance(n, ast.Name)] if inside is not None else []
         self.uses = {p: names.count(p) for p in self.params}
-        self.free = {n: home.get(n, getattr(builtins, n, None)) for n in set(names) - set(self.params)}
+        self.free = {n: _meaning(home, n) for n in set(names) - set(self.params)}
 
     def fits(self, call: ast.Call, local: set) -> bool:
         """Whether ``call`` can be replaced: positional arguments, one per parameter, each
@@ -286,7 +292,7 @@ def inlined_text(functions, operations: dict, consts: tuple, namespace: dict) ->
     named = {**operations, **{f.__name__: f for f in functions}}
     constant = dict(consts)
     templates = {name: t for name, t in _templates(tuple(sorted(named.items()))).items()
-                 if all(namespace.get(n, getattr(builtins, n, None)) is v for n, v in t.free.items()
+                 if all(_meaning(namespace, n) is v for n, v in t.free.items()
                         if n not in constant)}
     out = []
     for fn in functions:
