@@ -133,8 +133,9 @@ def main(argv=None) -> int:
     print("targets (issue 32): " + ", ".join(f"{k} ≤ {v}" for k, v in TARGETS.items())
           + f"; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end")
     if args.json:
-        args.json.write_text(json.dumps({"rounds": args.rounds, "steps": args.steps, "load": load, "raw": res,
-                                         "summary": out}, indent=1))
+        from tableau_lab.files import atomic_write_text
+        atomic_write_text(args.json, json.dumps({"rounds": args.rounds, "steps": args.steps, "load": load, "raw": res,
+                                                 "summary": out}, indent=1))
     return 0
 
 
