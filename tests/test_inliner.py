@@ -90,3 +90,21 @@ def test_what_is_written_in_place_and_what_is_not():
     names = ns["body"].__code__.co_names
     assert "put" not in names and "pick" not in names and "FLAG" not in names
     assert names.count("twice") == 1               # kept for the argument with an effect
+
+
+def test_cached_text_read_only_from_a_regular_file(tmp_path):
+    """A FIFO where a cached text would be is not opened (opening it would wait for a writer for
+    ever): the text is made again instead."""
+    import os
+    import threading
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs here")
+    fifo = tmp_path / "inlined_x.txt"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(inliner._read(fifo)), daemon=True)
+    reader.start()
+    reader.join(timeout=5)
+    assert got == [None], "the read waited on a FIFO"
+    (tmp_path / "text.txt").write_text("x = 1\n")
+    assert inliner._read(tmp_path / "text.txt") == "x = 1\n"

@@ -37,11 +37,12 @@ import functools
 import hashlib
 import inspect
 import operator
+import os
 import textwrap
 from pathlib import Path
 from types import FunctionType
 
-from ..files import atomic_write_text, path_exists
+from ..files import atomic_write_text
 
 __all__ = ["inline_functions", "inlined_name", "inlined_text", "plain_functions", "SHIPPED"]
 
@@ -262,7 +263,9 @@ def _names(functions: tuple) -> frozenset:
 
 
 def _read(path: Path | None) -> str | None:
-    if path is None or not path_exists(path):
+    """The text at ``path`` if it is a regular file (a folder or a FIFO put there is not opened)
+    of at most ``INLINED_TEXT_BYTES``; else None (the text is made again)."""
+    if path is None or not os.path.isfile(path):
         return None
     with contextlib.suppress(OSError, UnicodeDecodeError), open(path, "rb") as f:
         data = f.read(INLINED_TEXT_BYTES + 1)          # bounded: a file that grew is written again
