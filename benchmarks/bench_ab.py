@@ -100,7 +100,8 @@ def main(argv=None) -> int:
                     us = bench_once(trees[who], Path(tmp) / who, case, args.reps)
                     times.setdefault(" ".join(case), {}).setdefault(who, []).append(us)
         if args.json:
-            args.json.write_text(json.dumps(times, indent=1))
+            from tableau_lab.files import atomic_write_text
+            atomic_write_text(args.json, json.dumps(times, indent=1))
         print("| case | old µs/step min / median | new µs/step min / median | new/old min | new/old median |")
         print("|---|---|---|---|---|")
         for key, t in times.items():

@@ -13,16 +13,9 @@ import statistics
 import sys
 import time
 from pathlib import Path
-from types import FunctionType
 
 ROOT = Path(__file__).resolve().parents[1]
 CASES = (("rk4", "kepler"), ("gauss2", "pendulum"), ("glm43", "kepler"), ("gauss3", "henon_heiles"))
-
-
-def _plain(functions, operations, constants, namespace, folder=None):
-    namespace.update({fn.__name__: FunctionType(fn.__code__, namespace, fn.__name__, fn.__defaults__,
-                                                fn.__closure__) for fn in functions})
-    return namespace
 
 
 def main() -> int:
@@ -31,7 +24,7 @@ def main() -> int:
     ap.add_argument("--steps", type=int, default=1000)
     args = ap.parse_args()
     from tableau_lab.experiments.runs import prepare_run
-    from tableau_lab.numeric import kernels
+    from tableau_lab.numeric import inliner, kernels
     from tableau_lab.numeric.integrate import integrate
     inlined = kernels.inline_functions
     print(f"{'method':8} {'problem':13} {'plain s':>8} {'inlined s':>9} {'ratio':>6}")
@@ -40,7 +33,7 @@ def main() -> int:
         P = prep.compiled
         times: dict = {"plain": [], "inlined": []}
         for _ in range(args.rounds):
-            for name, bind in (("plain", _plain), ("inlined", inlined)):
+            for name, bind in (("plain", inliner.plain_functions), ("inlined", inlined)):
                 kernels.inline_functions = bind
                 t = time.perf_counter()
                 integrate(prep.numeric, P, P.y0, 0.01, args.steps, invariants=tuple(P.problem.invariants),

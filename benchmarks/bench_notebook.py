@@ -14,13 +14,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import statistics
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_startup import installation_env
 
 ROOT = Path(__file__).resolve().parents[1]
 METHODS = ("gauss2", "glm43", "rk4", "stormer_verlet", "implicit_midpoint")
@@ -49,8 +51,7 @@ def cell(cache: str, shared: str | None = None) -> dict:
     """Run the cell in a fresh process on the compiled-loop cache ``cache`` (and the shared loops'
     folder ``shared``; None: the installation's): its seconds, the loop each run took, and the
     compile notices it printed per problem."""
-    env = dict(os.environ, TABLEAU_LAB_CACHE=cache, PYTHONPATH=str(ROOT))
-    env.pop("PYTHONDONTWRITEBYTECODE", None)          # an installation keeps its bytecode
+    env = installation_env(TABLEAU_LAB_CACHE=cache, PYTHONPATH=str(ROOT))
     if shared is not None:
         env["TABLEAU_LAB_SHARED_CACHE"] = shared
     done = subprocess.run([sys.executable, "-c", CELL], env=env, capture_output=True, text=True, check=True)

@@ -98,10 +98,11 @@ def main(argv=None) -> int:
     group.add_argument("--shared", help="the shared loops' folder (built first if empty)")
     group.add_argument("--fresh-shared", action="store_true", help="an empty shared folder for the cold run")
     args = ap.parse_args(argv)
+    from tableau_lab.numeric.kernels import shared_dir
     tree = Path(args.tree).resolve()
     files = sorted(Path(p).name for p in glob.glob(str(tree / "reports" / "scenes" / "*.json")))
     shared = ("built" if args.shared else "empty (a fresh installation)" if args.fresh_shared
-              else f"the default ({os.environ.get('TABLEAU_LAB_SHARED_CACHE', '~/.cache/tableau_lab/shared')})")
+              else f"the default ({shared_dir()})")
     print(f"{len(files)} seed scenes, {tree}, shared loops {shared}:", flush=True)
     rounds = []
     for k in range(args.rounds):

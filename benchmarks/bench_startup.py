@@ -34,11 +34,19 @@ CASES = [("gauss2", "pendulum"), ("glm43", "kepler")]
 TARGETS = {"cold/warm": 1.5, "warm/verify": 2.0}
 
 
+def installation_env(**extra: str) -> dict:
+    """This process's environment as a user's installation runs a command, with ``extra`` set:
+    with its bytecode cache (pip compiles it; ``PYTHONDONTWRITEBYTECODE``, which a shell may set,
+    removed).  The one environment of the timing scripts (bench_startup, bench_notebook, latency)."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    env.update(extra)
+    return env
+
+
 def timed(cmd: list, tree: Path, cache: Path) -> tuple:
     """(wall seconds, the command's JSON output or None) of one fresh process."""
-    env = dict(os.environ, PYTHONPATH=str(tree), TABLEAU_LAB_CACHE=str(cache))
-    env.pop("TABLEAU_LAB_KERNEL", None)
-    env.pop("PYTHONDONTWRITEBYTECODE", None)     # an installation keeps its bytecode (pip compiles it)
+    env = installation_env(PYTHONPATH=str(tree), TABLEAU_LAB_CACHE=str(cache))
+    env.pop("TABLEAU_LAB_KERNEL", None)          # the kernel the package chooses
     t0 = time.perf_counter()
     done = subprocess.run([sys.executable, "-m", "tableau_lab", *cmd], cwd=tree, env=env, capture_output=True,
                           text=True, check=True)
@@ -125,8 +133,9 @@ def main(argv=None) -> int:
     print("targets (issue 32): " + ", ".join(f"{k} ≤ {v}" for k, v in TARGETS.items())
           + f"; load average {load[0]:.1f} at the start, {load[1]:.1f} at the end")
     if args.json:
-        args.json.write_text(json.dumps({"rounds": args.rounds, "steps": args.steps, "load": load, "raw": res,
-                                         "summary": out}, indent=1))
+        from tableau_lab.files import atomic_write_text
+        atomic_write_text(args.json, json.dumps({"rounds": args.rounds, "steps": args.steps, "load": load, "raw": res,
+                                                 "summary": out}, indent=1))
     return 0
 
 

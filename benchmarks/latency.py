@@ -22,6 +22,7 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_startup import installation_env
 from doc_blocks import cli
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -30,8 +31,7 @@ COMMANDS = (["verify", "methods/example4_glm.json"], ["order", "methods/gauss2.j
                                                 "--h", "0.01", "--steps", "1000"],
             ["verify", "tests/data/g6245.json"])
 TOP = 8
-# as a user's installation runs: with its bytecode cache (pip compiles it), whatever this shell says
-ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+ENV = installation_env()      # as a user's installation runs: with its bytecode cache, whatever this shell says
 WATCHED = ("sympy", "numba", "scipy", "dask", "matplotlib")      # what a warm path should import only when it needs it
 # the warm paths whose imports are listed: an exact command, a short quick run, a scene (its two runs compiled, plotted)
 IMPORTED = ((COMMANDS[0], "an exact command"), (COMMANDS[3], "a short quick run (the Python loop)"),

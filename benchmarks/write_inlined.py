@@ -12,7 +12,6 @@ differs from what the inliner makes now.
 from __future__ import annotations
 
 import os
-import shutil
 import sys
 import tempfile
 from pathlib import Path
@@ -21,6 +20,7 @@ from pathlib import Path
 def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         os.environ["TABLEAU_LAB_CACHE"] = tmp
+        from tableau_lab.files import atomic_copy
         from tableau_lab.numeric import inliner, kernels
         from tableau_lab.numeric.codegen import compile_problem
         shipped = inliner.SHIPPED
@@ -35,7 +35,7 @@ def main() -> int:
                 old.unlink()
                 print(f"removed {old.name}")
         for path in made:
-            shutil.copyfile(path, shipped / path.name)
+            atomic_copy(path, shipped / path.name)         # no half-written text in the package
             print(f"wrote {shipped / path.name}")
     return 0
 

@@ -4,7 +4,6 @@ pure loop runs (explicit, simplified Newton, fixed point, the split iteration of
 problem), with projection, in float64 and in mpmath — and the texts the package ships are the
 ones the inliner makes from today's source."""
 from pathlib import Path
-from types import FunctionType
 
 import numpy as np
 import pytest
@@ -16,13 +15,6 @@ from tableau_lab.numeric.export import to_numeric
 from tableau_lab.numeric.integrate import integrate
 
 METHODS = Path(__file__).parent.parent / "methods"
-
-
-def _plain(functions, operations, constants, namespace, folder=None):
-    """stepcore's functions bound to the namespace as they are (the loop before the inliner)."""
-    namespace.update({fn.__name__: FunctionType(fn.__code__, namespace, fn.__name__, fn.__defaults__,
-                                                fn.__closure__) for fn in functions})
-    return namespace
 
 
 CASES = [("rk4", "kepler", (), "float64", "auto"), ("gauss2", "pendulum", (), "float64", "auto"),
@@ -43,7 +35,7 @@ def test_inlined_loop_is_the_loop_bit_for_bit(monkeypatch, method, problem, proj
         return integrate(nm, cp, cp.y0, 0.01, steps, kernel="python", invariants=inv, project=project,
                          record_every=10, solver=solver)
     inlined = run()
-    monkeypatch.setattr(kernels, "inline_functions", _plain)
+    monkeypatch.setattr(kernels, "inline_functions", inliner.plain_functions)
     plain = run()
     assert inlined.loop == plain.loop == "python"
     assert [str(x) for x in np.ravel(inlined.final)] == [str(x) for x in np.ravel(plain.final)]
@@ -98,3 +90,21 @@ def test_what_is_written_in_place_and_what_is_not():
     names = ns["body"].__code__.co_names
     assert "put" not in names and "pick" not in names and "FLAG" not in names
     assert names.count("twice") == 1               # kept for the argument with an effect
+
+
+def test_cached_text_read_only_from_a_regular_file(tmp_path):
+    """A FIFO where a cached text would be is not opened (opening it would wait for a writer for
+    ever): the text is made again instead."""
+    import os
+    import threading
+    if not hasattr(os, "mkfifo"):
+        pytest.skip("no FIFOs here")
+    fifo = tmp_path / "inlined_x.txt"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(inliner._read(fifo)), daemon=True)
+    reader.start()
+    reader.join(timeout=5)
+    assert got == [None], "the read waited on a FIFO"
+    (tmp_path / "text.txt").write_text("x = 1\n")
+    assert inliner._read(tmp_path / "text.txt") == "x = 1\n"

@@ -18,6 +18,7 @@ array([mpf('0.0'), mpf('-1.0')], dtype=object)
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import json
 from pathlib import Path
@@ -88,13 +89,17 @@ class CompiledProblem(ProblemFunctions):
         of what the code is made from — the state, parameter symbols (with their assumptions),
         f and the invariants, the backend and ``what`` — and of the code that makes it (this
         file, sympy's version); parameter and initial values are arguments, not part of it."""
-        P = self.problem
-        if not hasattr(self, "_made_of"):   # srepr once per problem: a large f takes a while
-            self._made_of = sp.srepr((tuple(P.state), tuple(P.parameter_symbols.values()), tuple(P.f_expr),
-                                      tuple(P.invariants.items())))
         digest = hashlib.sha256(f"{_STAMP}\n{self._made_of}\n{self.backend}\n{what!r}".encode()).hexdigest()[:32]
         from .kernels import code_dir
         return code_dir() / f"{digest}.json"
+
+    @functools.cached_property
+    def _made_of(self) -> str:
+        """What the problem's generated code is made from, as text (:meth:`_stored`): once per
+        problem, a large f's srepr takes a while."""
+        P = self.problem
+        return sp.srepr((tuple(P.state), tuple(P.parameter_symbols.values()), tuple(P.f_expr),
+                         tuple(P.invariants.items())))
 
     def _expressions(self, what):
         """The expressions of ``what`` (see ``ProblemFunctions``) and the extra vector arguments."""

@@ -32,16 +32,19 @@ from __future__ import annotations
 import ast
 import builtins
 import contextlib
+import copy
 import functools
 import hashlib
 import inspect
 import operator
+import os
 import textwrap
 from pathlib import Path
+from types import FunctionType
 
-from ..files import atomic_write_text, path_exists
+from ..files import atomic_write_text
 
-__all__ = ["inline_functions", "inlined_name", "inlined_text", "SHIPPED"]
+__all__ = ["inline_functions", "inlined_name", "inlined_text", "plain_functions", "SHIPPED"]
 
 SHIPPED = Path(__file__).parent / "inlined"    # the package's rewritten texts (benchmarks/write_inlined.py)
 INLINED_TEXT_BYTES = 1 << 20   # the largest cached text read back
@@ -84,6 +87,12 @@ _CMP = {ast.Eq: operator.eq, ast.NotEq: operator.ne, ast.Lt: operator.lt, ast.Lt
 _UNARY = {ast.Not: operator.not_, ast.USub: operator.neg, ast.UAdd: operator.pos}
 
 
+def _meaning(namespace: dict, name: str):
+    """What a global ``name`` of code run in ``namespace`` is bound to (a builtin when the
+    namespace has no such name; None when neither has it)."""
+    return namespace.get(name, getattr(builtins, name, None))
+
+
 class _Template:
     """A function that can be written in place: its parameters and its expression or statement."""
 
@@ -97,7 +106,7 @@ class _Template:
         inside = self.expr if self.expr is not None else self.stmt
         names = [n.id for n in ast.walk(inside) if isinstance(n, ast.Name)] if inside is not None else []
         self.uses = {p: names.count(p) for p in self.params}
-        self.free = {n: home.get(n, getattr(builtins, n, None)) for n in set(names) - set(self.params)}
+        self.free = {n: _meaning(home, n) for n in set(names) - set(self.params)}
 
     def fits(self, call: ast.Call, local: set) -> bool:
         """Whether ``call`` can be replaced: positional arguments, one per parameter, each
@@ -115,13 +124,8 @@ class _Template:
 
         class Put(ast.NodeTransformer):
             def visit_Name(self, name):
-                return ast.copy_location(_copy(args[name.id]), name) if name.id in args else name
-        return Put().visit(_copy(node))
-
-
-def _copy(node):
-    return ast.parse(ast.unparse(node), mode="eval").body if isinstance(node, ast.expr) \
-        else ast.parse(ast.unparse(node)).body[0]
+                return ast.copy_location(copy.deepcopy(args[name.id]), name) if name.id in args else name
+        return Put().visit(copy.deepcopy(node))
 
 
 def _locals(fn: ast.FunctionDef) -> set:
@@ -236,6 +240,17 @@ def inline_functions(functions, operations: dict, constants: dict, namespace: di
     return namespace
 
 
+def plain_functions(functions, operations: dict, constants: dict, namespace: dict,
+                    folder: Path | None = None) -> dict:
+    """:func:`inline_functions`'s stand-in that writes nothing in place: ``functions`` bound to
+    ``namespace`` as they are (the loop before the inliner; what tests/test_inliner.py and
+    benchmarks/bench_inliner.py compare with).  ``operations``, ``constants`` and ``folder`` are
+    taken for the same signature and not used: the namespace already holds them."""
+    namespace.update({fn.__name__: FunctionType(fn.__code__, namespace, fn.__name__, fn.__defaults__,
+                                                fn.__closure__) for fn in functions})
+    return namespace
+
+
 def _names(functions: tuple) -> frozenset:
     """Every global name the functions' code objects (nested ones too) name."""
     out: set = set()
@@ -248,7 +263,9 @@ def _names(functions: tuple) -> frozenset:
 
 
 def _read(path: Path | None) -> str | None:
-    if path is None or not path_exists(path):
+    """The text at ``path`` if it is a regular file (a folder or a FIFO put there is not opened)
+    of at most ``INLINED_TEXT_BYTES``; else None (the text is made again)."""
+    if path is None or not os.path.isfile(path):
         return None
     with contextlib.suppress(OSError, UnicodeDecodeError), open(path, "rb") as f:
         data = f.read(INLINED_TEXT_BYTES + 1)          # bounded: a file that grew is written again
@@ -278,7 +295,7 @@ def inlined_text(functions, operations: dict, consts: tuple, namespace: dict) ->
     named = {**operations, **{f.__name__: f for f in functions}}
     constant = dict(consts)
     templates = {name: t for name, t in _templates(tuple(sorted(named.items()))).items()
-                 if all(namespace.get(n, getattr(builtins, n, None)) is v for n, v in t.free.items()
+                 if all(_meaning(namespace, n) is v for n, v in t.free.items()
                         if n not in constant)}
     out = []
     for fn in functions:

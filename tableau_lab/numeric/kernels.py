@@ -70,12 +70,16 @@ def available() -> bool:
     return importlib.util.find_spec("numba") is not None
 
 
+def _user_cache() -> Path:
+    return Path.home() / ".cache" / "tableau_lab"     # the default root of cache_dir and shared_dir
+
+
 def cache_dir() -> Path:
     """The folder of the generated modules: ``$TABLEAU_LAB_CACHE/kernels``, else
     ``~/.cache/tableau_lab/kernels``.  A ``TABLEAU_LAB_CACHE`` that is there but not a folder
     (a file, a device) is refused (:class:`~tableau_lab.errors.InputError`, exit 2)."""
     given = os.environ.get("TABLEAU_LAB_CACHE")
-    root = Path(given or Path.home() / ".cache" / "tableau_lab")
+    root = Path(given or _user_cache())
     for folder in (root, root / "kernels"):
         if path_exists(folder) and not folder.is_dir():
             from ..errors import InputError
@@ -455,7 +459,7 @@ def shared_dir() -> Path:
     cache (:func:`cache_dir`), as an installation's compiled parts: built once
     (``tableau-lab warm-up``, :func:`tableau_lab.warm_up`), kept when the problems' cache is emptied."""
     given = os.environ.get("TABLEAU_LAB_SHARED_CACHE")
-    return Path(given) if given else Path.home() / ".cache" / "tableau_lab" / "shared"
+    return Path(given) if given else _user_cache() / "shared"
 
 
 def _linked_texts(shape) -> tuple:
